@@ -1,0 +1,167 @@
+#include "bvh/build_accel.h"
+#include "bvh/obb.h"
+#include "bvh/wide_bvh.h"
+#include "scenes/error.h"
+#include <chrono>
+#include <cstring>
+
+namespace masq {
+
+namespace {
+
+Aabb triangle_box(const Geometry& g, const glm::uvec3& t) {
+  Aabb b;
+  for (int k = 0; k < 3; ++k) b.grow(glm::dvec3(g.vertices[t[k]]));
+  return b;
+}
+
+Aabb capsule_box(const CapsulePrim& c) {
+  Aabb b;
+  glm::dvec3 r(c.radius);
+  b.grow(glm::dvec3(c.a) - r);
+  b.grow(glm::dvec3(c.a) + r);
+  b.grow(glm::dvec3(c.b) - r);
+  b.grow(glm::dvec3(c.b) + r);
+  return b;
+}
+
+Aabb transform_box(const Aabb& b, const Affine3& xf) {
+  Aabb out;
+  for (int i = 0; i < 8; ++i)
+    out.grow(xf.apply_point({i & 1 ? b.hi.x : b.lo.x, i & 2 ? b.hi.y : b.lo.y, i & 4 ? b.hi.z : b.lo.z}));
+  return out;
+}
+
+kernel::Instance make_instance(const Mat3x4f& world_to_object, int blas_root, int geom, int prim, int scene_inst) {
+  kernel::Instance k{};
+  std::memcpy(k.world_to_object, world_to_object.data(), sizeof(k.world_to_object));
+  k.blas_root = blas_root;
+  k.geom = geom;
+  k.prim = prim;
+  k.scene_inst = scene_inst;
+  return k;
+}
+
+void pack_primitives(const Scene& scene, PackedScene& ps) {
+  for (const Geometry& g : scene.geometries) {
+    kernel::Geometry kg{};
+    kg.type = g.type == PrimType::Triangle ? MASQ_PRIM_TRIANGLE : MASQ_PRIM_CAPSULE;
+    kg.count = int(g.primitive_count());
+    if (g.type == PrimType::Triangle) {
+      kg.first = int(ps.triangles.size());
+      for (const glm::uvec3& t : g.triangles) {
+        kernel::Triangle kt{};
+        for (int k = 0; k < 3; ++k) {
+          kt.v0[k] = g.vertices[t.x][k];
+          kt.v1[k] = g.vertices[t.y][k];
+          kt.v2[k] = g.vertices[t.z][k];
+        }
+        ps.triangles.push_back(kt);
+      }
+    } else {
+      kg.first = int(ps.capsules.size());
+      for (const CapsulePrim& c : g.capsules) {
+        kernel::Capsule kc{};
+        for (int k = 0; k < 3; ++k) {
+          kc.a[k] = c.a[k];
+          kc.b[k] = c.b[k];
+        }
+        kc.radius = c.radius;
+        ps.capsules.push_back(kc);
+      }
+    }
+    ps.geoms.push_back(kg);
+  }
+}
+
+} // namespace
+
+PackedScene build_accel(const Scene& scene, Method method, const SahOptions& opt) {
+  auto start = std::chrono::steady_clock::now();
+  validate_scene(scene);
+  if (scene.primitive_count() > std::size_t(INT32_MAX) / 2)
+    throw Error("scene: " + std::to_string(scene.primitive_count()) + " primitives exceed the 32-bit index range");
+  PackedScene ps;
+  ps.method = method;
+  pack_primitives(scene, ps);
+  for (const Instance& inst : scene.instances) {
+    PrimType t = scene.geometries[inst.geometry].type;
+    ps.has_triangles |= t == PrimType::Triangle;
+    ps.has_capsules |= t == PrimType::Capsule;
+    Affine3 w2o = inverse(inst.object_to_world);
+    kernel::Frame f{};
+    Mat3x4f m = to_mat3x4f(w2o);
+    std::memcpy(f.world_to_object, m.data(), sizeof(f.world_to_object));
+    ps.frames.push_back(f);
+    ps.frame_object_to_world.push_back(to_mat3x4f(inst.object_to_world));
+  }
+
+  // BLAS per geometry that needs one (all in ref; triangles only in masq).
+  std::vector<int> blas_root(scene.geometries.size(), -1);
+  std::vector<Aabb> blas_box(scene.geometries.size());
+  ps.geometry_leaf_order.resize(scene.geometries.size());
+  std::vector<bool> used(scene.geometries.size(), false);
+  for (const Instance& inst : scene.instances) used[inst.geometry] = true;
+  for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
+    const Geometry& g = scene.geometries[gi];
+    if (!used[gi] || g.primitive_count() == 0) continue;
+    if (method == Method::Masq && g.type == PrimType::Capsule) continue;
+    std::vector<Aabb> boxes;
+    boxes.reserve(g.primitive_count());
+    if (g.type == PrimType::Triangle)
+      for (const glm::uvec3& t : g.triangles) boxes.push_back(triangle_box(g, t));
+    else
+      for (const CapsulePrim& c : g.capsules) boxes.push_back(capsule_box(c));
+    BinaryBvh bvh = build_binned_sah(boxes, opt);
+    std::vector<std::int32_t> ids(boxes.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
+    WideBvhInfo info = append_wide_bvh(bvh, ids, ps.nodes, ps.refs);
+    blas_root[gi] = info.root;
+    blas_box[gi] = bvh.nodes[0].box;
+    ps.geometry_leaf_order[gi].assign(bvh.order.begin(), bvh.order.end());
+    ps.stats.blas_nodes += info.nodes;
+    ps.stats.blas_leaves += info.leaves;
+    ps.stats.blas_sah_cost += info.sah_cost;
+    ps.stats.max_depth = std::max(ps.stats.max_depth, info.depth);
+  }
+
+  // TLAS entries.
+  std::vector<Aabb> inst_boxes;
+  for (std::size_t si = 0; si < scene.instances.size(); ++si) {
+    const Instance& inst = scene.instances[si];
+    const Geometry& g = scene.geometries[inst.geometry];
+    int gi = int(inst.geometry);
+    if (blas_root[gi] >= 0) {
+      Mat3x4f w2o;
+      std::memcpy(w2o.data(), ps.frames[si].world_to_object, sizeof(float) * 12);
+      ps.instances.push_back(make_instance(w2o, blas_root[gi], gi, -1, int(si)));
+      ps.instance_object_to_world.push_back(ps.frame_object_to_world[si]);
+      inst_boxes.push_back(transform_box(blas_box[gi], inst.object_to_world));
+    } else if (method == Method::Masq && g.type == PrimType::Capsule) {
+      for (std::size_t p = 0; p < g.capsules.size(); ++p) {
+        if (!(g.capsules[p].radius > 0.0f)) continue; // no surface: nothing to box
+        MasqueradeBox mb = capsule_masquerade_box(g.capsules[p], inst.object_to_world);
+        ps.instances.push_back(make_instance(mb.world_to_unit, -1, gi, int(p), int(si)));
+        ps.instance_object_to_world.push_back(mb.unit_to_world);
+        inst_boxes.push_back(mb.world_box);
+      }
+    }
+  }
+  ps.stats.instances = ps.instances.size();
+  if (!inst_boxes.empty()) {
+    BinaryBvh tlas = build_binned_sah(inst_boxes, opt);
+    std::vector<std::int32_t> ids(inst_boxes.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
+    WideBvhInfo info = append_wide_bvh(tlas, ids, ps.nodes, ps.refs);
+    ps.tlas_root = info.root;
+    ps.tlas_leaf_order.assign(tlas.order.begin(), tlas.order.end());
+    ps.stats.tlas_nodes = info.nodes;
+    ps.stats.tlas_leaves = info.leaves;
+    ps.stats.sah_cost = info.sah_cost;
+    ps.stats.max_depth += info.depth;
+  }
+  ps.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return ps;
+}
+
+} // namespace masq

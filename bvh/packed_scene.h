@@ -1,0 +1,57 @@
+// A scene built for tracing with one method: the GPU arrays every compute backend
+// uploads as-is (layouts from kernels/layout.h), plus what the rayquery backend needs
+// to hand the same scene to the driver's own acceleration-structure builder.
+#pragma once
+#include "kernels/layout.h"
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace masq {
+
+enum class Method { Ref, Masq };
+const char* method_name(Method m);
+Method parse_method(const std::string& name); // throws masq::Error
+
+using Mat3x4f = std::array<float, 12>; // row-major 3x4 affine
+
+struct BuildStats {
+  double sah_cost = 0;         // TLAS: traversal 1 per wide node, 1 per instance reference
+  double blas_sah_cost = 0;    // sum over BLAS, each relative to its own root box
+  std::size_t tlas_nodes = 0;  // wide nodes
+  std::size_t blas_nodes = 0;  // wide nodes, all BLAS
+  std::size_t tlas_leaves = 0;
+  std::size_t blas_leaves = 0;
+  std::size_t instances = 0;   // TLAS entries
+  int max_depth = 0;           // wide levels, TLAS + BLAS
+  double build_seconds = 0;
+};
+
+struct PackedScene {
+  Method method = Method::Ref;
+  std::vector<kernel::WideNode> nodes;   // TLAS and all BLAS nodes
+  std::vector<std::int32_t> refs;        // leaf references: instance ids (TLAS), prim ids (BLAS)
+  std::vector<kernel::Instance> instances;
+  std::vector<kernel::Frame> frames;     // one per scene instance
+  std::vector<kernel::Geometry> geoms;
+  std::vector<kernel::Triangle> triangles;
+  std::vector<kernel::Capsule> capsules;
+  std::int32_t tlas_root = -1;
+  bool has_triangles = false;
+  bool has_capsules = false;
+
+  // For the rayquery backend.
+  std::vector<Mat3x4f> frame_object_to_world;    // per scene instance
+  std::vector<Mat3x4f> instance_object_to_world; // per TLAS instance (masquerade: unit box -> world)
+  std::vector<std::int32_t> tlas_leaf_order;     // instance ids in TLAS leaf order (submission order)
+  // Per geometry: its primitive ids in BLAS leaf order (submission order for the driver).
+  std::vector<std::vector<std::int32_t>> geometry_leaf_order;
+
+  BuildStats stats;
+
+  std::size_t acceleration_bytes() const; // nodes + refs + instances + frames
+  std::size_t primitive_bytes() const;    // geoms + triangles + capsules
+};
+
+} // namespace masq

@@ -1,0 +1,25 @@
+// masq info: which backends run here, on what device and driver, and why not.
+#include "cli/commands.h"
+#include "host/backend.h"
+#include <fmt/format.h>
+
+namespace masq::cli {
+
+Action add_info(CLI::App& app) {
+  app.add_subcommand("info", "List backends, devices and driver versions (and why any is unavailable)");
+  return [] {
+    int available = 0;
+    for (const std::string& name : backend_names()) {
+      try {
+        std::unique_ptr<Backend> be = make_backend(name);
+        fmt::print("{:<9} available    {}\n", name, be->device_name());
+        ++available;
+      } catch (const std::exception& e) {
+        fmt::print("{:<9} unavailable  {}\n", name, e.what());
+      }
+    }
+    return available > 0 ? 0 : 1;
+  };
+}
+
+} // namespace masq::cli

@@ -1,0 +1,15 @@
+#include "cli/image_writer.h"
+#include "scenes/error.h"
+#include <OpenImageIO/imageio.h>
+
+namespace masq::cli {
+
+void write_rgb(const std::string& path, int width, int height, const std::vector<float>& rgb) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error("image: cannot write '" + path + "': " + OIIO::geterror());
+  OIIO::ImageSpec spec(width, height, 3, path.ends_with(".exr") ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) || !out->close())
+    throw Error("image: writing '" + path + "' failed: " + out->geterror());
+}
+
+} // namespace masq::cli

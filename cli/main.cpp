@@ -1,0 +1,35 @@
+// masq: portable ray tracing of long, thin primitives. See `masq --help`.
+#include "cli/commands.h"
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+  CLI::App app{"masq: ray tracing of long, thin primitives with the masquerade method, "
+               "on cpu, vulkan, opencl and Vulkan ray query"};
+  app.footer("Examples:\n"
+             "  masq info\n"
+             "  masq bench                          # default bundle scene, every backend x method\n"
+             "  masq bench --backend cpu --method masq --width 256 --height 256\n"
+             "  masq render --backend vulkan --out bundle   # bundle_shaded.png, bundle_heat.png\n"
+             "Exit codes: 0 ok, 1 error (message on stderr), 2 bad usage.");
+  app.require_subcommand(1);
+  masq::cli::Action action;
+  masq::cli::Action info = masq::cli::add_info(app);
+  masq::cli::Action render = masq::cli::add_render(app);
+  masq::cli::Action bench = masq::cli::add_bench(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
+  }
+  try {
+    if (app.got_subcommand("info")) return info();
+    if (app.got_subcommand("render")) return render();
+    if (app.got_subcommand("bench")) return bench();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "masq: %s\n", e.what());
+    return 1;
+  }
+  return 2;
+}

@@ -1,0 +1,46 @@
+# Compiles a GLSL compute shader to SPIR-V at build time, validates it with spirv-val
+# (the build fails on invalid SPIR-V), and embeds the words as a C array in
+# ${MASQ_GENERATED_DIR}/spirv/<NAME>.h (`const uint32_t <NAME>[]`), which sources of
+# TARGET include as "spirv/<NAME>.h". Header dependencies come from glslang's depfile.
+#
+#   masq_add_spirv(TARGET <target> SOURCE <file.comp> NAME <c_identifier>
+#                  [VISIBILITY PUBLIC|PRIVATE])
+include_guard(GLOBAL)
+
+if(NOT GLSLANG_VALIDATOR)
+  find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
+endif()
+if(NOT SPIRV_VAL)
+  find_program(SPIRV_VAL spirv-val REQUIRED)
+endif()
+if(NOT MASQ_GENERATED_DIR)
+  set(MASQ_GENERATED_DIR ${CMAKE_BINARY_DIR}/generated)
+endif()
+
+function(masq_add_spirv)
+  cmake_parse_arguments(ARG "" "TARGET;SOURCE;NAME;VISIBILITY" "" ${ARGN})
+  if(NOT ARG_TARGET OR NOT ARG_SOURCE OR NOT ARG_NAME)
+    message(FATAL_ERROR "masq_add_spirv: TARGET, SOURCE and NAME are required")
+  endif()
+  if(NOT ARG_VISIBILITY)
+    set(ARG_VISIBILITY PRIVATE)
+  endif()
+  get_filename_component(src ${ARG_SOURCE} ABSOLUTE)
+  set(out_dir ${MASQ_GENERATED_DIR}/spirv)
+  set(spv ${out_dir}/${ARG_NAME}.spv)
+  set(hdr ${out_dir}/${ARG_NAME}.h)
+  set(glslang_args --target-env vulkan1.2 -V -I${CMAKE_SOURCE_DIR}/kernels)
+  # The depfile's target is the .spv (the first output), as Ninja requires.
+  add_custom_command(
+    OUTPUT ${spv} ${hdr}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${out_dir}
+    COMMAND ${GLSLANG_VALIDATOR} ${glslang_args} --depfile ${spv}.d -o ${spv} ${src}
+    COMMAND ${SPIRV_VAL} --target-env vulkan1.2 ${spv}
+    COMMAND ${GLSLANG_VALIDATOR} ${glslang_args} --vn ${ARG_NAME} -o ${hdr} ${src}
+    MAIN_DEPENDENCY ${src}
+    DEPFILE ${spv}.d
+    COMMENT "GLSL -> SPIR-V ${ARG_NAME} (glslang, spirv-val)"
+    VERBATIM)
+  target_sources(${ARG_TARGET} PRIVATE ${hdr})
+  target_include_directories(${ARG_TARGET} ${ARG_VISIBILITY} ${MASQ_GENERATED_DIR})
+endfunction()

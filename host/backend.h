@@ -1,0 +1,46 @@
+// One interface for every way masq traces rays: cpu (kernel source compiled as C++),
+// vulkan (compute shaders), opencl, rayquery (Vulkan ray query on the driver's own
+// acceleration structures). Drivers (CLI, bench, tests) use only this header.
+#pragma once
+#include "bvh/packed_scene.h"
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace masq {
+
+class BackendUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error; // one line: "<backend>: <why>"
+};
+
+struct TraceTiming {
+  double scene_seconds = 0;   // upload + driver acceleration-structure build
+  double compile_seconds = 0; // kernel/pipeline compile of the variant used (first use)
+  double trace_seconds = 0;   // last trace: device time (Vulkan timestamps, OpenCL events) or wall (cpu)
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual std::string name() const = 0;
+  virtual std::string device_name() const = 0;   // device and driver version
+  // Uploads (and for rayquery builds) the scene; replaces any previous one.
+  virtual void set_scene(const PackedScene& scene) = 0;
+  // Closest hit for every ray. stats empty: the counter-free variant runs; else it must
+  // have rays.size() entries and the stats variant runs.
+  virtual void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
+                     std::span<kernel::RayStats> stats) = 0;
+  virtual TraceTiming timing() const = 0;
+  // Bytes the backend holds on the device for the current scene (acceleration + primitives).
+  virtual std::size_t device_bytes() const = 0;
+};
+
+// "cpu", "vulkan", "opencl", "rayquery".
+const std::vector<std::string>& backend_names();
+// Throws BackendUnavailable (one line naming the cause) when it cannot run here.
+std::unique_ptr<Backend> make_backend(std::string_view name);
+
+} // namespace masq

@@ -1,0 +1,82 @@
+#include "host/cpu/cpu_backend.h"
+#include "host/cpu/cpu_kernels.h"
+#include "scenes/error.h"
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <thread>
+
+namespace masq {
+
+namespace {
+
+int thread_count() {
+  if (const char* env = std::getenv("MASQ_CPU_THREADS")) {
+    int n = std::atoi(env);
+    if (n > 0) return n;
+  }
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+class CpuBackend final : public Backend {
+ public:
+  std::string name() const override { return "cpu"; }
+  std::string device_name() const override {
+    return "kernel source as C++, " + std::to_string(threads_) + " threads";
+  }
+
+  void set_scene(const PackedScene& scene) override {
+    auto start = std::chrono::steady_clock::now();
+    scene_ = scene; // own a copy: the caller's scene may go away
+    kd_.nodes = scene_.nodes.data();
+    kd_.refs = scene_.refs.data();
+    kd_.instances = scene_.instances.data();
+    kd_.frames = scene_.frames.data();
+    kd_.geoms = scene_.geoms.data();
+    kd_.triangles = scene_.triangles.data();
+    kd_.capsules = scene_.capsules.data();
+    timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    has_scene_ = true;
+  }
+
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
+             std::span<kernel::RayStats> stats) override {
+    if (!has_scene_) throw Error("cpu: trace called before set_scene");
+    if (hits.size() != rays.size() || (!stats.empty() && stats.size() != rays.size()))
+      throw Error("cpu: hits/stats spans must have one entry per ray");
+    if (rays.size() > std::size_t(INT32_MAX)) throw Error("cpu: more than 2^31-1 rays in one batch");
+    cpu::TraceRangeFn fn = stats.empty() ? cpu::trace_range_plain : cpu::trace_range_stats;
+    const int n = int(rays.size());
+    // Small chunks handed out dynamically balance uneven rays across threads.
+    const int chunk = 256;
+    std::atomic<int> next{0};
+    auto worker = [&] {
+      for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
+        fn(kd_, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
+           scene_.tlas_root);
+    };
+    auto start = std::chrono::steady_clock::now();
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads_; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    timing_.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  TraceTiming timing() const override { return timing_; }
+  std::size_t device_bytes() const override { return scene_.acceleration_bytes() + scene_.primitive_bytes(); }
+
+ private:
+  int threads_ = thread_count();
+  PackedScene scene_;
+  kernel::KernelData kd_{};
+  bool has_scene_ = false;
+  TraceTiming timing_;
+};
+
+} // namespace
+
+std::unique_ptr<Backend> make_cpu_backend() { return std::make_unique<CpuBackend>(); }
+
+} // namespace masq

@@ -1,0 +1,153 @@
+#include "host/opencl/cl_runtime.h"
+
+#include "host/backend.h"
+#include "scenes/error.h"
+
+#include <chrono>
+#include <sstream>
+#include <vector>
+
+namespace masq::opencl {
+
+std::string cl_error_name(cl_int code) {
+  switch (code) {
+#define MASQ_CL_CODE(c) \
+  case c:               \
+    return #c;
+    MASQ_CL_CODE(CL_SUCCESS)
+    MASQ_CL_CODE(CL_DEVICE_NOT_FOUND)
+    MASQ_CL_CODE(CL_DEVICE_NOT_AVAILABLE)
+    MASQ_CL_CODE(CL_COMPILER_NOT_AVAILABLE)
+    MASQ_CL_CODE(CL_MEM_OBJECT_ALLOCATION_FAILURE)
+    MASQ_CL_CODE(CL_OUT_OF_RESOURCES)
+    MASQ_CL_CODE(CL_OUT_OF_HOST_MEMORY)
+    MASQ_CL_CODE(CL_PROFILING_INFO_NOT_AVAILABLE)
+    MASQ_CL_CODE(CL_BUILD_PROGRAM_FAILURE)
+    MASQ_CL_CODE(CL_MAP_FAILURE)
+    MASQ_CL_CODE(CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST)
+    MASQ_CL_CODE(CL_INVALID_VALUE)
+    MASQ_CL_CODE(CL_INVALID_DEVICE_TYPE)
+    MASQ_CL_CODE(CL_INVALID_PLATFORM)
+    MASQ_CL_CODE(CL_INVALID_DEVICE)
+    MASQ_CL_CODE(CL_INVALID_CONTEXT)
+    MASQ_CL_CODE(CL_INVALID_QUEUE_PROPERTIES)
+    MASQ_CL_CODE(CL_INVALID_COMMAND_QUEUE)
+    MASQ_CL_CODE(CL_INVALID_MEM_OBJECT)
+    MASQ_CL_CODE(CL_INVALID_BINARY)
+    MASQ_CL_CODE(CL_INVALID_BUILD_OPTIONS)
+    MASQ_CL_CODE(CL_INVALID_PROGRAM)
+    MASQ_CL_CODE(CL_INVALID_PROGRAM_EXECUTABLE)
+    MASQ_CL_CODE(CL_INVALID_KERNEL_NAME)
+    MASQ_CL_CODE(CL_INVALID_KERNEL)
+    MASQ_CL_CODE(CL_INVALID_ARG_INDEX)
+    MASQ_CL_CODE(CL_INVALID_ARG_VALUE)
+    MASQ_CL_CODE(CL_INVALID_ARG_SIZE)
+    MASQ_CL_CODE(CL_INVALID_KERNEL_ARGS)
+    MASQ_CL_CODE(CL_INVALID_WORK_DIMENSION)
+    MASQ_CL_CODE(CL_INVALID_WORK_GROUP_SIZE)
+    MASQ_CL_CODE(CL_INVALID_WORK_ITEM_SIZE)
+    MASQ_CL_CODE(CL_INVALID_GLOBAL_OFFSET)
+    MASQ_CL_CODE(CL_INVALID_EVENT)
+    MASQ_CL_CODE(CL_INVALID_OPERATION)
+    MASQ_CL_CODE(CL_INVALID_BUFFER_SIZE)
+    MASQ_CL_CODE(CL_INVALID_GLOBAL_WORK_SIZE)
+    MASQ_CL_CODE(CL_PLATFORM_NOT_FOUND_KHR)
+#undef MASQ_CL_CODE
+    default:
+      return "CL error " + std::to_string(code);
+  }
+}
+
+void check(cl_int code, std::string_view what) {
+  if (code != CL_SUCCESS)
+    throw Error("opencl: " + std::string(what) + " failed (" + cl_error_name(code) + ")");
+}
+
+namespace {
+
+std::string trim(std::string s) {
+  while (!s.empty() && (s.back() == '\0' || s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+std::string describe(const cl::Platform& platform, const cl::Device& device) {
+  return trim(device.getInfo<CL_DEVICE_NAME>()) + " (driver " + trim(device.getInfo<CL_DRIVER_VERSION>()) +
+         ", " + trim(platform.getInfo<CL_PLATFORM_VERSION>()) + ")";
+}
+
+// The error lines of a compiler log (else its first lines), joined into one line.
+std::string summarize_log(const std::string& log) {
+  std::vector<std::string> all, errors;
+  std::istringstream in(log);
+  for (std::string line; std::getline(in, line);) {
+    line = trim(line);
+    if (line.empty()) continue;
+    all.push_back(line);
+    if (line.find("error") != std::string::npos) errors.push_back(line);
+  }
+  const auto& pick = errors.empty() ? all : errors;
+  std::string out;
+  for (std::size_t i = 0; i < pick.size() && i < 6; ++i) out += (i ? " | " : "") + pick[i];
+  if (pick.size() > 6) out += " | (" + std::to_string(pick.size() - 6) + " more)";
+  return out.empty() ? "(empty build log)" : out;
+}
+
+} // namespace
+
+Runtime open_runtime() {
+  std::vector<cl::Platform> platforms;
+  cl_int err = cl::Platform::get(&platforms);
+  if (err != CL_SUCCESS || platforms.empty())
+    throw BackendUnavailable("opencl: no OpenCL platform (clGetPlatformIDs: " +
+                             cl_error_name(err == CL_SUCCESS ? CL_PLATFORM_NOT_FOUND_KHR : err) + ")");
+  Runtime rt;
+  bool found = false;
+  cl_int last = CL_DEVICE_NOT_FOUND;
+  for (cl_device_type type : {cl_device_type(CL_DEVICE_TYPE_GPU), cl_device_type(CL_DEVICE_TYPE_ALL)}) {
+    for (const auto& p : platforms) {
+      std::vector<cl::Device> devices;
+      cl_int e = p.getDevices(type, &devices);
+      if (e != CL_SUCCESS || devices.empty()) {
+        if (e != CL_SUCCESS) last = e;
+        continue;
+      }
+      rt.platform = p;
+      rt.device = devices.front();
+      found = true;
+      break;
+    }
+    if (found) break;
+  }
+  if (!found)
+    throw BackendUnavailable("opencl: no OpenCL device on " + std::to_string(platforms.size()) +
+                             " platform(s) (clGetDeviceIDs: " + cl_error_name(last) + ")");
+  rt.context = cl::Context(rt.device, nullptr, nullptr, nullptr, &err);
+  if (err != CL_SUCCESS) throw BackendUnavailable("opencl: clCreateContext failed (" + cl_error_name(err) + ")");
+  rt.queue = cl::CommandQueue(rt.context, rt.device, CL_QUEUE_PROFILING_ENABLE, &err);
+  if (err != CL_SUCCESS)
+    throw BackendUnavailable("opencl: clCreateCommandQueue failed (" + cl_error_name(err) + ")");
+  rt.description = describe(rt.platform, rt.device);
+  rt.max_alloc = static_cast<std::size_t>(rt.device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
+  return rt;
+}
+
+std::string base_build_options() { return "-cl-std=CL1.2"; }
+
+BuiltProgram build_program(const Runtime& rt, const std::string& source, const std::string& options,
+                           std::string_view label) {
+  cl_int err = CL_SUCCESS;
+  BuiltProgram out;
+  out.program = cl::Program(rt.context, source, false, &err);
+  check(err, "clCreateProgramWithSource (" + std::string(label) + ")");
+  auto start = std::chrono::steady_clock::now();
+  err = out.program.build(std::vector<cl::Device>{rt.device}, options.c_str());
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (err != CL_SUCCESS) {
+    std::string log = out.program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(rt.device);
+    throw Error("opencl: building " + std::string(label) + " with \"" + options + "\" failed (" +
+                cl_error_name(err) + "): " + summarize_log(log));
+  }
+  return out;
+}
+
+} // namespace masq::opencl

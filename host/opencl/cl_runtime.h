@@ -1,0 +1,50 @@
+// OpenCL plumbing shared by the opencl backend and its tests: device choice, checked
+// calls, program builds with readable errors. Not part of the public Backend API.
+#pragma once
+#ifndef CL_HPP_TARGET_OPENCL_VERSION
+#define CL_HPP_TARGET_OPENCL_VERSION 120
+#endif
+#ifndef CL_HPP_MINIMUM_OPENCL_VERSION
+#define CL_HPP_MINIMUM_OPENCL_VERSION 120
+#endif
+#include <CL/opencl.hpp>
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+namespace masq::opencl {
+
+// "CL_OUT_OF_RESOURCES", ..., or "CL error <n>" for codes without a name here.
+std::string cl_error_name(cl_int code);
+
+// Throws masq::Error "opencl: <what> failed (<CL_NAME>)" unless code is CL_SUCCESS.
+void check(cl_int code, std::string_view what);
+
+struct Runtime {
+  cl::Platform platform;
+  cl::Device device;
+  cl::Context context;
+  cl::CommandQueue queue;    // in order, profiling enabled
+  std::string description;   // device name, driver version, platform version
+  std::size_t max_alloc = 0; // CL_DEVICE_MAX_MEM_ALLOC_SIZE
+};
+
+// The first GPU of any platform, else the first device of any type. Throws
+// BackendUnavailable (one line, naming the failing call) when there is none.
+Runtime open_runtime();
+
+struct BuiltProgram {
+  cl::Program program;
+  double seconds = 0; // clBuildProgram wall time
+};
+
+// Builds OpenCL C source for the runtime's device. On failure throws masq::Error naming
+// `label`, the options and the first error lines of the build log.
+BuiltProgram build_program(const Runtime& rt, const std::string& source, const std::string& options,
+                           std::string_view label);
+
+// The options every masq program is built with (OpenCL C 1.2; never relaxed math:
+// the intersectors' error bounds assume IEEE single precision).
+std::string base_build_options();
+
+} // namespace masq::opencl

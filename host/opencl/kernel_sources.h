@@ -1,0 +1,9 @@
+// The OpenCL C programs, embedded at build time by cmake/embed_opencl.cmake with their
+// #includes resolved and #line kept (build logs name kernels/<file>:<line>).
+#pragma once
+#include <string>
+
+namespace masq::opencl {
+std::string trace_source();        // kernels/trace.cl
+std::string layout_check_source(); // kernels/layout_check.cl (tests)
+} // namespace masq::opencl

@@ -1,0 +1,210 @@
+#include "host/opencl/opencl_backend.h"
+
+#include "host/opencl/cl_runtime.h"
+#include "host/opencl/kernel_sources.h"
+#include "scenes/error.h"
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <optional>
+#include <vector>
+
+namespace masq {
+namespace {
+
+using opencl::check;
+
+// Global sizes are padded to this multiple so the runtime can choose a work-group size
+// (a prime ray count would otherwise force work-groups of one).
+constexpr std::size_t kGlobalMultiple = 64;
+constexpr std::size_t kMaxWindowRays = std::size_t{1} << 30;
+// OpenCL rejects zero-sized buffers; empty arrays get a dummy the kernel never reads.
+constexpr std::size_t kDummyBytes = 16;
+
+struct SceneBuffers {
+  cl::Buffer nodes, refs, instances, frames, geoms, triangles, capsules;
+  int tlas_root = -1;
+  bool has_triangles = false;
+  bool has_capsules = false;
+  std::size_t bytes = 0;
+};
+
+struct Variant {
+  cl::Program program;
+  cl::Kernel kernel;
+  double compile_seconds = 0;
+};
+
+class OpenClBackend final : public Backend {
+ public:
+  explicit OpenClBackend(std::size_t chunk_rays)
+      : rt_(opencl::open_runtime()), chunk_rays_(std::max<std::size_t>(chunk_rays, 1)) {}
+
+  std::string name() const override { return "opencl"; }
+  std::string device_name() const override { return rt_.description; }
+  TraceTiming timing() const override { return timing_; }
+  std::size_t device_bytes() const override { return scene_ ? scene_->bytes : 0; }
+
+  void set_scene(const PackedScene& scene) override {
+    auto start = std::chrono::steady_clock::now();
+    if (scene.tlas_root >= static_cast<std::int64_t>(scene.nodes.size()))
+      throw Error("opencl: tlas_root " + std::to_string(scene.tlas_root) + " is outside the " +
+                  std::to_string(scene.nodes.size()) + " nodes");
+    scene_.reset(); // free the previous scene's device memory first
+    SceneBuffers sb;
+    sb.nodes = upload("nodes", scene.nodes, sb.bytes);
+    sb.refs = upload("refs", scene.refs, sb.bytes);
+    sb.instances = upload("instances", scene.instances, sb.bytes);
+    sb.frames = upload("frames", scene.frames, sb.bytes);
+    sb.geoms = upload("geoms", scene.geoms, sb.bytes);
+    sb.triangles = upload("triangles", scene.triangles, sb.bytes);
+    sb.capsules = upload("capsules", scene.capsules, sb.bytes);
+    sb.tlas_root = scene.tlas_root;
+    sb.has_triangles = scene.has_triangles;
+    sb.has_capsules = scene.has_capsules;
+    check(rt_.queue.finish(), "clFinish (scene upload)");
+    scene_ = std::move(sb);
+    timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
+             std::span<kernel::RayStats> stats) override {
+    if (!scene_) throw Error("opencl: trace called before set_scene");
+    if (hits.size() != rays.size())
+      throw Error("opencl: " + std::to_string(rays.size()) + " rays but " + std::to_string(hits.size()) + " hits");
+    const bool want_stats = !stats.empty();
+    if (want_stats && stats.size() != rays.size())
+      throw Error("opencl: " + std::to_string(rays.size()) + " rays but " + std::to_string(stats.size()) + " stats");
+    Variant& v = variant(want_stats);
+    timing_.compile_seconds = v.compile_seconds;
+    timing_.trace_seconds = 0;
+    const std::size_t n = rays.size();
+    if (n == 0) return;
+
+    // All rays of a window live in one buffer; chunks of it are dispatched with
+    // ray_offset. The window is as large as the device's largest allocation allows.
+    // Both are bounded by kMaxWindowRays so ray_count and ray_offset fit the kernel's int.
+    const std::size_t chunk = std::min({n, chunk_rays_, kMaxWindowRays});
+    std::size_t window = std::min({n, rt_.max_alloc / sizeof(kernel::Ray), kMaxWindowRays});
+    if (window > chunk) window -= window % chunk;
+    window = std::max(window, chunk);
+    ensure(ray_buf_, ray_cap_, window * sizeof(kernel::Ray), CL_MEM_READ_ONLY, "rays");
+    ensure(hit_buf_, hit_cap_, chunk * sizeof(kernel::Hit), CL_MEM_WRITE_ONLY, "hits");
+    if (want_stats) ensure(stat_buf_, stat_cap_, chunk * sizeof(kernel::RayStats), CL_MEM_WRITE_ONLY, "stats");
+    else ensure(stat_buf_, stat_cap_, kDummyBytes, CL_MEM_WRITE_ONLY, "stats");
+
+    const SceneBuffers& sb = *scene_;
+    cl::Kernel& k = v.kernel;
+    check(k.setArg(0, sb.nodes), "clSetKernelArg(nodes)");
+    check(k.setArg(1, sb.refs), "clSetKernelArg(refs)");
+    check(k.setArg(2, sb.instances), "clSetKernelArg(instances)");
+    check(k.setArg(3, sb.frames), "clSetKernelArg(frames)");
+    check(k.setArg(4, sb.geoms), "clSetKernelArg(geoms)");
+    check(k.setArg(5, sb.triangles), "clSetKernelArg(triangles)");
+    check(k.setArg(6, sb.capsules), "clSetKernelArg(capsules)");
+    check(k.setArg(7, ray_buf_), "clSetKernelArg(rays)");
+    check(k.setArg(8, hit_buf_), "clSetKernelArg(hits)");
+    check(k.setArg(9, stat_buf_), "clSetKernelArg(stats)");
+    check(k.setArg(11, cl_int(sb.tlas_root)), "clSetKernelArg(tlas_root)");
+
+    std::vector<cl::Event> events;
+    for (std::size_t w0 = 0; w0 < n; w0 += window) {
+      const std::size_t wn = std::min(window, n - w0);
+      check(rt_.queue.enqueueWriteBuffer(ray_buf_, CL_FALSE, 0, wn * sizeof(kernel::Ray), rays.data() + w0),
+            "clEnqueueWriteBuffer(rays)");
+      for (std::size_t c0 = 0; c0 < wn; c0 += chunk) {
+        const std::size_t cn = std::min(chunk, wn - c0);
+        check(k.setArg(10, cl_int(cn)), "clSetKernelArg(ray_count)");
+        check(k.setArg(12, cl_int(c0)), "clSetKernelArg(ray_offset)");
+        const std::size_t global = (cn + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
+        cl::Event ev;
+        check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr, &ev),
+              "clEnqueueNDRangeKernel(trace)");
+        events.push_back(ev);
+        // In-order queue: each read completes before the next chunk overwrites the buffer.
+        check(rt_.queue.enqueueReadBuffer(hit_buf_, CL_FALSE, 0, cn * sizeof(kernel::Hit), hits.data() + w0 + c0),
+              "clEnqueueReadBuffer(hits)");
+        if (want_stats)
+          check(rt_.queue.enqueueReadBuffer(stat_buf_, CL_FALSE, 0, cn * sizeof(kernel::RayStats),
+                                            stats.data() + w0 + c0),
+                "clEnqueueReadBuffer(stats)");
+      }
+      // The next window's upload must not overwrite rays still being traced.
+      check(rt_.queue.finish(), "clFinish(trace)");
+    }
+    cl_ulong total_ns = 0;
+    for (const cl::Event& ev : events) {
+      cl_ulong t0 = 0, t1 = 0;
+      check(ev.getProfilingInfo(CL_PROFILING_COMMAND_START, &t0), "clGetEventProfilingInfo(start)");
+      check(ev.getProfilingInfo(CL_PROFILING_COMMAND_END, &t1), "clGetEventProfilingInfo(end)");
+      total_ns += t1 - t0;
+    }
+    timing_.trace_seconds = static_cast<double>(total_ns) * 1e-9;
+  }
+
+ private:
+  template <class T>
+  cl::Buffer upload(const char* what, const std::vector<T>& data, std::size_t& total) {
+    const std::size_t bytes = data.size() * sizeof(T);
+    if (bytes > rt_.max_alloc)
+      throw Error("opencl: scene array '" + std::string(what) + "' needs " + std::to_string(bytes) +
+                  " bytes, more than the device's largest allocation (CL_DEVICE_MAX_MEM_ALLOC_SIZE = " +
+                  std::to_string(rt_.max_alloc) + " bytes)");
+    const std::size_t size = std::max(bytes, kDummyBytes);
+    cl_int err = CL_SUCCESS;
+    cl::Buffer buf(rt_.context, CL_MEM_READ_ONLY, size, nullptr, &err);
+    check(err, "clCreateBuffer(" + std::string(what) + ", " + std::to_string(size) + " bytes)");
+    if (bytes > 0)
+      check(rt_.queue.enqueueWriteBuffer(buf, CL_FALSE, 0, bytes, data.data()),
+            "clEnqueueWriteBuffer(" + std::string(what) + ")");
+    total += size;
+    return buf;
+  }
+
+  void ensure(cl::Buffer& buf, std::size_t& cap, std::size_t bytes, cl_mem_flags flags, const char* what) {
+    if (cap >= bytes && buf() != nullptr) return;
+    if (bytes > rt_.max_alloc)
+      throw Error("opencl: " + std::string(what) + " buffer needs " + std::to_string(bytes) +
+                  " bytes, more than CL_DEVICE_MAX_MEM_ALLOC_SIZE (" + std::to_string(rt_.max_alloc) + ")");
+    buf = cl::Buffer();
+    cl_int err = CL_SUCCESS;
+    buf = cl::Buffer(rt_.context, flags, bytes, nullptr, &err);
+    check(err, "clCreateBuffer(" + std::string(what) + ", " + std::to_string(bytes) + " bytes)");
+    cap = bytes;
+  }
+
+  // The program variant for the current scene's primitive types, built on first use.
+  Variant& variant(bool want_stats) {
+    const bool tri = scene_->has_triangles, cap = scene_->has_capsules;
+    const int key = (want_stats ? 1 : 0) | (tri ? 2 : 0) | (cap ? 4 : 0);
+    auto it = variants_.find(key);
+    if (it != variants_.end()) return it->second;
+    std::string options = opencl::base_build_options() + " -D MASQ_STATS=" + (want_stats ? "1" : "0") +
+                          " -D MASQ_HAVE_TRIANGLES=" + (tri ? "1" : "0") + " -D MASQ_HAVE_CAPSULES=" + (cap ? "1" : "0");
+    opencl::BuiltProgram built = opencl::build_program(rt_, opencl::trace_source(), options, "kernels/trace.cl");
+    Variant v;
+    v.program = built.program;
+    v.compile_seconds = built.seconds;
+    cl_int err = CL_SUCCESS;
+    v.kernel = cl::Kernel(v.program, "trace", &err);
+    check(err, "clCreateKernel(trace)");
+    return variants_.emplace(key, std::move(v)).first->second;
+  }
+
+  opencl::Runtime rt_;
+  std::size_t chunk_rays_;
+  std::optional<SceneBuffers> scene_;
+  std::map<int, Variant> variants_;
+  cl::Buffer ray_buf_, hit_buf_, stat_buf_;
+  std::size_t ray_cap_ = 0, hit_cap_ = 0, stat_cap_ = 0;
+  TraceTiming timing_;
+};
+
+} // namespace
+
+std::unique_ptr<Backend> make_opencl_backend(std::size_t chunk_rays) {
+  return std::make_unique<OpenClBackend>(chunk_rays);
+}
+
+} // namespace masq

@@ -1,0 +1,50 @@
+#include "host/vulkan/vk_check.h"
+#include <fmt/format.h>
+
+namespace masq::vk {
+
+const char* result_name(VkResult r) {
+  switch (r) {
+#define MASQ_VK_CASE(x) \
+  case x:               \
+    return #x;
+    MASQ_VK_CASE(VK_SUCCESS)
+    MASQ_VK_CASE(VK_NOT_READY)
+    MASQ_VK_CASE(VK_TIMEOUT)
+    MASQ_VK_CASE(VK_EVENT_SET)
+    MASQ_VK_CASE(VK_EVENT_RESET)
+    MASQ_VK_CASE(VK_INCOMPLETE)
+    MASQ_VK_CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
+    MASQ_VK_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+    MASQ_VK_CASE(VK_ERROR_INITIALIZATION_FAILED)
+    MASQ_VK_CASE(VK_ERROR_DEVICE_LOST)
+    MASQ_VK_CASE(VK_ERROR_MEMORY_MAP_FAILED)
+    MASQ_VK_CASE(VK_ERROR_LAYER_NOT_PRESENT)
+    MASQ_VK_CASE(VK_ERROR_EXTENSION_NOT_PRESENT)
+    MASQ_VK_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
+    MASQ_VK_CASE(VK_ERROR_INCOMPATIBLE_DRIVER)
+    MASQ_VK_CASE(VK_ERROR_TOO_MANY_OBJECTS)
+    MASQ_VK_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED)
+    MASQ_VK_CASE(VK_ERROR_FRAGMENTED_POOL)
+    MASQ_VK_CASE(VK_ERROR_UNKNOWN)
+    MASQ_VK_CASE(VK_ERROR_OUT_OF_POOL_MEMORY)
+    MASQ_VK_CASE(VK_ERROR_INVALID_EXTERNAL_HANDLE)
+    MASQ_VK_CASE(VK_ERROR_FRAGMENTATION)
+    MASQ_VK_CASE(VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS)
+    MASQ_VK_CASE(VK_PIPELINE_COMPILE_REQUIRED)
+    MASQ_VK_CASE(VK_THREAD_IDLE_KHR)
+    MASQ_VK_CASE(VK_THREAD_DONE_KHR)
+    MASQ_VK_CASE(VK_OPERATION_DEFERRED_KHR)
+    MASQ_VK_CASE(VK_OPERATION_NOT_DEFERRED_KHR)
+#undef MASQ_VK_CASE
+    default:
+      return "VK_RESULT_UNKNOWN";
+  }
+}
+
+void throw_vk_error(const char* call, VkResult r, const char* file, int line) {
+  throw Error(fmt::format("{}:{}: {} failed: {} ({})", file, line, call, result_name(r),
+                          static_cast<int>(r)));
+}
+
+} // namespace masq::vk

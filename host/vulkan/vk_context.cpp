@@ -1,0 +1,232 @@
+#include "host/vulkan/vk_context.h"
+#include "host/backend.h"
+#include "host/vulkan/vulkan_backends.h"
+#include <fmt/format.h>
+#include <cstring>
+#include <mutex>
+#include <vector>
+
+namespace masq::vk {
+namespace {
+
+const char* const kRayQueryExtensions[] = {
+    VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+    VK_KHR_RAY_QUERY_EXTENSION_NAME,
+    VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
+};
+
+bool has_extension(VkPhysicalDevice pd, const char* name) {
+  std::uint32_t n = 0;
+  vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
+  std::vector<VkExtensionProperties> exts(n);
+  vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data());
+  for (const auto& e : exts)
+    if (std::strcmp(e.extensionName, name) == 0) return true;
+  return false;
+}
+
+int compute_queue_family(VkPhysicalDevice pd) {
+  std::uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
+  std::vector<VkQueueFamilyProperties> fams(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, fams.data());
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (fams[i].queueFlags & VK_QUEUE_COMPUTE_BIT) return static_cast<int>(i);
+  return -1;
+}
+
+// Why this device cannot serve ray query, or "" when it can.
+std::string ray_query_gap(VkPhysicalDevice pd) {
+  for (const char* e : kRayQueryExtensions)
+    if (!has_extension(pd, e)) return fmt::format("lacks {}", e);
+  VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR as{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rq};
+  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &as};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
+  vkGetPhysicalDeviceFeatures2(pd, &f2);
+  if (!rq.rayQuery) return "lacks the rayQuery feature";
+  if (!as.accelerationStructure) return "lacks the accelerationStructure feature";
+  if (!v12.bufferDeviceAddress) return "lacks the bufferDeviceAddress feature";
+  return "";
+}
+
+std::mutex g_mutex;
+std::weak_ptr<Context> g_contexts[2];
+
+} // namespace
+
+std::shared_ptr<Context> Context::get(const char* backend, bool ray_query) {
+  std::lock_guard<std::mutex> lock(g_mutex);
+  std::weak_ptr<Context>& slot = g_contexts[ray_query ? 1 : 0];
+  if (auto existing = slot.lock()) return existing;
+  std::shared_ptr<Context> ctx(new Context());
+  ctx->create(backend, ray_query);
+  slot = ctx;
+  return ctx;
+}
+
+void Context::create(const char* backend, bool want_ray_query) {
+  auto unavailable = [&](const std::string& why) {
+    throw BackendUnavailable(fmt::format("{}: {}", backend, why));
+  };
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "masq";
+  app.apiVersion = VK_API_VERSION_1_2;
+  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ici.pApplicationInfo = &app;
+  VkResult r = vkCreateInstance(&ici, nullptr, &instance);
+  if (r != VK_SUCCESS) {
+    instance = VK_NULL_HANDLE;
+    unavailable(fmt::format("no Vulkan driver (vkCreateInstance: {})", result_name(r)));
+  }
+
+  std::uint32_t n = 0;
+  vkEnumeratePhysicalDevices(instance, &n, nullptr);
+  std::vector<VkPhysicalDevice> devices(n);
+  vkEnumeratePhysicalDevices(instance, &n, devices.data());
+  std::string first_gap;
+  for (VkPhysicalDevice pd : devices) {
+    VkPhysicalDeviceProperties p{};
+    vkGetPhysicalDeviceProperties(pd, &p);
+    int family = compute_queue_family(pd);
+    std::string gap;
+    if (family < 0) gap = "has no compute queue";
+    else if (p.apiVersion < VK_API_VERSION_1_2) gap = "is older than Vulkan 1.2";
+    else if (want_ray_query) gap = ray_query_gap(pd);
+    if (!gap.empty()) {
+      if (first_gap.empty()) first_gap = fmt::format("device '{}' {}", p.deviceName, gap);
+      continue;
+    }
+    physical = pd;
+    props = p;
+    queue_family = static_cast<std::uint32_t>(family);
+    break;
+  }
+  if (physical == VK_NULL_HANDLE)
+    unavailable(devices.empty() ? std::string("no Vulkan device") : first_gap);
+  vkGetPhysicalDeviceMemoryProperties(physical, &memory);
+  {
+    std::uint32_t nf = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical, &nf, nullptr);
+    std::vector<VkQueueFamilyProperties> fams(nf);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical, &nf, fams.data());
+    timestamp_valid_bits = fams[queue_family].timestampValidBits;
+  }
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  accel_props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
+  accel_props.pNext = &driver;
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
+                                 want_ray_query ? static_cast<void*>(&accel_props)
+                                                : static_cast<void*>(&driver)};
+  vkGetPhysicalDeviceProperties2(physical, &p2);
+  accel_props.pNext = nullptr;
+  driver_info_ = driver.driverInfo;
+
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  qci.queueFamilyIndex = queue_family;
+  qci.queueCount = 1;
+  qci.pQueuePriorities = &priority;
+  VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+  rq.rayQuery = VK_TRUE;
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR as{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rq};
+  as.accelerationStructure = VK_TRUE;
+  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
+                                       want_ray_query ? &as : nullptr};
+  v12.bufferDeviceAddress = want_ray_query ? VK_TRUE : VK_FALSE;
+  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &qci;
+  if (want_ray_query) {
+    dci.enabledExtensionCount = static_cast<std::uint32_t>(std::size(kRayQueryExtensions));
+    dci.ppEnabledExtensionNames = kRayQueryExtensions;
+  }
+  r = vkCreateDevice(physical, &dci, nullptr, &device);
+  if (r != VK_SUCCESS) {
+    device = VK_NULL_HANDLE;
+    unavailable(fmt::format("device '{}': vkCreateDevice: {}", props.deviceName, result_name(r)));
+  }
+  vkGetDeviceQueue(device, queue_family, 0, &queue);
+  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pci.queueFamilyIndex = queue_family;
+  MASQ_VK_CHECK(vkCreateCommandPool(device, &pci, nullptr, &command_pool));
+
+  ray_query = want_ray_query;
+  if (ray_query) {
+    auto load = [&](const char* name) {
+      PFN_vkVoidFunction f = vkGetDeviceProcAddr(device, name);
+      if (!f) unavailable(fmt::format("device '{}': no entry point {}", props.deviceName, name));
+      return f;
+    };
+    accel.create = reinterpret_cast<PFN_vkCreateAccelerationStructureKHR>(load("vkCreateAccelerationStructureKHR"));
+    accel.destroy = reinterpret_cast<PFN_vkDestroyAccelerationStructureKHR>(load("vkDestroyAccelerationStructureKHR"));
+    accel.build_sizes = reinterpret_cast<PFN_vkGetAccelerationStructureBuildSizesKHR>(
+        load("vkGetAccelerationStructureBuildSizesKHR"));
+    accel.cmd_build = reinterpret_cast<PFN_vkCmdBuildAccelerationStructuresKHR>(
+        load("vkCmdBuildAccelerationStructuresKHR"));
+    accel.device_address = reinterpret_cast<PFN_vkGetAccelerationStructureDeviceAddressKHR>(
+        load("vkGetAccelerationStructureDeviceAddressKHR"));
+  }
+}
+
+Context::~Context() {
+  if (device) {
+    vkDeviceWaitIdle(device);
+    if (command_pool) vkDestroyCommandPool(device, command_pool, nullptr);
+    vkDestroyDevice(device, nullptr);
+  }
+  if (instance) vkDestroyInstance(instance, nullptr);
+}
+
+std::string Context::device_name() const {
+  return driver_info_.empty() ? std::string(props.deviceName)
+                              : fmt::format("{} [{}]", props.deviceName, driver_info_);
+}
+
+std::uint64_t Context::max_storage_buffer_range() const {
+  std::uint64_t limit = props.limits.maxStorageBufferRange;
+  std::uint64_t fake = limit_overrides_for_testing().max_storage_buffer_range;
+  return fake != 0 && fake < limit ? fake : limit;
+}
+
+VkCommandBuffer Context::begin_commands() {
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = command_pool;
+  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ai.commandBufferCount = 1;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  MASQ_VK_CHECK(vkAllocateCommandBuffers(device, &ai, &cmd));
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  VkResult r = vkBeginCommandBuffer(cmd, &bi);
+  if (r != VK_SUCCESS) {
+    vkFreeCommandBuffers(device, command_pool, 1, &cmd);
+    throw_vk_error("vkBeginCommandBuffer", r, __FILE__, __LINE__);
+  }
+  return cmd;
+}
+
+void Context::submit_and_wait(VkCommandBuffer cmd) {
+  struct Free {
+    Context* c;
+    VkCommandBuffer b;
+    VkFence f = VK_NULL_HANDLE;
+    ~Free() {
+      if (f) vkDestroyFence(c->device, f, nullptr);
+      vkFreeCommandBuffers(c->device, c->command_pool, 1, &b);
+    }
+  } guard{this, cmd};
+  MASQ_VK_CHECK(vkEndCommandBuffer(cmd));
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  MASQ_VK_CHECK(vkCreateFence(device, &fci, nullptr, &guard.f));
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd;
+  MASQ_VK_CHECK(vkQueueSubmit(queue, 1, &si, guard.f));
+  MASQ_VK_CHECK(vkWaitForFences(device, 1, &guard.f, VK_TRUE, UINT64_MAX));
+}
+
+} // namespace masq::vk

@@ -1,0 +1,58 @@
+// The Vulkan instance, device and queue every Vulkan-based backend shares: Vulkan 1.2,
+// the first physical device with a compute queue (and, for ray query, the extensions it
+// needs). The loader honours VK_DRIVER_FILES / VK_ICD_FILENAMES from the environment.
+#pragma once
+#include "host/vulkan/vk_check.h"
+#include <vulkan/vulkan.h>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace masq::vk {
+
+// Entry points of VK_KHR_acceleration_structure (not exported by the loader).
+struct AccelFunctions {
+  PFN_vkCreateAccelerationStructureKHR create = nullptr;
+  PFN_vkDestroyAccelerationStructureKHR destroy = nullptr;
+  PFN_vkGetAccelerationStructureBuildSizesKHR build_sizes = nullptr;
+  PFN_vkCmdBuildAccelerationStructuresKHR cmd_build = nullptr;
+  PFN_vkGetAccelerationStructureDeviceAddressKHR device_address = nullptr;
+};
+
+class Context {
+ public:
+  // One context per kind, shared while any backend holds it. `backend` names the
+  // caller in the BackendUnavailable message ("vulkan: ...", "rayquery: ...").
+  static std::shared_ptr<Context> get(const char* backend, bool ray_query);
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  std::uint32_t queue_family = 0;
+  std::uint32_t timestamp_valid_bits = 0;
+  VkCommandPool command_pool = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties props{};
+  VkPhysicalDeviceMemoryProperties memory{};
+  bool ray_query = false;
+  VkPhysicalDeviceAccelerationStructurePropertiesKHR accel_props{};
+  AccelFunctions accel;
+
+  std::string device_name() const; // "llvmpipe (...) [Mesa 25.0.7 ...]"
+  // Largest storage-buffer binding, after the test override (see vulkan_backends.h).
+  std::uint64_t max_storage_buffer_range() const;
+
+  // One-shot command buffer: begin, record, then submit_and_wait (blocks, frees it).
+  VkCommandBuffer begin_commands();
+  void submit_and_wait(VkCommandBuffer cmd);
+
+ private:
+  Context() = default;
+  void create(const char* backend, bool want_ray_query);
+  std::string driver_info_;
+};
+
+} // namespace masq::vk

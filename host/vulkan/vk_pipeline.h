@@ -1,0 +1,47 @@
+// Compute-kernel plumbing shared by the Vulkan backends and the layout test: one
+// descriptor set (bindings 0..n-1, storage buffers unless told otherwise), a push
+// constant block, pipelines specialised by constant id, and a timed dispatch.
+#pragma once
+#include "host/vulkan/vk_buffer.h"
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace masq::vk {
+
+class KernelLayout {
+ public:
+  // types[i]: descriptor type of binding i.
+  KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, std::uint32_t push_constant_bytes);
+  ~KernelLayout();
+  KernelLayout(const KernelLayout&) = delete;
+  KernelLayout& operator=(const KernelLayout&) = delete;
+
+  // Specialisation constants: values[i] goes to constant_id i (4 bytes each; bools as
+  // VkBool32). The caller owns the returned pipeline (destroy_pipeline).
+  VkPipeline create_pipeline(std::span<const std::uint32_t> spirv, std::span<const std::uint32_t> values);
+  void destroy_pipeline(VkPipeline p);
+
+  void bind_buffer(std::uint32_t binding, const Buffer& buffer);
+  void bind_acceleration_structure(std::uint32_t binding, VkAccelerationStructureKHR as);
+
+  // Records and runs one dispatch of `groups` work groups; waits for it. Returns the
+  // device time in seconds from timestamp queries (0 when the queue has none).
+  double dispatch(VkPipeline pipeline, const void* push_constants, std::uint32_t groups);
+
+  VkDescriptorSet set() const { return set_; }
+  VkPipelineLayout pipeline_layout() const { return pipeline_layout_; }
+
+ private:
+  void release() noexcept;
+  Context& ctx_;
+  std::vector<VkDescriptorType> types_;
+  std::uint32_t push_bytes_ = 0;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+};
+
+} // namespace masq::vk

@@ -1,0 +1,26 @@
+// The two Vulkan backends: "vulkan" (the shared traversal kernel as a compute shader)
+// and "rayquery" (the driver's own acceleration structures through VK_KHR_ray_query,
+// calling the same intersector on every procedural candidate).
+#pragma once
+#include "host/backend.h"
+#include <cstdint>
+#include <memory>
+
+namespace masq {
+
+// Both throw BackendUnavailable with one line naming the cause.
+std::unique_ptr<Backend> make_vulkan_backend();
+std::unique_ptr<Backend> make_rayquery_backend();
+
+// Test hook: make the backends behave as if the device's limits were at most these
+// (0 keeps the device's own value), so the too-large-scene errors and the chunked
+// tracing can be exercised with small scenes. Read when a scene is set or traced.
+struct VulkanLimitOverrides {
+  std::uint64_t max_storage_buffer_range = 0; // bytes
+  std::uint64_t max_instance_count = 0;       // TLAS instances (rayquery)
+  std::uint64_t max_primitive_count = 0;      // primitives per BLAS (rayquery)
+};
+void set_limit_overrides_for_testing(const VulkanLimitOverrides& limits);
+const VulkanLimitOverrides& limit_overrides_for_testing();
+
+} // namespace masq

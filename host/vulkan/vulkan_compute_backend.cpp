@@ -1,0 +1,111 @@
+// "vulkan" backend: the shared two-level traversal (kernels/trace.comp) as a compute
+// shader. One pipeline per variant (stats, triangles, capsules), created on first use
+// and cached; the first dispatch of each is part of its compile time, because lavapipe
+// JIT-compiles there.
+#include "host/vulkan/trace_dispatch.h"
+#include "host/vulkan/vulkan_backends.h"
+#include "kernels/kernel_data.h"
+#include "spirv/trace_comp_spv.h"
+#include <chrono>
+#include <map>
+#include <mutex>
+#include <tuple>
+
+namespace masq {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+constexpr std::uint32_t kLocalSize = 64;
+const char* const kName = "vulkan";
+
+class VulkanComputeBackend final : public Backend {
+ public:
+  VulkanComputeBackend()
+      : ctx_(vk::Context::get(kName, false)),
+        layout_(*ctx_, std::vector<VkDescriptorType>(MASQ_BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
+                sizeof(kernel::TraceParams)),
+        batch_(*ctx_) {}
+
+  ~VulkanComputeBackend() override {
+    for (auto& [key, v] : pipelines_) layout_.destroy_pipeline(v.pipeline);
+  }
+
+  std::string name() const override { return kName; }
+  std::string device_name() const override { return ctx_->device_name(); }
+
+  void set_scene(const PackedScene& scene) override {
+    auto t0 = Clock::now();
+    scene_ = vk::SceneBuffers{}; // release the old scene first (memory)
+    scene_ = vk::upload_scene_arrays(*ctx_, kName, scene);
+    scene_.bind(layout_);
+    tlas_root_ = scene.tlas_root;
+    has_triangles_ = scene.has_triangles;
+    has_capsules_ = scene.has_capsules;
+    have_scene_ = true;
+    timing_.scene_seconds = seconds_since(t0);
+  }
+
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
+             std::span<kernel::RayStats> stats) override {
+    if (!have_scene_) throw Error("vulkan: trace called before set_scene");
+    VkPipeline p = pipeline(!stats.empty());
+    timing_.trace_seconds = batch_.run(kName, layout_, p, kLocalSize, tlas_root_, rays, hits, stats);
+  }
+
+  TraceTiming timing() const override { return timing_; }
+  std::size_t device_bytes() const override { return scene_.bytes; }
+
+ private:
+  struct Variant {
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    double compile_seconds = 0;
+  };
+
+  VkPipeline pipeline(bool stats) {
+    auto key = std::make_tuple(stats, has_triangles_, has_capsules_);
+    auto it = pipelines_.find(key);
+    if (it == pipelines_.end()) {
+      auto t0 = Clock::now();
+      const std::uint32_t spec[4] = {stats, has_triangles_, has_capsules_, kLocalSize};
+      Variant v;
+      v.pipeline = layout_.create_pipeline(trace_comp_spv, spec);
+      try {
+        // Warm-up: an empty dispatch (ray_count 0) triggers the driver's JIT.
+        batch_.bind_minimal(layout_);
+        kernel::TraceParams pc{0, tlas_root_, 0, 0};
+        layout_.dispatch(v.pipeline, &pc, 1);
+      } catch (...) {
+        layout_.destroy_pipeline(v.pipeline);
+        throw;
+      }
+      v.compile_seconds = seconds_since(t0);
+      it = pipelines_.emplace(key, v).first;
+    }
+    timing_.compile_seconds = it->second.compile_seconds;
+    return it->second.pipeline;
+  }
+
+  std::shared_ptr<vk::Context> ctx_;
+  vk::KernelLayout layout_;
+  vk::RayBatch batch_;
+  vk::SceneBuffers scene_;
+  std::map<std::tuple<bool, bool, bool>, Variant> pipelines_;
+  std::int32_t tlas_root_ = -1;
+  bool has_triangles_ = false;
+  bool has_capsules_ = false;
+  bool have_scene_ = false;
+  TraceTiming timing_;
+};
+
+VulkanLimitOverrides g_overrides;
+
+} // namespace
+
+std::unique_ptr<Backend> make_vulkan_backend() { return std::make_unique<VulkanComputeBackend>(); }
+
+void set_limit_overrides_for_testing(const VulkanLimitOverrides& limits) { g_overrides = limits; }
+const VulkanLimitOverrides& limit_overrides_for_testing() { return g_overrides; }
+
+} // namespace masq

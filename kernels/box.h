@@ -1,0 +1,64 @@
+// Conservative ray/box tests: the 4-wide node test and the masquerade unit-box test.
+#ifndef MASQ_KERNEL_BOX_H
+#define MASQ_KERNEL_BOX_H
+#include "math.h"
+
+KERNEL_NS_BEGIN
+
+// Entry distance of each child box, or +inf when the ray misses it within [tmin, tmax].
+STRUCT_BEGIN(WideHits)
+  float tnear[MASQ_WIDTH];
+  float tfar[MASQ_WIDTH];
+STRUCT_END(WideHits)
+
+// Widen a slab interval outward by the rounding bound (sign-independent).
+FN float widen_lo(float t) { return t - fabs_(t) * MASQ_BOX_WIDEN; }
+FN float widen_hi(float t) { return t + fabs_(t) * MASQ_BOX_WIDEN; }
+
+FN WideHits intersect_wide_node(WideNode n, vec3 o, vec3 inv_d, float tmin, float tmax) {
+  WideHits r;
+  for (int i = 0; i < MASQ_WIDTH; ++i) {
+    float tx0 = (n.lo_x[i] - o.x) * inv_d.x;
+    float tx1 = (n.hi_x[i] - o.x) * inv_d.x;
+    float ty0 = (n.lo_y[i] - o.y) * inv_d.y;
+    float ty1 = (n.hi_y[i] - o.y) * inv_d.y;
+    float tz0 = (n.lo_z[i] - o.z) * inv_d.z;
+    float tz1 = (n.hi_z[i] - o.z) * inv_d.z;
+    float tn = widen_lo(vmax3_(min(tx0, tx1), min(ty0, ty1), min(tz0, tz1)));
+    float tf = widen_hi(vmin3_(max(tx0, tx1), max(ty0, ty1), max(tz0, tz1)));
+    bool hit = n.count[i] >= 0 && tn <= tf && tf >= tmin && tn <= tmax;
+    r.tnear[i] = hit ? max(tn, tmin) : inf_();
+    r.tfar[i] = tf;
+  }
+  return r;
+}
+
+// The masquerade's "BLAS": the unit box [-1,1]^3 in the instance's object space, padded
+// per axis by the error bound of the fp32 ray transform (docs/robustness.md):
+//   origin:    gamma_4 * (|A| |o| + |b|)
+//   direction: gamma_3 * |A| |d|, times the largest t at which the primitive can be hit
+//              (t_bound: the exit distance of the world box that holds the instance).
+FN bool hit_unit_box_padded(Affine m, vec3 wo, vec3 wd, vec3 oo, vec3 od, float tmin, float tmax,
+                            float t_bound) {
+  vec3 ao = vabs_(wo);
+  vec3 ad = vabs_(wd);
+  float tb = fabs_(t_bound);
+  float px = MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r0), ad);
+  float py = MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r1), ad);
+  float pz = MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r2), ad);
+  // The bounds themselves are rounded outward by one more relative step.
+  vec3 ext = VEC3(1.0f + px, 1.0f + py, 1.0f + pz) * (1.0f + 2.0f * MASQ_U);
+  vec3 inv = safe_rcp3(od);
+  float tx0 = (-ext.x - oo.x) * inv.x;
+  float tx1 = (ext.x - oo.x) * inv.x;
+  float ty0 = (-ext.y - oo.y) * inv.y;
+  float ty1 = (ext.y - oo.y) * inv.y;
+  float tz0 = (-ext.z - oo.z) * inv.z;
+  float tz1 = (ext.z - oo.z) * inv.z;
+  float tn = widen_lo(vmax3_(min(tx0, tx1), min(ty0, ty1), min(tz0, tz1)));
+  float tf = widen_hi(vmin3_(max(tx0, tx1), max(ty0, ty1), max(tz0, tz1)));
+  return tn <= tf && tf >= tmin && tn <= tmax;
+}
+
+KERNEL_NS_END
+#endif

@@ -1,0 +1,60 @@
+// Watertight ray/triangle test (Woop, Benthin, Wald 2013): shear the triangle into the
+// ray's frame so that adjacent triangles share edge functions exactly; no ray slips
+// through a shared edge or vertex.
+#ifndef MASQ_KERNEL_INTERSECT_TRIANGLE_H
+#define MASQ_KERNEL_INTERSECT_TRIANGLE_H
+#include "prim_hit.h"
+
+KERNEL_NS_BEGIN
+FN PrimHit intersect_triangle(Triangle tri, vec3 o, vec3 d, float tmin, float tmax) {
+  PrimHit res = prim_miss();
+  vec3 ad = vabs_(d);
+  int kz = (ad.x >= ad.y && ad.x >= ad.z) ? 0 : (ad.y >= ad.z ? 1 : 2);
+  int kx = kz == 2 ? 0 : kz + 1;
+  int ky = kx == 2 ? 0 : kx + 1;
+  float dz = vcomp(d, kz);
+  if (dz < 0.0f) {
+    int tmp = kx;
+    kx = ky;
+    ky = tmp;
+  }
+  float sx = vcomp(d, kx) / dz;
+  float sy = vcomp(d, ky) / dz;
+  float sz = 1.0f / dz;
+  vec3 a = V3(tri.v0) - o;
+  vec3 b = V3(tri.v1) - o;
+  vec3 c = V3(tri.v2) - o;
+  float ax = vcomp(a, kx) - sx * vcomp(a, kz);
+  float ay = vcomp(a, ky) - sy * vcomp(a, kz);
+  float bx = vcomp(b, kx) - sx * vcomp(b, kz);
+  float by = vcomp(b, ky) - sy * vcomp(b, kz);
+  float cx = vcomp(c, kx) - sx * vcomp(c, kz);
+  float cy = vcomp(c, ky) - sy * vcomp(c, kz);
+  float eu = cx * by - cy * bx;
+  float ev = ax * cy - ay * cx;
+  float ew = bx * ay - by * ax;
+  if ((eu < 0.0f || ev < 0.0f || ew < 0.0f) && (eu > 0.0f || ev > 0.0f || ew > 0.0f)) return res;
+  float det = eu + ev + ew;
+  if (det == 0.0f) return res;
+  float az = sz * vcomp(a, kz);
+  float bz = sz * vcomp(b, kz);
+  float cz = sz * vcomp(c, kz);
+  float tt = eu * az + ev * bz + ew * cz;
+  if (det < 0.0f) {
+    tt = -tt;
+    det = -det;
+    eu = -eu;
+    ev = -ev;
+    ew = -ew;
+  }
+  if (tt < tmin * det || tt > tmax * det) return res;
+  float inv_det = 1.0f / det;
+  res.hit = 1;
+  res.t = tt * inv_det;
+  res.u = ev * inv_det;
+  res.v = ew * inv_det;
+  res.normal = cross(V3(tri.v1) - V3(tri.v0), V3(tri.v2) - V3(tri.v0));
+  return res;
+}
+KERNEL_NS_END
+#endif

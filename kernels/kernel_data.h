@@ -1,0 +1,47 @@
+// The scene arrays every kernel reads. GLSL: global SSBOs at fixed bindings (the host
+// backends use the same binding numbers, see host/vulkan/bindings.h). OpenCL and C++: one
+// struct of pointers passed through the functions as `kd` (see KD_PARAM in shim.h).
+#ifndef MASQ_KERNEL_DATA_H
+#define MASQ_KERNEL_DATA_H
+#include "layout.h"
+
+#define MASQ_BINDING_NODES 0
+#define MASQ_BINDING_REFS 1
+#define MASQ_BINDING_INSTANCES 2
+#define MASQ_BINDING_FRAMES 3
+#define MASQ_BINDING_GEOMS 4
+#define MASQ_BINDING_TRIANGLES 5
+#define MASQ_BINDING_CAPSULES 6
+#define MASQ_BINDING_RAYS 7
+#define MASQ_BINDING_HITS 8
+#define MASQ_BINDING_STATS 9
+#define MASQ_BINDING_COUNT 10
+
+#if defined(MASQ_LANG_GLSL)
+layout(std430, binding = MASQ_BINDING_NODES) readonly buffer NodesBuf { WideNode nodes[]; };
+layout(std430, binding = MASQ_BINDING_REFS) readonly buffer RefsBuf { int refs[]; };
+layout(std430, binding = MASQ_BINDING_INSTANCES) readonly buffer InstancesBuf { Instance instances[]; };
+layout(std430, binding = MASQ_BINDING_FRAMES) readonly buffer FramesBuf { Frame frames[]; };
+layout(std430, binding = MASQ_BINDING_GEOMS) readonly buffer GeomsBuf { Geometry geoms[]; };
+layout(std430, binding = MASQ_BINDING_TRIANGLES) readonly buffer TrianglesBuf { Triangle triangles[]; };
+layout(std430, binding = MASQ_BINDING_CAPSULES) readonly buffer CapsulesBuf { Capsule capsules[]; };
+#else
+#if defined(MASQ_LANG_OPENCL)
+#define MASQ_GLOBAL __global
+#else
+#define MASQ_GLOBAL
+#endif
+LAYOUT_NS_BEGIN
+STRUCT_BEGIN(KernelData)
+  MASQ_GLOBAL const WideNode* nodes;
+  MASQ_GLOBAL const int* refs;
+  MASQ_GLOBAL const Instance* instances;
+  MASQ_GLOBAL const Frame* frames;
+  MASQ_GLOBAL const Geometry* geoms;
+  MASQ_GLOBAL const Triangle* triangles;
+  MASQ_GLOBAL const Capsule* capsules;
+STRUCT_END(KernelData)
+LAYOUT_NS_END
+#endif
+
+#endif

@@ -1,0 +1,125 @@
+// GPU-visible structs, defined once for GLSL std430, OpenCL C and C++.
+// Only 4-byte scalars and fixed arrays of them, each struct a multiple of 16 bytes, so
+// all three languages agree without scalar-layout extensions. Sizes and offsets are
+// checked by static asserts (C++ and OpenCL) and by a GLSL round-trip kernel test.
+#ifndef MASQ_KERNEL_LAYOUT_H
+#define MASQ_KERNEL_LAYOUT_H
+#include "shim.h"
+
+LAYOUT_NS_BEGIN
+
+#define MASQ_WIDTH 4 // children per wide BVH node
+
+// Primitive types. A geometry holds primitives of one type.
+#define MASQ_PRIM_TRIANGLE 0
+#define MASQ_PRIM_CAPSULE 1
+
+// A 4-wide BVH node with structure-of-arrays child boxes (one slab test per axis for
+// all children). Child slot i: count[i] > 0 is a leaf of count[i] references starting
+// at child[i] in the reference array; count[i] == 0 is an inner node child[i];
+// count[i] < 0 is an empty slot.
+STRUCT_BEGIN(WideNode)
+  float lo_x[MASQ_WIDTH];
+  float hi_x[MASQ_WIDTH];
+  float lo_y[MASQ_WIDTH];
+  float hi_y[MASQ_WIDTH];
+  float lo_z[MASQ_WIDTH];
+  float hi_z[MASQ_WIDTH];
+  int child[MASQ_WIDTH];
+  int count[MASQ_WIDTH];
+STRUCT_END(WideNode)
+
+// One entry of the top-level structure (what a hardware TLAS instance is).
+// world_to_object is a row-major 3x4 affine map (rows 0..2: x, y, z; column 3 the
+// translation). blas_root >= 0: traverse that BLAS with the transformed ray.
+// blas_root < 0: a masquerade instance: the transform maps the primitive's OBB onto
+// the unit box [-1,1]^3, whose test is the whole BLAS; then the world-space
+// intersector runs on primitive `prim` of geometry `geom`, in the frame of scene
+// instance `scene_inst`. 64 bytes: the masquerade's per-primitive memory cost.
+STRUCT_BEGIN(Instance)
+  float world_to_object[12];
+  int blas_root;
+  int geom;
+  int prim;
+  int scene_inst;
+STRUCT_END(Instance)
+
+// A scene instance's frame (what the user placed): world-to-object, row-major 3x4.
+STRUCT_BEGIN(Frame)
+  float world_to_object[12];
+  float pad[4];
+STRUCT_END(Frame)
+
+// type: MASQ_PRIM_*; first: index of its first primitive in that type's array.
+STRUCT_BEGIN(Geometry)
+  int type;
+  int first;
+  int count;
+  int pad;
+STRUCT_END(Geometry)
+
+STRUCT_BEGIN(Triangle)
+  float v0[3];
+  float v1[3];
+  float v2[3];
+  float pad[3];
+STRUCT_END(Triangle)
+
+// Constant-radius linear segment with spherical caps.
+STRUCT_BEGIN(Capsule)
+  float a[3];
+  float radius;
+  float b[3];
+  float pad;
+STRUCT_END(Capsule)
+
+// dir need not be unit length; t is in units of dir.
+STRUCT_BEGIN(Ray)
+  float org[3];
+  float tmin;
+  float dir[3];
+  float tmax;
+STRUCT_END(Ray)
+
+// prim < 0: miss. normal: unit geometric normal in world space, facing the side the
+// surface was hit from is NOT enforced (outward for capsules, winding for triangles).
+// u, v: triangle barycentrics, or capsule (axial parameter in [0,1], 0).
+STRUCT_BEGIN(Hit)
+  float t;
+  int prim;
+  int geom;
+  int inst;
+  float normal[3];
+  float u;
+  float v;
+  float pad[3];
+STRUCT_END(Hit)
+
+// Per-ray counters, filled only by the stats variant of the kernels.
+STRUCT_BEGIN(RayStats)
+  int tlas_nodes;  // TLAS wide-node visits (each tests up to MASQ_WIDTH boxes)
+  int blas_nodes;  // BLAS wide-node visits, including masquerade unit-box tests
+  int transforms;  // instance ray transforms
+  int isect_calls; // primitive intersector calls
+STRUCT_END(RayStats)
+
+STRUCT_BEGIN(TraceParams)
+  int ray_count;
+  int tlas_root;
+  int ray_offset;
+  int pad;
+STRUCT_END(TraceParams)
+
+STATIC_ASSERT(sizeof(WideNode) == 128, wide_node_size);
+STATIC_ASSERT(sizeof(Instance) == 64, instance_size);
+STATIC_ASSERT(sizeof(Frame) == 64, frame_size);
+STATIC_ASSERT(sizeof(Geometry) == 16, geometry_size);
+STATIC_ASSERT(sizeof(Triangle) == 48, triangle_size);
+STATIC_ASSERT(sizeof(Capsule) == 32, capsule_size);
+STATIC_ASSERT(sizeof(Ray) == 32, ray_size);
+STATIC_ASSERT(sizeof(Hit) == 48, hit_size);
+STATIC_ASSERT(sizeof(RayStats) == 16, ray_stats_size);
+STATIC_ASSERT(sizeof(TraceParams) == 16, trace_params_size);
+
+LAYOUT_NS_END
+#endif

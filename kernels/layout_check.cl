@@ -1,0 +1,62 @@
+// Layout check for the GPU-visible structs of layout.h, in OpenCL C and C++.
+// The field lists below are the single table both sides use: OpenCL C compiles the
+// kernels at the end of this file; tests/test_opencl_layout.cpp includes this file as
+// C++ (the kernels are then skipped) and compares sizes, offsets and field reads.
+// Every field of every struct in layout.h must be listed here (F: scalar, A: array).
+#ifndef MASQ_KERNEL_LAYOUT_CHECK_CL
+#define MASQ_KERNEL_LAYOUT_CHECK_CL
+#include "layout.h"
+
+#define MASQ_LAYOUT_STRUCTS(S) \
+  S(WideNode) S(Instance) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(Ray) S(Hit) S(RayStats) S(TraceParams)
+
+#define MASQ_LAYOUT_WideNode(F, A) \
+  A(WideNode, lo_x, MASQ_WIDTH) A(WideNode, hi_x, MASQ_WIDTH) A(WideNode, lo_y, MASQ_WIDTH) \
+  A(WideNode, hi_y, MASQ_WIDTH) A(WideNode, lo_z, MASQ_WIDTH) A(WideNode, hi_z, MASQ_WIDTH) \
+  A(WideNode, child, MASQ_WIDTH) A(WideNode, count, MASQ_WIDTH)
+#define MASQ_LAYOUT_Instance(F, A) \
+  A(Instance, world_to_object, 12) F(Instance, blas_root) F(Instance, geom) F(Instance, prim) F(Instance, scene_inst)
+#define MASQ_LAYOUT_Frame(F, A) A(Frame, world_to_object, 12) A(Frame, pad, 4)
+#define MASQ_LAYOUT_Geometry(F, A) F(Geometry, type) F(Geometry, first) F(Geometry, count) F(Geometry, pad)
+#define MASQ_LAYOUT_Triangle(F, A) A(Triangle, v0, 3) A(Triangle, v1, 3) A(Triangle, v2, 3) A(Triangle, pad, 3)
+#define MASQ_LAYOUT_Capsule(F, A) A(Capsule, a, 3) F(Capsule, radius) A(Capsule, b, 3) F(Capsule, pad)
+#define MASQ_LAYOUT_Ray(F, A) A(Ray, org, 3) F(Ray, tmin) A(Ray, dir, 3) F(Ray, tmax)
+#define MASQ_LAYOUT_Hit(F, A) \
+  F(Hit, t) F(Hit, prim) F(Hit, geom) F(Hit, inst) A(Hit, normal, 3) F(Hit, u) F(Hit, v) A(Hit, pad, 3)
+#define MASQ_LAYOUT_RayStats(F, A) \
+  F(RayStats, tlas_nodes) F(RayStats, blas_nodes) F(RayStats, transforms) F(RayStats, isect_calls)
+#define MASQ_LAYOUT_TraceParams(F, A) \
+  F(TraceParams, ray_count) F(TraceParams, tlas_root) F(TraceParams, ray_offset) F(TraceParams, pad)
+
+#if defined(__OPENCL_VERSION__)
+// sizes: for each struct in list order, sizeof then the offset of every field; the
+// last entry is the number of entries written before it (catches a shorter list).
+#define LC_OFFSET_F(T, f) out[k++] = (int)__builtin_offsetof(T, f);
+#define LC_OFFSET_A(T, f, n) out[k++] = (int)__builtin_offsetof(T, f);
+#define LC_SIZES(T) out[k++] = (int)sizeof(T); MASQ_LAYOUT_##T(LC_OFFSET_F, LC_OFFSET_A)
+__kernel void layout_sizes(__global int* out) {
+  if (get_global_id(0) != 0) return;
+  int k = 0;
+  MASQ_LAYOUT_STRUCTS(LC_SIZES)
+  out[k] = k;
+}
+
+// roundtrip_<T>: reads element i through the struct type, writes every field (array
+// elements in order) as raw 4-byte words to flat[i * words + ...], and copies the struct
+// back unchanged to out[i]. The host checks both against its own view of the bytes.
+#define LC_READ_F(T, f) flat[base + k++] = as_int(v.f);
+#define LC_READ_A(T, f, n) for (int j = 0; j < (n); ++j) flat[base + k++] = as_int(v.f[j]);
+#define LC_ROUNDTRIP(T) \
+  __kernel void roundtrip_##T(__global const T* in, __global T* out, __global int* flat, int count) { \
+    int i = (int)get_global_id(0);                                                                   \
+    if (i >= count) return;                                                                          \
+    T v = in[i];                                                                                     \
+    int base = i * (int)(sizeof(T) / 4);                                                             \
+    int k = 0;                                                                                       \
+    MASQ_LAYOUT_##T(LC_READ_F, LC_READ_A)                                                            \
+    out[i] = v;                                                                                      \
+  }
+MASQ_LAYOUT_STRUCTS(LC_ROUNDTRIP)
+#endif
+
+#endif

@@ -1,0 +1,100 @@
+// Language shim: lets the kernel sources under kernels/ compile as GLSL 4.60 (Vulkan),
+// OpenCL C 1.2 (PoCL or any OpenCL device) and C++20 (the cpu backend).
+// Rules of the dialect (see docs/kernels.md): pure functions returning structs, no
+// pointers/references/overloads/templates/recursion, fixed-size arrays, swizzles only
+// .x/.y/.z, GPU-visible structs made of 4-byte scalars only.
+#ifndef MASQ_KERNEL_SHIM_H
+#define MASQ_KERNEL_SHIM_H
+
+#if defined(__cplusplus)
+// ---------------------------------------------------------------- C++ (cpu backend)
+#include <glm/glm.hpp>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#define MASQ_LANG_CPP 1
+#define FN inline
+#define STRUCT_BEGIN(N) struct N {
+#define STRUCT_END(N) };
+#define VEC3(x, y, z) vec3((x), (y), (z))
+#define STATIC_ASSERT(cond, name) static_assert(cond, #name)
+// Layout structs live in masq::kernel; functions in a per-variant inner namespace, so
+// the cpu backend can compile several variants (stats on/off, ...) into one binary.
+#ifndef MASQ_KERNEL_VARIANT
+#define MASQ_KERNEL_VARIANT v_default
+#endif
+#define LAYOUT_NS_BEGIN namespace masq::kernel {
+#define LAYOUT_NS_END }
+#define KERNEL_NS_BEGIN namespace masq::kernel { namespace MASQ_KERNEL_VARIANT {
+#define KERNEL_NS_END } }
+namespace masq::kernel {
+using vec3 = glm::vec3;
+using uint = std::uint32_t;
+// Only the glm names are brought in, so calls never become ambiguous with std::.
+using glm::cross;
+using glm::dot;
+using glm::length;
+using glm::max;
+using glm::min;
+using glm::normalize;
+using glm::sqrt;
+inline float fabs_(float x) { return std::fabs(x); }
+inline vec3 vabs_(vec3 v) { return glm::abs(v); }
+inline float inf_() { return std::numeric_limits<float>::infinity(); }
+inline bool isnan_(float x) { return std::isnan(x); }
+inline bool isfinite_(float x) { return std::isfinite(x); }
+} // namespace masq::kernel
+
+#elif defined(__OPENCL_VERSION__)
+// ---------------------------------------------------------------- OpenCL C 1.2
+#define MASQ_LANG_OPENCL 1
+#define FN inline
+#define STRUCT_BEGIN(N) typedef struct N {
+#define STRUCT_END(N) } N;
+#define VEC3(x, y, z) ((float3)((x), (y), (z)))
+// C99 has no static_assert: a negative array size fails the build.
+#define STATIC_ASSERT(cond, name) typedef char static_assert_##name[(cond) ? 1 : -1]
+#define KERNEL_NS_BEGIN
+#define KERNEL_NS_END
+#define LAYOUT_NS_BEGIN
+#define LAYOUT_NS_END
+typedef float3 vec3;
+#define fabs_(x) fabs(x)
+#define vabs_(v) fabs(v)
+#define inf_() INFINITY
+#define isnan_(x) isnan(x)
+#define isfinite_(x) isfinite(x)
+
+#else
+// ---------------------------------------------------------------- GLSL 4.60 (Vulkan)
+#define MASQ_LANG_GLSL 1
+#define FN
+#define STRUCT_BEGIN(N) struct N {
+#define STRUCT_END(N) };
+#define VEC3(x, y, z) vec3((x), (y), (z))
+#define STATIC_ASSERT(cond, name)
+#define KERNEL_NS_BEGIN
+#define KERNEL_NS_END
+#define LAYOUT_NS_BEGIN
+#define LAYOUT_NS_END
+#define fabs_(x) abs(x)
+#define vabs_(v) abs(v)
+#define inf_() uintBitsToFloat(0x7f800000u)
+#define isnan_(x) isnan(x)
+#define isfinite_(x) (!isnan(x) && !isinf(x))
+#endif
+
+// Buffer access. GLSL binds each array as a global SSBO; OpenCL and C++ pass one struct
+// of pointers (KernelData) through every function that reads scene data, the way
+// Blender Cycles declares its kernel arrays once for every backend.
+#if defined(MASQ_LANG_GLSL)
+#define KD_PARAM
+#define KD_ARG
+#define KD(name) name
+#else
+#define KD_PARAM const KernelData kd,
+#define KD_ARG kd,
+#define KD(name) kd.name
+#endif
+
+#endif

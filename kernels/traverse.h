@@ -1,0 +1,226 @@
+// Two-level closest-hit traversal, as RT hardware does it with instances: walk the
+// TLAS, transform the ray into each instance's object space, test the BLAS (for a
+// masquerade instance: the unit box, then the world-space intersector), keep the
+// nearest hit. Children are visited front to back; subtrees beyond the current
+// nearest hit are skipped when popped.
+#ifndef MASQ_KERNEL_TRAVERSE_H
+#define MASQ_KERNEL_TRAVERSE_H
+#include "box.h"
+#include "intersect_primitive.h"
+
+KERNEL_NS_BEGIN
+
+STRUCT_BEGIN(Nearest)
+  float t;
+  int prim;
+  int geom;
+  int inst;
+  vec3 normal; // object space of scene instance `inst`
+  float u;
+  float v;
+STRUCT_END(Nearest)
+
+STRUCT_BEGIN(TraceOut)
+  Hit hit;
+  RayStats stats;
+STRUCT_END(TraceOut)
+
+STRUCT_BEGIN(BlasOut)
+  Nearest nearest;
+  int nodes;
+  int isect_calls;
+STRUCT_END(BlasOut)
+
+// Sort up to MASQ_WIDTH child slots by entry distance (insertion sort on indices).
+STRUCT_BEGIN(ChildOrder)
+  int slot[MASQ_WIDTH];
+  int n;
+STRUCT_END(ChildOrder)
+
+FN ChildOrder order_children(WideHits wh) {
+  ChildOrder co;
+  co.n = 0;
+  for (int i = 0; i < MASQ_WIDTH; ++i) {
+    if (wh.tnear[i] == inf_()) continue;
+    int j = co.n;
+    while (j > 0 && wh.tnear[co.slot[j - 1]] > wh.tnear[i]) {
+      co.slot[j] = co.slot[j - 1];
+      --j;
+    }
+    co.slot[j] = i;
+    co.n = co.n + 1;
+  }
+  return co;
+}
+
+FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, vec3 d, float tmin,
+                         Nearest nearest) {
+  BlasOut res;
+  res.nearest = nearest;
+  res.nodes = 0;
+  res.isect_calls = 0;
+  Geometry g = KD(geoms)[geom_id];
+  vec3 inv_d = safe_rcp3(d);
+  int stack_node[MASQ_STACK_SIZE];
+  float stack_t[MASQ_STACK_SIZE];
+  int sp = 0;
+  stack_node[sp] = root;
+  stack_t[sp] = tmin;
+  sp = sp + 1;
+  while (sp > 0) {
+    sp = sp - 1;
+    if (stack_t[sp] > res.nearest.t) continue;
+    WideNode n = KD(nodes)[stack_node[sp]];
+    if (MASQ_STATS) res.nodes = res.nodes + 1;
+    WideHits wh = intersect_wide_node(n, o, inv_d, tmin, res.nearest.t);
+    ChildOrder co = order_children(wh);
+    // Leaves now (nearest first), inner nodes pushed farthest first so nearest pops next.
+    for (int k = 0; k < co.n; ++k) {
+      int i = co.slot[k];
+      if (n.count[i] <= 0 || wh.tnear[i] > res.nearest.t) continue;
+      for (int j = 0; j < n.count[i]; ++j) {
+        int prim = KD(refs)[n.child[i] + j];
+        if (MASQ_STATS) res.isect_calls = res.isect_calls + 1;
+        PrimHit ph = intersect_primitive(KD_ARG g, prim, o, d, tmin, res.nearest.t);
+        if (ph.hit != 0) {
+          res.nearest.t = ph.t;
+          res.nearest.prim = prim;
+          res.nearest.geom = geom_id;
+          res.nearest.inst = inst_id;
+          res.nearest.normal = ph.normal;
+          res.nearest.u = ph.u;
+          res.nearest.v = ph.v;
+        }
+      }
+    }
+    for (int k = co.n - 1; k >= 0; --k) {
+      int i = co.slot[k];
+      if (n.count[i] != 0 || sp >= MASQ_STACK_SIZE) continue;
+      stack_node[sp] = n.child[i];
+      stack_t[sp] = wh.tnear[i];
+      sp = sp + 1;
+    }
+  }
+  return res;
+}
+
+FN Nearest nearest_none(float tmax) {
+  Nearest n;
+  n.t = tmax;
+  n.prim = -1;
+  n.geom = -1;
+  n.inst = -1;
+  n.normal = VEC3(0.0f, 0.0f, 0.0f);
+  n.u = 0.0f;
+  n.v = 0.0f;
+  return n;
+}
+
+FN Hit hit_from_nearest(KD_PARAM Nearest n) {
+  Hit h;
+  h.t = n.prim >= 0 ? n.t : inf_();
+  h.prim = n.prim;
+  h.geom = n.geom;
+  h.inst = n.inst;
+  vec3 wn = VEC3(0.0f, 0.0f, 0.0f);
+  if (n.prim >= 0) {
+    wn = affine_normal_to_world(affine_from_frame(KD(frames)[n.inst]), n.normal);
+    float l = length(wn);
+    wn = l > 0.0f ? wn / l : wn;
+  }
+  h.normal[0] = wn.x;
+  h.normal[1] = wn.y;
+  h.normal[2] = wn.z;
+  h.u = n.u;
+  h.v = n.v;
+  h.pad[0] = 0.0f;
+  h.pad[1] = 0.0f;
+  h.pad[2] = 0.0f;
+  return h;
+}
+
+FN bool ray_is_valid(vec3 o, vec3 d, float tmin, float tmax) {
+  return isfinite_(o.x) && isfinite_(o.y) && isfinite_(o.z) && isfinite_(d.x) && isfinite_(d.y) &&
+         isfinite_(d.z) && dot(d, d) > 0.0f && !isnan_(tmin) && !isnan_(tmax) && tmin <= tmax;
+}
+
+FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
+  TraceOut res;
+  res.stats.tlas_nodes = 0;
+  res.stats.blas_nodes = 0;
+  res.stats.transforms = 0;
+  res.stats.isect_calls = 0;
+  vec3 wo = V3(ray.org);
+  vec3 wd = V3(ray.dir);
+  float tmin = ray.tmin;
+  Nearest best = nearest_none(ray.tmax);
+  // Invalid rays (NaN/Inf components, zero direction, empty interval) miss by contract.
+  if (tlas_root < 0 || !ray_is_valid(wo, wd, tmin, ray.tmax)) {
+    res.hit = hit_from_nearest(KD_ARG nearest_none(ray.tmax));
+    return res;
+  }
+  vec3 inv_d = safe_rcp3(wd);
+  int stack_node[MASQ_STACK_SIZE];
+  float stack_t[MASQ_STACK_SIZE];
+  int sp = 0;
+  stack_node[sp] = tlas_root;
+  stack_t[sp] = tmin;
+  sp = sp + 1;
+  while (sp > 0) {
+    sp = sp - 1;
+    if (stack_t[sp] > best.t) continue;
+    WideNode n = KD(nodes)[stack_node[sp]];
+    if (MASQ_STATS) res.stats.tlas_nodes = res.stats.tlas_nodes + 1;
+    WideHits wh = intersect_wide_node(n, wo, inv_d, tmin, best.t);
+    ChildOrder co = order_children(wh);
+    for (int k = 0; k < co.n; ++k) {
+      int i = co.slot[k];
+      if (n.count[i] <= 0 || wh.tnear[i] > best.t) continue;
+      for (int j = 0; j < n.count[i]; ++j) {
+        Instance inst = KD(instances)[KD(refs)[n.child[i] + j]];
+        Affine m = affine_from_instance(inst);
+        vec3 oo = affine_point(m, wo);
+        vec3 od = affine_vector(m, wd);
+        if (MASQ_STATS) res.stats.transforms = res.stats.transforms + 1;
+        if (inst.blas_root >= 0) {
+          BlasOut bo = traverse_blas(KD_ARG inst.blas_root, inst.geom, inst.scene_inst, oo, od, tmin, best);
+          best = bo.nearest;
+          if (MASQ_STATS) {
+            res.stats.blas_nodes = res.stats.blas_nodes + bo.nodes;
+            res.stats.isect_calls = res.stats.isect_calls + bo.isect_calls;
+          }
+        } else {
+          // Masquerade: the unit-box test is the OBB cull; the intersector then runs
+          // on the untransformed ray (in the scene instance's frame).
+          if (MASQ_STATS) res.stats.blas_nodes = res.stats.blas_nodes + 1;
+          if (!hit_unit_box_padded(m, wo, wd, oo, od, tmin, best.t, wh.tfar[i])) continue;
+          Affine f = affine_from_frame(KD(frames)[inst.scene_inst]);
+          Geometry g = KD(geoms)[inst.geom];
+          if (MASQ_STATS) res.stats.isect_calls = res.stats.isect_calls + 1;
+          PrimHit ph = intersect_primitive(KD_ARG g, inst.prim, affine_point(f, wo), affine_vector(f, wd), tmin, best.t);
+          if (ph.hit != 0) {
+            best.t = ph.t;
+            best.prim = inst.prim;
+            best.geom = inst.geom;
+            best.inst = inst.scene_inst;
+            best.normal = ph.normal;
+            best.u = ph.u;
+            best.v = ph.v;
+          }
+        }
+      }
+    }
+    for (int k = co.n - 1; k >= 0; --k) {
+      int i = co.slot[k];
+      if (n.count[i] != 0 || sp >= MASQ_STACK_SIZE) continue;
+      stack_node[sp] = n.child[i];
+      stack_t[sp] = wh.tnear[i];
+      sp = sp + 1;
+    }
+  }
+  res.hit = hit_from_nearest(KD_ARG best);
+  return res;
+}
+
+KERNEL_NS_END
+#endif

@@ -1,0 +1,41 @@
+// Independent ground truth: brute force over every primitive of every instance in long
+// double. Shares no code with kernels/: capsules by the textbook cylinder and sphere
+// quadratics, triangles by Moller-Trumbore, transforms inverted in long double from the
+// scene's own double matrices.
+#pragma once
+#include "kernels/layout.h"
+#include "scenes/scene.h"
+#include <glm/glm.hpp>
+#include <vector>
+
+namespace masq::oracle {
+
+struct OracleHit {
+  long double t = 0;           // valid when prim >= 0
+  int prim = -1;
+  int geom = -1;
+  int inst = -1;
+  glm::dvec3 normal{0.0};      // world space, unit
+  long double second_t = 0;    // nearest hit of any OTHER primitive (inf if none)
+  // Smallest relative clearance of any primitive the ray passes near, before the nearest
+  // hit: |distance - r| / r for capsules, |smallest barycentric| for triangles. Small
+  // values mark rays where fp32 may legitimately flip hit and miss.
+  long double clearance = 0;
+};
+
+class Oracle {
+ public:
+  explicit Oracle(const Scene& scene);
+  OracleHit trace(const kernel::Ray& ray) const;
+  std::vector<OracleHit> trace_all(const std::vector<kernel::Ray>& rays) const; // multi-threaded
+
+ private:
+  struct InstanceLd {
+    long double w2o[3][4]; // world -> object
+    int geometry;
+  };
+  const Scene& scene_;
+  std::vector<InstanceLd> inst_;
+};
+
+} // namespace masq::oracle

@@ -1,0 +1,46 @@
+#include "scenes/camera.h"
+#include "scenes/error.h"
+#include <cmath>
+
+namespace masq {
+
+kernel::Ray make_ray(const glm::dvec3& org, const glm::dvec3& dir, float tmin, float tmax) {
+  kernel::Ray r{};
+  for (int k = 0; k < 3; ++k) {
+    r.org[k] = static_cast<float>(org[k]);
+    r.dir[k] = static_cast<float>(dir[k]);
+  }
+  r.tmin = tmin;
+  r.tmax = tmax;
+  return r;
+}
+
+std::vector<kernel::Ray> make_camera_rays(const Camera& cam, int width, int height) {
+  if (width <= 0 || height <= 0)
+    throw Error("camera: image size " + std::to_string(width) + "x" + std::to_string(height) + " is empty");
+  glm::dvec3 fwd = cam.target - cam.eye;
+  if (!(glm::length(fwd) > 0.0)) throw Error("camera: eye and target coincide");
+  fwd = glm::normalize(fwd);
+  glm::dvec3 right = glm::cross(fwd, cam.up);
+  if (!(glm::length(right) > 0.0)) throw Error("camera: up is parallel to the view direction");
+  right = glm::normalize(right);
+  glm::dvec3 up = glm::cross(right, fwd);
+  double aspect = double(width) / double(height);
+  double half_h = cam.orthographic ? 0.5 * cam.ortho_height : std::tan(glm::radians(cam.fov_y_deg) * 0.5);
+  double half_w = half_h * aspect;
+  std::vector<kernel::Ray> rays;
+  rays.reserve(std::size_t(width) * height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      double sx = (2.0 * (x + 0.5) / width - 1.0) * half_w;
+      double sy = (1.0 - 2.0 * (y + 0.5) / height) * half_h;
+      if (cam.orthographic)
+        rays.push_back(make_ray(cam.eye + sx * right + sy * up, fwd));
+      else
+        rays.push_back(make_ray(cam.eye, glm::normalize(fwd + sx * right + sy * up)));
+    }
+  }
+  return rays;
+}
+
+} // namespace masq

@@ -1,0 +1,11 @@
+// Primary rays from a scene camera (pinhole or orthographic), row-major from the top.
+#pragma once
+#include "kernels/layout.h"
+#include "scenes/scene.h"
+#include <vector>
+
+namespace masq {
+std::vector<kernel::Ray> make_camera_rays(const Camera& camera, int width, int height);
+kernel::Ray make_ray(const glm::dvec3& org, const glm::dvec3& dir, float tmin = 0.0f,
+                     float tmax = 3.0e38f);
+} // namespace masq

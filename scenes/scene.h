@@ -1,0 +1,67 @@
+// The in-memory scene every loader and generator produces: geometries of one primitive
+// type each, placed by instances with affine transforms, and a camera.
+#pragma once
+#include <glm/glm.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace masq {
+
+enum class PrimType { Triangle, Capsule };
+const char* prim_type_name(PrimType t);
+
+struct CapsulePrim {
+  glm::vec3 a;
+  glm::vec3 b;
+  float radius;
+};
+
+struct Geometry {
+  PrimType type = PrimType::Triangle;
+  std::vector<glm::vec3> vertices;     // triangles: vertex positions
+  std::vector<glm::uvec3> triangles;   // triangles: vertex indices
+  std::vector<CapsulePrim> capsules;   // capsules
+  std::size_t primitive_count() const {
+    return type == PrimType::Triangle ? triangles.size() : capsules.size();
+  }
+};
+
+// object -> world: p_world = linear * p_object + translation (double precision; the GPU
+// copy is rounded to fp32 by the accel builder).
+struct Affine3 {
+  glm::dmat3 linear{1.0};
+  glm::dvec3 translation{0.0};
+  glm::dvec3 apply_point(const glm::dvec3& p) const { return linear * p + translation; }
+  bool is_identity() const { return linear == glm::dmat3(1.0) && translation == glm::dvec3(0.0); }
+};
+
+struct Instance {
+  std::uint32_t geometry = 0;
+  Affine3 object_to_world;
+};
+
+struct Camera {
+  glm::dvec3 eye{0.0, 0.0, -5.0};
+  glm::dvec3 target{0.0, 0.0, 0.0};
+  glm::dvec3 up{0.0, 1.0, 0.0};
+  double fov_y_deg = 40.0;      // perspective
+  bool orthographic = false;
+  double ortho_height = 2.0;    // orthographic: height of the view in world units
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Geometry> geometries;
+  std::vector<Instance> instances;
+  Camera camera;
+  std::size_t primitive_count() const;
+};
+
+// Throws masq::Error naming the offending geometry/primitive/instance: out-of-range
+// indices, NaN/Inf coordinates, negative or NaN radii, singular or non-finite
+// transforms, empty scenes. Zero-length capsules (spheres) and zero-radius capsules
+// (no surface, never hit) are allowed and documented.
+void validate_scene(const Scene& scene);
+
+} // namespace masq

@@ -1,0 +1,197 @@
+// Every backend x every method against the independent long-double oracle, on the
+// default scene and on randomised scenes with instancing (rotation, non-uniform scale,
+// translation) and non-unit ray directions.
+//
+// Tolerances, and why:
+//  - kClearance = 1e-3: rays passing within 0.1% of a radius of a capsule's surface, or
+//    within barycentric 1e-3 of a triangle edge, are ambiguous in fp32 (the ray itself
+//    is rounded input; its distance to the axis carries ~1e-7 relative error of the
+//    distance travelled). They are counted, not compared.
+//  - kSeparation = 1e-4: where the oracle's two nearest hits on different primitives are
+//    closer than this (relative), either primitive is an acceptable answer.
+//  - kRelT = 1e-4: t within 1e-4 relative (fp32 leaves ~1e-6 here; grazing hits amplify).
+//  - Normals within 1e-2 (cosine > 0.99995 ~ 0.6 degrees) where the hit is unambiguous.
+#include "bvh/build_accel.h"
+#include "host/backend.h"
+#include "oracle/oracle.h"
+#include "scenes/camera.h"
+#include "scenes/generators.h"
+#include <gtest/gtest.h>
+#include <cmath>
+#include <cstdlib>
+#include <random>
+
+using namespace masq;
+
+namespace {
+
+constexpr long double kClearance = 1e-3;
+constexpr long double kSeparation = 1e-4;
+constexpr double kRelT = 1e-4;
+constexpr double kNormal = 1e-2;
+
+struct Tally {
+  int compared = 0, ambiguous = 0, hits = 0;
+  int wrong_hit_miss = 0, wrong_prim = 0, wrong_t = 0, wrong_normal = 0;
+  std::string first_failure;
+};
+
+Tally compare(const std::vector<kernel::Ray>& rays, const std::vector<oracle::OracleHit>& truth,
+              const std::vector<kernel::Hit>& hits) {
+  Tally t;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const oracle::OracleHit& o = truth[i];
+    const kernel::Hit& h = hits[i];
+    if (o.clearance < kClearance) {
+      ++t.ambiguous;
+      continue;
+    }
+    ++t.compared;
+    auto fail = [&](int& counter, const std::string& what) {
+      ++counter;
+      if (t.first_failure.empty())
+        t.first_failure = "ray " + std::to_string(i) + ": " + what + " (oracle prim " + std::to_string(o.prim) +
+                          " geom " + std::to_string(o.geom) + " inst " + std::to_string(o.inst) + " t " +
+                          std::to_string(double(o.t)) + "; got prim " + std::to_string(h.prim) + " geom " +
+                          std::to_string(h.geom) + " inst " + std::to_string(h.inst) + " t " + std::to_string(h.t) + ")";
+    };
+    if ((o.prim >= 0) != (h.prim >= 0)) {
+      fail(t.wrong_hit_miss, "hit/miss differs");
+      continue;
+    }
+    if (o.prim < 0) continue;
+    ++t.hits;
+    bool separated = (o.second_t - o.t) > kSeparation * o.t;
+    if (separated && (o.prim != h.prim || o.geom != h.geom || o.inst != h.inst)) {
+      fail(t.wrong_prim, "different primitive");
+      continue;
+    }
+    if (std::abs(double(o.t) - h.t) > kRelT * double(o.t)) fail(t.wrong_t, "t differs");
+    if (separated) {
+      double c = o.normal.x * h.normal[0] + o.normal.y * h.normal[1] + o.normal.z * h.normal[2];
+      if (1.0 - c > kNormal * kNormal / 2) fail(t.wrong_normal, "normal differs");
+    }
+  }
+  return t;
+}
+
+std::unique_ptr<Backend> backend_or_fail(const std::string& name) {
+  try {
+    return make_backend(name);
+  } catch (const BackendUnavailable& e) {
+    if (std::getenv("MASQ_ALLOW_MISSING_BACKENDS")) return nullptr;
+    ADD_FAILURE() << e.what() << " (scripts/setup.sh installs every backend; set MASQ_ALLOW_MISSING_BACKENDS=1 to skip)";
+    return nullptr;
+  }
+}
+
+void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays) {
+  oracle::Oracle oracle(scene);
+  std::vector<oracle::OracleHit> truth = oracle.trace_all(rays);
+  for (const std::string& name : backend_names()) {
+    std::unique_ptr<Backend> be = backend_or_fail(name);
+    if (!be) continue;
+    for (Method m : {Method::Ref, Method::Masq}) {
+      SCOPED_TRACE(name + " " + method_name(m) + " on " + scene.name);
+      be->set_scene(build_accel(scene, m));
+      std::vector<kernel::Hit> hits(rays.size());
+      be->trace(rays, hits, {});
+      Tally t = compare(rays, truth, hits);
+      EXPECT_GT(t.hits, 0);
+      EXPECT_LT(t.ambiguous, int(rays.size() / 20)) << "too few rays compared";
+      EXPECT_EQ(t.wrong_hit_miss, 0) << t.first_failure;
+      EXPECT_EQ(t.wrong_prim, 0) << t.first_failure;
+      EXPECT_EQ(t.wrong_t, 0) << t.first_failure;
+      EXPECT_EQ(t.wrong_normal, 0) << t.first_failure;
+      std::printf("[ %-8s %-4s ] %s: %d rays compared, %d hits, %d ambiguous skipped\n", name.c_str(),
+                  method_name(m), scene.name.c_str(), t.compared, t.hits, t.ambiguous);
+    }
+  }
+}
+
+Affine3 random_affine(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  glm::dvec3 axis = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+  double angle = 3.0 * u(rng);
+  glm::dmat3 k(0, axis.z, -axis.y, -axis.z, 0, axis.x, axis.y, -axis.x, 0);
+  glm::dmat3 rot = glm::dmat3(1.0) + std::sin(angle) * k + (1 - std::cos(angle)) * (k * k);
+  glm::dmat3 scale(1.0);
+  for (int i = 0; i < 3; ++i) scale[i][i] = 0.4 + 1.2 * std::abs(u(rng));
+  Affine3 a;
+  a.linear = rot * scale;
+  a.translation = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
+  return a;
+}
+
+} // namespace
+
+TEST(CrossBackend, DefaultSceneOrthographicLikeThePaper) {
+  // The paper's view: orthographic rays along +z through the tilted bundle.
+  Scene s = make_default_scene();
+  s.camera.eye = {0.0, 0.0, -5.0};
+  s.camera.target = {0.0, 0.0, 0.0};
+  s.camera.orthographic = true;
+  s.camera.ortho_height = 1.8;
+  check_all_backends(s, make_camera_rays(s.camera, 160, 160));
+}
+
+TEST(CrossBackend, DefaultSceneCamera) {
+  Scene s = make_default_scene();
+  check_all_backends(s, make_camera_rays(s.camera, 96, 72));
+}
+
+TEST(CrossBackend, RandomInstancedScenes) {
+  for (std::uint64_t seed : {11u, 12u}) {
+    std::mt19937_64 rng(seed);
+    Scene s;
+    s.name = "random" + std::to_string(seed);
+    s.geometries.push_back(make_random_capsules(300, 0.004f, 0.05f, 1.0, seed));
+    s.geometries.push_back(make_random_mesh(200, 1.0, seed + 100));
+    for (int i = 0; i < 3; ++i) s.instances.push_back({0, random_affine(rng)});
+    for (int i = 0; i < 2; ++i) s.instances.push_back({1, random_affine(rng)});
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<kernel::Ray> rays;
+    for (int i = 0; i < 4096; ++i) {
+      glm::dvec3 from = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng))) * 5.0;
+      glm::dvec3 to = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
+      double scale = 0.3 + 2.0 * std::abs(u(rng)); // non-unit directions
+      rays.push_back(make_ray(from, (to - from) * (scale / glm::length(to - from))));
+    }
+    check_all_backends(s, rays);
+  }
+}
+
+TEST(CrossBackend, MasqueradeHalvesIntersectorCallsOnDefaultScene) {
+  Scene s = make_default_scene();
+  std::vector<kernel::Ray> rays = make_camera_rays(s.camera, 128, 96);
+  std::unique_ptr<Backend> cpu = make_backend("cpu");
+  double calls[2] = {0, 0};
+  for (Method m : {Method::Ref, Method::Masq}) {
+    cpu->set_scene(build_accel(s, m));
+    std::vector<kernel::Hit> hits(rays.size());
+    std::vector<kernel::RayStats> stats(rays.size());
+    cpu->trace(rays, hits, stats);
+    for (const kernel::RayStats& st : stats) calls[int(m)] += st.isect_calls;
+  }
+  std::printf("intersector calls per ray: ref %.3f masq %.3f (ratio %.2f)\n", calls[0] / rays.size(),
+              calls[1] / rays.size(), calls[0] / calls[1]);
+  EXPECT_LE(calls[1], 0.5 * calls[0]);
+}
+
+TEST(CrossBackend, InvalidRaysMissOnEveryBackend) {
+  Scene s = make_default_scene();
+  std::vector<kernel::Ray> rays = make_camera_rays(s.camera, 4, 4);
+  rays[0].org[0] = NAN;
+  rays[1].dir[1] = INFINITY;
+  rays[2].dir[0] = rays[2].dir[1] = rays[2].dir[2] = 0.0f;
+  rays[3].tmin = 10.0f;
+  rays[3].tmax = 1.0f;
+  for (const std::string& name : backend_names()) {
+    std::unique_ptr<Backend> be = backend_or_fail(name);
+    if (!be) continue;
+    be->set_scene(build_accel(s, Method::Masq));
+    std::vector<kernel::Hit> hits(rays.size());
+    be->trace(rays, hits, {});
+    for (int i = 0; i < 4; ++i) EXPECT_LT(hits[i].prim, 0) << name << " ray " << i;
+  }
+}

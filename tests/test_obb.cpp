@@ -1,0 +1,69 @@
+// The masquerade transform, as stored in fp32, maps each capsule inside the unit box
+// (checked in double on surface samples) and is tight (the capsule reaches the faces).
+#include "bvh/obb.h"
+#include <gtest/gtest.h>
+#include <random>
+
+using namespace masq;
+
+namespace {
+Affine3 random_affine(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Affine3 a;
+  glm::dvec3 axis = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+  double angle = 3.0 * u(rng);
+  glm::dmat3 rot = glm::dmat3(glm::cos(angle)) + glm::dmat3(0.0);
+  // Rodrigues rotation.
+  glm::dmat3 k(0, axis.z, -axis.y, -axis.z, 0, axis.x, axis.y, -axis.x, 0);
+  rot = glm::dmat3(1.0) + std::sin(angle) * k + (1 - std::cos(angle)) * (k * k);
+  glm::dmat3 scale(1.0);
+  scale[0][0] = 0.5 + std::abs(u(rng)) * 3;
+  scale[1][1] = 0.5 + std::abs(u(rng)) * 3;
+  scale[2][2] = 0.5 + std::abs(u(rng)) * 3;
+  a.linear = rot * scale;
+  a.translation = glm::dvec3(u(rng), u(rng), u(rng)) * 1000.0;
+  return a;
+}
+} // namespace
+
+TEST(Obb, CapsuleMapsInsideUnitBoxAndTouchesIt) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 500; ++trial) {
+    CapsulePrim c{glm::vec3(u(rng), u(rng), u(rng)) * 100.0f, glm::vec3(u(rng), u(rng), u(rng)) * 100.0f,
+                  float(std::pow(10.0, -4.0 + 4.0 * std::abs(u(rng))))};
+    if (trial % 7 == 0) c.b = c.a; // zero length: a sphere
+    Affine3 xf = trial % 2 ? random_affine(rng) : Affine3{};
+    MasqueradeBox mb = capsule_masquerade_box(c, xf);
+    Affine3 stored = from_mat3x4f(mb.world_to_unit);
+    double reach = 0.0;
+    // Surface samples: points on spheres around the endpoints and the axis.
+    for (int k = 0; k < 200; ++k) {
+      glm::dvec3 dir = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+      double s = (k % 3) / 2.0;
+      glm::dvec3 p = glm::mix(glm::dvec3(c.a), glm::dvec3(c.b), s) + double(c.radius) * dir;
+      glm::dvec3 q = stored.apply_point(xf.apply_point(p));
+      double m = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+      ASSERT_LE(m, 1.0) << "trial " << trial;
+    }
+    // Tightness, exactly: the capsule's support along each unit axis (endpoints plus
+    // r * |row| of the composed linear map) must reach the faces.
+    glm::dmat3 g = stored.linear * xf.linear;
+    glm::dvec3 off = stored.linear * xf.translation + stored.translation;
+    for (int k = 0; k < 3; ++k) {
+      glm::dvec3 row(g[0][k], g[1][k], g[2][k]);
+      for (glm::dvec3 p : {glm::dvec3(c.a), glm::dvec3(c.b)})
+        reach = std::max(reach, std::abs(glm::dot(row, p) + off[k]) + double(c.radius) * glm::length(row));
+    }
+    EXPECT_LE(reach, 1.0) << "trial " << trial;
+    // Slack allowed: the fp32 rounding of the stored map, which grows with the size of
+    // the translation in unit-box units (a far-away thin capsule has |b| >> 1).
+    double magnitude = 1.0;
+    for (int k = 0; k < 3; ++k) magnitude = std::max(magnitude, std::abs(off[k]) + glm::length(glm::dvec3(g[0][k], g[1][k], g[2][k])) * 200.0);
+    EXPECT_GT(reach, 1.0 - 32 * 5.96e-8 * magnitude) << "OBB not tight, trial " << trial;
+  }
+}
+
+TEST(Obb, ZeroRadiusHasNoBox) {
+  EXPECT_THROW(capsule_masquerade_box({{0, 0, 0}, {1, 0, 0}, 0.0f}, {}), std::runtime_error);
+}
