@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# The main job on a fresh Debian 12 machine: install what masq needs, build it, list the
+# backends, and benchmark the embedded default scene (the masquerade paper's bundle of
+# 1000 capsules, r=0.002, tilted 45 degrees, over a ground plane) on every backend and
+# method. Extra arguments go to `masq bench` (e.g. --width 256 --height 256).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+bash scripts/build.sh
+./build/masq info
+./build/masq bench "$@"
