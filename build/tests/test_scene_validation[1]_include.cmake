@@ -1,5 +1,0 @@
-if(EXISTS "/work/main/build/tests/test_scene_validation[1]_tests.cmake")
-  include("/work/main/build/tests/test_scene_validation[1]_tests.cmake")
-else()
-  add_test(test_scene_validation_NOT_BUILT test_scene_validation_NOT_BUILT)
-endif()
