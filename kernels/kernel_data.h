@@ -1,5 +1,5 @@
-// The scene arrays every kernel reads. GLSL: global SSBOs at fixed bindings (the host
-// backends use the same binding numbers, see host/vulkan/bindings.h). OpenCL and C++: one
+// The scene arrays every kernel reads. GLSL: global SSBOs at the fixed bindings below
+// (the Vulkan backends bind by these same macros). OpenCL and C++: one
 // struct of pointers passed through the functions as `kd` (see KD_PARAM in shim.h).
 #ifndef MASQ_KERNEL_DATA_H
 #define MASQ_KERNEL_DATA_H

@@ -18,7 +18,7 @@ std::string error_of(const Scene& s) {
 }
 Scene one_capsule(CapsulePrim c) {
   Scene s;
-  s.name = "t";
+  s.name = std::string("one capsule");
   Geometry g;
   g.type = PrimType::Capsule;
   g.capsules.push_back(c);
