@@ -8,21 +8,21 @@ std::string per_ray(double v) { return v < 0 ? "n/a" : fmt::format("{:.2f}", v);
 } // namespace
 
 std::string bench_table(const std::vector<BenchRow>& rows) {
-  std::string out = fmt::format("{:<9} {:<5} {:>9} {:>17} {:>7} {:>7} {:>7} {:>7} {:>6} {:>9} {:>7} {:>8}\n",
+  std::string out = fmt::format("{:<9} {:<5} {:>9} {:>17} {:>7} {:>7} {:>7} {:>7} {:>6} {:>9} {:>7} {:>8} {:>8}\n",
                                 "backend", "meth", "Mrays/s", "(min-max)", "tlas/r", "blas/r", "xf/r",
-                                "isect/r", "hit%", "accel MiB", "B/prim", "build ms");
+                                "isect/r", "hit%", "accel MiB", "B/prim", "dev MiB", "build ms");
   for (const BenchRow& r : rows) {
     if (!r.unavailable.empty()) {
       out += fmt::format("{:<9} {:<5} unavailable: {}\n", r.backend, method_name(r.method), r.unavailable);
       continue;
     }
-    out += fmt::format("{:<9} {:<5} {:>9.3f} {:>17} {:>7} {:>7} {:>7} {:>7} {:>6.1f} {:>9.3f} {:>7.1f} {:>8.1f}\n",
+    out += fmt::format("{:<9} {:<5} {:>9.3f} {:>17} {:>7} {:>7} {:>7} {:>7} {:>6.1f} {:>9.3f} {:>7.1f} {:>8.3f} {:>8.1f}\n",
                        r.backend, method_name(r.method), r.mrays_per_s(),
                        fmt::format("({:.3f}-{:.3f})", r.rays / r.max_s * 1e-6, r.rays / r.min_s * 1e-6),
                        per_ray(r.tlas_nodes), per_ray(r.blas_nodes), per_ray(r.transforms), per_ray(r.isect_calls),
                        100.0 * r.hit_fraction, r.accel_bytes / 1048576.0,
                        double(r.accel_bytes) / double(std::max<std::size_t>(1, r.primitives)),
-                       (r.build_s + r.scene_s) * 1e3);
+                       r.device_bytes / 1048576.0, (r.build_s + r.scene_s) * 1e3);
   }
   return out;
 }

@@ -35,7 +35,9 @@ int bench(BenchCli& c) {
   if (!c.quiet) fmt::print(stderr, "\r\033[K");
   fmt::print("{}\n{}", bench_table(rows), bench_ratios(rows));
   fmt::print("per ray: tlas/blas = wide-node visits, xf = instance transforms, isect = intersector calls "
-             "(rayquery: the driver's traversal is not observable, n/a)\n");
+             "(rayquery: the driver's traversal is not observable, n/a);\n"
+             "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, frames); dev MiB: what the backend holds "
+             "on the device (rayquery: the driver's acceleration structures plus primitives); build ms: host build + upload/driver build\n");
   if (!c.json_path.empty()) {
     std::ofstream f(c.json_path);
     if (!f) throw Error("bench: cannot write '" + c.json_path + "'");

@@ -53,6 +53,31 @@ FN ChildOrder order_children(WideHits wh) {
   return co;
 }
 
+FN Nearest nearest_none(float tmax) {
+  Nearest n;
+  n.t = tmax;
+  n.prim = -1;
+  n.geom = -1;
+  n.inst = -1;
+  n.normal = VEC3(0.0f, 0.0f, 0.0f);
+  n.u = 0.0f;
+  n.v = 0.0f;
+  return n;
+}
+
+// The intersector's hit, if any, becomes the nearest (it was searched up to nearest.t).
+FN Nearest nearest_take(Nearest n, PrimHit ph, int prim, int geom, int inst) {
+  if (ph.hit == 0) return n;
+  n.t = ph.t;
+  n.prim = prim;
+  n.geom = geom;
+  n.inst = inst;
+  n.normal = ph.normal;
+  n.u = ph.u;
+  n.v = ph.v;
+  return n;
+}
+
 FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, vec3 d, float tmin,
                          Nearest nearest) {
   BlasOut res;
@@ -82,15 +107,7 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
         int prim = KD(refs)[n.child[i] + j];
         if (MASQ_STATS) res.isect_calls = res.isect_calls + 1;
         PrimHit ph = intersect_primitive(KD_ARG g, prim, o, d, tmin, res.nearest.t);
-        if (ph.hit != 0) {
-          res.nearest.t = ph.t;
-          res.nearest.prim = prim;
-          res.nearest.geom = geom_id;
-          res.nearest.inst = inst_id;
-          res.nearest.normal = ph.normal;
-          res.nearest.u = ph.u;
-          res.nearest.v = ph.v;
-        }
+        res.nearest = nearest_take(res.nearest, ph, prim, geom_id, inst_id);
       }
     }
     for (int k = co.n - 1; k >= 0; --k) {
@@ -102,18 +119,6 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
     }
   }
   return res;
-}
-
-FN Nearest nearest_none(float tmax) {
-  Nearest n;
-  n.t = tmax;
-  n.prim = -1;
-  n.geom = -1;
-  n.inst = -1;
-  n.normal = VEC3(0.0f, 0.0f, 0.0f);
-  n.u = 0.0f;
-  n.v = 0.0f;
-  return n;
 }
 
 FN Hit hit_from_nearest(KD_PARAM Nearest n) {
@@ -198,15 +203,7 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
           Geometry g = KD(geoms)[inst.geom];
           if (MASQ_STATS) res.stats.isect_calls = res.stats.isect_calls + 1;
           PrimHit ph = intersect_primitive(KD_ARG g, inst.prim, affine_point(f, wo), affine_vector(f, wd), tmin, best.t);
-          if (ph.hit != 0) {
-            best.t = ph.t;
-            best.prim = inst.prim;
-            best.geom = inst.geom;
-            best.inst = inst.scene_inst;
-            best.normal = ph.normal;
-            best.u = ph.u;
-            best.v = ph.v;
-          }
+          best = nearest_take(best, ph, inst.prim, inst.geom, inst.scene_inst);
         }
       }
     }
