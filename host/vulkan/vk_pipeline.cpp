@@ -1,4 +1,5 @@
 #include "host/vulkan/vk_pipeline.h"
+#include <chrono>
 #include <map>
 
 namespace masq::vk {
@@ -148,6 +149,27 @@ double KernelLayout::dispatch(VkPipeline pipeline, const void* push_constants, s
   std::uint64_t mask = ctx_.timestamp_valid_bits >= 64 ? ~0ull : ((1ull << ctx_.timestamp_valid_bits) - 1);
   std::uint64_t ticks = ((ts[1] & mask) - (ts[0] & mask)) & mask;
   return static_cast<double>(ticks) * static_cast<double>(ctx_.props.limits.timestampPeriod) * 1e-9;
+}
+
+PipelineVariants::~PipelineVariants() {
+  for (auto& [spec, v] : cache_) layout_.destroy_pipeline(v.pipeline);
+}
+
+const PipelineVariants::Variant& PipelineVariants::get(const std::array<std::uint32_t, 4>& spec,
+                                                       const std::function<void(VkPipeline)>& warm_up) {
+  auto it = cache_.find(spec);
+  if (it != cache_.end()) return it->second;
+  auto t0 = std::chrono::steady_clock::now();
+  Variant v;
+  v.pipeline = layout_.create_pipeline(spirv_, spec);
+  try {
+    warm_up(v.pipeline);
+  } catch (...) {
+    layout_.destroy_pipeline(v.pipeline);
+    throw;
+  }
+  v.compile_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return cache_.emplace(spec, v).first->second;
 }
 
 } // namespace masq::vk

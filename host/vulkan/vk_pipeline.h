@@ -3,7 +3,10 @@
 // constant block, pipelines specialised by constant id, and a timed dispatch.
 #pragma once
 #include "host/vulkan/vk_buffer.h"
+#include <array>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <span>
 #include <vector>
 
@@ -42,6 +45,27 @@ class KernelLayout {
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
   VkQueryPool queries_ = VK_NULL_HANDLE;
+};
+
+// The pipelines of one shader, one per specialisation (constant ids 0..3), created on
+// first use and kept. compile_seconds covers creation plus the caller's warm-up
+// dispatch, because lavapipe compiles at the first dispatch.
+class PipelineVariants {
+ public:
+  struct Variant {
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    double compile_seconds = 0;
+  };
+  PipelineVariants(KernelLayout& layout, std::span<const std::uint32_t> spirv) : layout_(layout), spirv_(spirv) {}
+  ~PipelineVariants();
+  PipelineVariants(const PipelineVariants&) = delete;
+  PipelineVariants& operator=(const PipelineVariants&) = delete;
+  const Variant& get(const std::array<std::uint32_t, 4>& spec, const std::function<void(VkPipeline)>& warm_up);
+
+ private:
+  KernelLayout& layout_;
+  std::span<const std::uint32_t> spirv_;
+  std::map<std::array<std::uint32_t, 4>, Variant> cache_;
 };
 
 } // namespace masq::vk

@@ -28,9 +28,6 @@ class VulkanComputeBackend final : public Backend {
                 sizeof(kernel::TraceParams)),
         batch_(*ctx_) {}
 
-  ~VulkanComputeBackend() override {
-    for (auto& [key, v] : pipelines_) layout_.destroy_pipeline(v.pipeline);
-  }
 
   std::string name() const override { return kName; }
   std::string device_name() const override { return ctx_->device_name(); }
@@ -58,40 +55,23 @@ class VulkanComputeBackend final : public Backend {
   std::size_t device_bytes() const override { return scene_.bytes; }
 
  private:
-  struct Variant {
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    double compile_seconds = 0;
-  };
-
   VkPipeline pipeline(bool stats) {
-    auto key = std::make_tuple(stats, has_triangles_, has_capsules_);
-    auto it = pipelines_.find(key);
-    if (it == pipelines_.end()) {
-      auto t0 = Clock::now();
-      const std::uint32_t spec[4] = {stats, has_triangles_, has_capsules_, kLocalSize};
-      Variant v;
-      v.pipeline = layout_.create_pipeline(trace_comp_spv, spec);
-      try {
-        // Warm-up: an empty dispatch (ray_count 0) triggers the driver's JIT.
-        batch_.bind_minimal(layout_);
-        kernel::TraceParams pc{0, tlas_root_, 0, 0};
-        layout_.dispatch(v.pipeline, &pc, 1);
-      } catch (...) {
-        layout_.destroy_pipeline(v.pipeline);
-        throw;
-      }
-      v.compile_seconds = seconds_since(t0);
-      it = pipelines_.emplace(key, v).first;
-    }
-    timing_.compile_seconds = it->second.compile_seconds;
-    return it->second.pipeline;
+    const vk::PipelineVariants::Variant& v =
+        variants_.get({stats, has_triangles_, has_capsules_, kLocalSize}, [&](VkPipeline p) {
+          // An empty dispatch (ray_count 0) triggers the driver's JIT.
+          batch_.bind_minimal(layout_);
+          kernel::TraceParams pc{0, tlas_root_, 0, 0};
+          layout_.dispatch(p, &pc, 1);
+        });
+    timing_.compile_seconds = v.compile_seconds;
+    return v.pipeline;
   }
 
   std::shared_ptr<vk::Context> ctx_;
   vk::KernelLayout layout_;
+  vk::PipelineVariants variants_{layout_, trace_comp_spv}; // after layout_: destroyed first
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
-  std::map<std::tuple<bool, bool, bool>, Variant> pipelines_;
   std::int32_t tlas_root_ = -1;
   bool has_triangles_ = false;
   bool has_capsules_ = false;
