@@ -4,7 +4,7 @@
 // from words; both must reproduce the C++ bytes (every field is a 4-byte scalar, so a
 // C++ struct's bytes ARE its fields in declaration order; static asserts in layout.h
 // check there is no padding). Vulkan missing fails the test (scripts/setup.sh installs
-// lavapipe) unless MASQ_ALLOW_NO_VULKAN=1.
+// lavapipe) unless MASQ_ALLOW_MISSING_BACKENDS=1.
 #include "host/backend.h"
 #include "host/vulkan/vk_pipeline.h"
 #include "kernels/layout.h"
@@ -47,7 +47,7 @@ std::uint32_t word(std::uint32_t k, bool negative) {
 }
 
 bool allow_no_vulkan() {
-  const char* v = std::getenv("MASQ_ALLOW_NO_VULKAN");
+  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
   return v != nullptr && std::string(v) == "1";
 }
 
@@ -56,8 +56,8 @@ TEST(GlslLayout, Std430MatchesCpp) {
   try {
     ctx = vk::Context::get("vulkan", false);
   } catch (const BackendUnavailable& e) {
-    if (allow_no_vulkan()) GTEST_SKIP() << e.what() << " (MASQ_ALLOW_NO_VULKAN=1)";
-    FAIL() << e.what() << " (scripts/setup.sh installs lavapipe; MASQ_ALLOW_NO_VULKAN=1 skips)";
+    if (allow_no_vulkan()) GTEST_SKIP() << e.what() << " (MASQ_ALLOW_MISSING_BACKENDS=1)";
+    FAIL() << e.what() << " (scripts/setup.sh installs lavapipe; MASQ_ALLOW_MISSING_BACKENDS=1 skips)";
   }
 
   // Inputs: structs (as words) and the flat words, with disjoint values.

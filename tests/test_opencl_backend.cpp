@@ -24,15 +24,15 @@ using kernel::Hit;
 using kernel::Ray;
 using kernel::RayStats;
 
-// Null when OpenCL is missing and MASQ_ALLOW_NO_OPENCL=1 (then the test skips);
+// Null when OpenCL is missing and MASQ_ALLOW_MISSING_BACKENDS=1 (then the test skips);
 // otherwise a missing platform fails: the setup script installs PoCL.
 std::unique_ptr<Backend> open_or_skip(std::size_t chunk = kOpenClChunkRays) {
   try {
     return make_opencl_backend(chunk);
   } catch (const BackendUnavailable& e) {
-    const char* allow = std::getenv("MASQ_ALLOW_NO_OPENCL");
+    const char* allow = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
     if (allow != nullptr && std::string(allow) == "1") return nullptr;
-    ADD_FAILURE() << e.what() << " (MASQ_ALLOW_NO_OPENCL=1 skips)";
+    ADD_FAILURE() << e.what() << " (MASQ_ALLOW_MISSING_BACKENDS=1 skips)";
     return nullptr;
   }
 }
@@ -40,7 +40,7 @@ std::unique_ptr<Backend> open_or_skip(std::size_t chunk = kOpenClChunkRays) {
   auto var = open_or_skip(__VA_ARGS__);                           \
   if (!var) {                                                     \
     if (HasFailure()) return;                                     \
-    GTEST_SKIP() << "no OpenCL platform (MASQ_ALLOW_NO_OPENCL=1)"; \
+    GTEST_SKIP() << "no OpenCL platform (MASQ_ALLOW_MISSING_BACKENDS=1)"; \
   }
 
 kernel::WideNode empty_node() {
@@ -224,7 +224,7 @@ TEST(OpenClBackend, BuildFailureNamesFileAndLine) {
   try {
     rt = opencl::open_runtime();
   } catch (const BackendUnavailable& e) {
-    const char* allow = std::getenv("MASQ_ALLOW_NO_OPENCL");
+    const char* allow = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
     if (allow != nullptr && std::string(allow) == "1") GTEST_SKIP() << e.what();
     FAIL() << e.what();
   }

@@ -24,7 +24,7 @@ using namespace masq;
 using namespace masq::kernel;
 
 bool allow_no_opencl() {
-  const char* v = std::getenv("MASQ_ALLOW_NO_OPENCL");
+  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
   return v != nullptr && std::string(v) == "1";
 }
 
@@ -76,7 +76,7 @@ class OpenClLayout : public ::testing::Test {
     if (!build_error_.empty()) FAIL() << build_error_;
     if (rt_) return;
     if (allow_no_opencl()) GTEST_SKIP() << unavailable_;
-    FAIL() << unavailable_ << " (the setup script installs PoCL; MASQ_ALLOW_NO_OPENCL=1 skips)";
+    FAIL() << unavailable_ << " (the setup script installs PoCL; MASQ_ALLOW_MISSING_BACKENDS=1 skips)";
   }
 
   template <class T>

@@ -27,17 +27,17 @@ using kernel::Ray;
 using kernel::RayStats;
 
 bool allow_no_vulkan() {
-  const char* v = std::getenv("MASQ_ALLOW_NO_VULKAN");
+  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
   return v != nullptr && std::string(v) == "1";
 }
 
-// Null (and the test skips) only when Vulkan is missing and MASQ_ALLOW_NO_VULKAN=1.
+// Null (and the test skips) only when Vulkan is missing and MASQ_ALLOW_MISSING_BACKENDS=1.
 std::unique_ptr<Backend> make_or_fail(const std::function<std::unique_ptr<Backend>()>& make) {
   try {
     return make();
   } catch (const BackendUnavailable& e) {
     if (!allow_no_vulkan())
-      ADD_FAILURE() << e.what() << " (scripts/setup.sh installs lavapipe; MASQ_ALLOW_NO_VULKAN=1 skips)";
+      ADD_FAILURE() << e.what() << " (scripts/setup.sh installs lavapipe; MASQ_ALLOW_MISSING_BACKENDS=1 skips)";
     return nullptr;
   }
 }
