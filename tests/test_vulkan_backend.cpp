@@ -45,7 +45,7 @@ std::unique_ptr<Backend> make_or_fail(const std::function<std::unique_ptr<Backen
 #define VULKAN_BACKEND_OR_SKIP(var, make)                          \
   std::unique_ptr<Backend> var = make_or_fail(make);               \
   if (!var) {                                                      \
-    if (allow_no_vulkan()) GTEST_SKIP() << "no Vulkan (allowed)";  \
+    if (allow_no_vulkan()) GTEST_SKIP() << "no Vulkan driver (MASQ_ALLOW_MISSING_BACKENDS=1)"; \
     return;                                                        \
   }
 
