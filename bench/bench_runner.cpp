@@ -36,7 +36,7 @@ std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt) {
   std::map<Method, PackedScene> built;
   for (Method m : opt.methods) {
     say(opt, std::string("building ") + method_name(m));
-    built[m] = build_accel(scene, m);
+    built[m] = build_accel(scene, m, opt.accel);
   }
   std::vector<BenchRow> rows;
   for (const std::string& name : opt.backends) {

@@ -1,6 +1,7 @@
 // Measures one scene through every backend x method with the same rays: device time
 // after warm-up, median and min-max over repetitions, counters per ray, memory.
 #pragma once
+#include "bvh/build_accel.h"
 #include "bvh/packed_scene.h"
 #include "host/backend.h"
 #include "scenes/scene.h"
@@ -17,6 +18,7 @@ struct BenchOptions {
   int height = 512;
   int warmup = 1;
   int repetitions = 5;
+  AccelOptions accel; // mode, curve OBB, phantom iterations
   std::function<void(const std::string&)> progress; // one line per step, may be empty
 };
 

@@ -1,5 +1,6 @@
 #include "bvh/build_accel.h"
 #include "bvh/obb.h"
+#include "bvh/prim_bounds.h"
 #include "bvh/wide_bvh.h"
 #include "scenes/error.h"
 #include <chrono>
@@ -12,16 +13,6 @@ namespace {
 Aabb triangle_box(const Geometry& g, const glm::uvec3& t) {
   Aabb b;
   for (int k = 0; k < 3; ++k) b.grow(glm::dvec3(g.vertices[t[k]]));
-  return b;
-}
-
-Aabb capsule_box(const CapsulePrim& c) {
-  Aabb b;
-  glm::dvec3 r(c.radius);
-  b.grow(glm::dvec3(c.a) - r);
-  b.grow(glm::dvec3(c.a) + r);
-  b.grow(glm::dvec3(c.b) - r);
-  b.grow(glm::dvec3(c.b) + r);
   return b;
 }
 
@@ -42,41 +33,99 @@ kernel::Instance make_instance(const Mat3x4f& world_to_object, int blas_root, in
   return k;
 }
 
+int kernel_type(PrimType t) {
+  switch (t) {
+    case PrimType::Triangle: return MASQ_PRIM_TRIANGLE;
+    case PrimType::Capsule: return MASQ_PRIM_CAPSULE;
+    case PrimType::RoundCone: return MASQ_PRIM_ROUND_CONE;
+    case PrimType::Sphere: return MASQ_PRIM_SPHERE;
+    case PrimType::Curve: return MASQ_PRIM_CURVE;
+  }
+  return -1;
+}
+
+void copy3(float* dst, const glm::vec3& v) {
+  for (int k = 0; k < 3; ++k) dst[k] = v[k];
+}
+
 void pack_primitives(const Scene& scene, PackedScene& ps) {
   for (const Geometry& g : scene.geometries) {
     kernel::Geometry kg{};
-    kg.type = g.type == PrimType::Triangle ? MASQ_PRIM_TRIANGLE : MASQ_PRIM_CAPSULE;
+    kg.type = kernel_type(g.type);
     kg.count = int(g.primitive_count());
-    if (g.type == PrimType::Triangle) {
-      kg.first = int(ps.triangles.size());
-      for (const glm::uvec3& t : g.triangles) {
-        kernel::Triangle kt{};
-        for (int k = 0; k < 3; ++k) {
-          kt.v0[k] = g.vertices[t.x][k];
-          kt.v1[k] = g.vertices[t.y][k];
-          kt.v2[k] = g.vertices[t.z][k];
+    switch (g.type) {
+      case PrimType::Triangle:
+        kg.first = int(ps.triangles.size());
+        for (const glm::uvec3& t : g.triangles) {
+          kernel::Triangle kt{};
+          copy3(kt.v0, g.vertices[t.x]);
+          copy3(kt.v1, g.vertices[t.y]);
+          copy3(kt.v2, g.vertices[t.z]);
+          ps.triangles.push_back(kt);
         }
-        ps.triangles.push_back(kt);
-      }
-    } else {
-      kg.first = int(ps.capsules.size());
-      for (const CapsulePrim& c : g.capsules) {
-        kernel::Capsule kc{};
-        for (int k = 0; k < 3; ++k) {
-          kc.a[k] = c.a[k];
-          kc.b[k] = c.b[k];
+        break;
+      case PrimType::Capsule:
+        kg.first = int(ps.capsules.size());
+        for (const CapsulePrim& c : g.capsules) {
+          kernel::Capsule kc{};
+          copy3(kc.a, c.a);
+          copy3(kc.b, c.b);
+          kc.radius = c.radius;
+          ps.capsules.push_back(kc);
         }
-        kc.radius = c.radius;
-        ps.capsules.push_back(kc);
-      }
+        break;
+      case PrimType::RoundCone:
+        kg.first = int(ps.cones.size());
+        for (const RoundConePrim& c : g.cones) {
+          kernel::RoundCone kc{};
+          copy3(kc.a, c.a);
+          copy3(kc.b, c.b);
+          kc.ra = c.ra;
+          kc.rb = c.rb;
+          ps.cones.push_back(kc);
+        }
+        break;
+      case PrimType::Sphere:
+        kg.first = int(ps.spheres.size());
+        for (const SpherePrim& sp : g.spheres) {
+          kernel::Sphere ks{};
+          copy3(ks.center, sp.center);
+          ks.radius = sp.radius;
+          ps.spheres.push_back(ks);
+        }
+        break;
+      case PrimType::Curve:
+        kg.first = int(ps.curves.size());
+        for (const CurvePrim& c : g.curves) {
+          kernel::Curve kc{};
+          copy3(kc.p0, c.p[0]);
+          copy3(kc.p1, c.p[1]);
+          copy3(kc.p2, c.p[2]);
+          copy3(kc.p3, c.p[3]);
+          kc.radius = c.radius;
+          ps.curves.push_back(kc);
+        }
+        break;
     }
     ps.geoms.push_back(kg);
   }
 }
 
+void note_feature(KernelFeatures& f, PrimType t) {
+  switch (t) {
+    case PrimType::Triangle: f.triangles = true; break;
+    case PrimType::Capsule: f.capsules = true; break;
+    case PrimType::RoundCone: f.cones = true; break;
+    case PrimType::Sphere: f.spheres = true; break;
+    case PrimType::Curve: f.curves = true; break;
+  }
+}
+
 } // namespace
 
-PackedScene build_accel(const Scene& scene, Method method, const SahOptions& opt) {
+PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt) {
+  if (opt.curve_iters < 1 || opt.curve_iters > 64)
+    throw Error("accel: curve_iters " + std::to_string(opt.curve_iters) + " outside 1..64");
   auto start = std::chrono::steady_clock::now();
   validate_scene(scene);
   if (scene.primitive_count() > std::size_t(INT32_MAX) / 2)
@@ -84,10 +133,11 @@ PackedScene build_accel(const Scene& scene, Method method, const SahOptions& opt
   PackedScene ps;
   ps.method = method;
   pack_primitives(scene, ps);
+  ps.features.mode = opt.mode;
+  ps.features.curve_iters = opt.curve_iters;
   for (const Instance& inst : scene.instances) {
     PrimType t = scene.geometries[inst.geometry].type;
-    ps.has_triangles |= t == PrimType::Triangle;
-    ps.has_capsules |= t == PrimType::Capsule;
+    note_feature(ps.features, t);
     Affine3 w2o = inverse(inst.object_to_world);
     kernel::Frame f{};
     Mat3x4f m = to_mat3x4f(w2o);
@@ -105,14 +155,14 @@ PackedScene build_accel(const Scene& scene, Method method, const SahOptions& opt
   for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
     const Geometry& g = scene.geometries[gi];
     if (!used[gi] || g.primitive_count() == 0) continue;
-    if (method == Method::Masq && g.type == PrimType::Capsule) continue;
+    if (method == Method::Masq && g.type != PrimType::Triangle) continue;
     std::vector<Aabb> boxes;
     boxes.reserve(g.primitive_count());
     if (g.type == PrimType::Triangle)
       for (const glm::uvec3& t : g.triangles) boxes.push_back(triangle_box(g, t));
     else
-      for (const CapsulePrim& c : g.capsules) boxes.push_back(capsule_box(c));
-    BinaryBvh bvh = build_binned_sah(boxes, opt);
+      for (std::size_t p = 0; p < g.primitive_count(); ++p) boxes.push_back(hull_box(ball_hull(g, p)));
+    BinaryBvh bvh = build_binned_sah(boxes, opt.sah);
     std::vector<std::int32_t> ids(boxes.size());
     for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
     WideBvhInfo info = append_wide_bvh(bvh, ids, ps.nodes, ps.refs);
@@ -137,10 +187,10 @@ PackedScene build_accel(const Scene& scene, Method method, const SahOptions& opt
       ps.instances.push_back(make_instance(w2o, blas_root[gi], gi, -1, int(si)));
       ps.instance_object_to_world.push_back(ps.frame_object_to_world[si]);
       inst_boxes.push_back(transform_box(blas_box[gi], inst.object_to_world));
-    } else if (method == Method::Masq && g.type == PrimType::Capsule) {
-      for (std::size_t p = 0; p < g.capsules.size(); ++p) {
-        if (!(g.capsules[p].radius > 0.0f)) continue; // no surface: nothing to box
-        MasqueradeBox mb = capsule_masquerade_box(g.capsules[p], inst.object_to_world);
+    } else if (method == Method::Masq && g.type != PrimType::Triangle) {
+      for (std::size_t p = 0; p < g.primitive_count(); ++p) {
+        if (!(hull_max_radius(ball_hull(g, p)) > 0.0)) continue; // no surface: nothing to box
+        MasqueradeBox mb = masquerade_box(g, p, inst.object_to_world, opt.curve_obb);
         ps.instances.push_back(make_instance(mb.world_to_unit, -1, gi, int(p), int(si)));
         ps.instance_object_to_world.push_back(mb.unit_to_world);
         inst_boxes.push_back(mb.world_box);
@@ -149,7 +199,7 @@ PackedScene build_accel(const Scene& scene, Method method, const SahOptions& opt
   }
   ps.stats.instances = ps.instances.size();
   if (!inst_boxes.empty()) {
-    BinaryBvh tlas = build_binned_sah(inst_boxes, opt);
+    BinaryBvh tlas = build_binned_sah(inst_boxes, opt.sah);
     std::vector<std::int32_t> ids(inst_boxes.size());
     for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
     WideBvhInfo info = append_wide_bvh(tlas, ids, ps.nodes, ps.refs);

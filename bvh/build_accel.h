@@ -1,16 +1,25 @@
 // Builds the two-level structure of a scene for one method.
 //  ref:  one BLAS per geometry over its primitives' AABBs; one TLAS entry per scene
 //        instance (the reference method of Wald et al. 2020).
-//  masq: every capsule becomes a TLAS entry whose transform maps the unit box onto its
-//        OBB (the masquerade); triangle geometries keep their BLAS, since a triangle's
-//        OBB is flat and a map of the unit box onto it would be singular.
+//  masq: every capsule, round cone, sphere and curve becomes a TLAS entry whose
+//        transform maps the unit box onto its OBB (the masquerade); triangle
+//        geometries keep their BLAS, since a triangle's OBB is flat and a map of the
+//        unit box onto it would be singular.
 #pragma once
 #include "bvh/binned_sah.h"
+#include "bvh/obb.h"
 #include "bvh/packed_scene.h"
 #include "scenes/scene.h"
 
 namespace masq {
 
-PackedScene build_accel(const Scene& scene, Method method, const SahOptions& opt = {});
+struct AccelOptions {
+  SahOptions sah;
+  CurveObb curve_obb = CurveObb::Tight; // masq: how curve OBBs are oriented
+  Mode mode = Mode::Robust;             // kernel intersectors and box test
+  int curve_iters = 8;                  // phantom iteration limit (1..64)
+};
+
+PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt = {});
 
 } // namespace masq

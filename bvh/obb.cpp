@@ -1,6 +1,8 @@
 #include "bvh/obb.h"
 #include "scenes/error.h"
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace masq {
 
@@ -29,55 +31,117 @@ Affine3 from_mat3x4f(const Mat3x4f& m) {
   return a;
 }
 
+const char* curve_obb_name(CurveObb m) { return m == CurveObb::Paper ? "paper" : "tight"; }
+
+CurveObb parse_curve_obb(const std::string& name) {
+  if (name == "paper") return CurveObb::Paper;
+  if (name == "tight") return CurveObb::Tight;
+  throw Error("unknown curve OBB '" + name + "' (expected paper or tight)");
+}
+
 Aabb capsule_world_box(const CapsulePrim& c, const Affine3& xf) {
-  Aabb box;
-  glm::dvec3 pa = xf.apply_point(glm::dvec3(c.a)), pb = xf.apply_point(glm::dvec3(c.b));
-  glm::dvec3 ext;
-  for (int k = 0; k < 3; ++k)
-    ext[k] = double(c.radius) * glm::length(glm::dvec3(xf.linear[0][k], xf.linear[1][k], xf.linear[2][k]));
-  box.grow(pa - ext);
-  box.grow(pa + ext);
-  box.grow(pb - ext);
-  box.grow(pb + ext);
-  return box;
+  Geometry g;
+  g.type = PrimType::Capsule;
+  g.capsules.push_back(c);
+  return hull_world_box(ball_hull(g, 0), xf);
 }
 
 namespace {
 
-// Largest |coordinate| of the capsule in unit space under the stored map m composed
-// with object_to_world: max over both endpoints of |G_k x + g_k| + r |G_k|.
-double unit_extent(const CapsulePrim& c, const Affine3& xf, const Mat3x4f& m) {
+// Any unit vector perpendicular to unit w (branch on the largest component).
+glm::dvec3 perpendicular(const glm::dvec3& w) {
+  glm::dvec3 helper = std::abs(w.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  return glm::normalize(glm::cross(w, helper));
+}
+
+// First usable direction among the hull's centre differences (chord first).
+glm::dvec3 main_axis(const BallHull& h) {
+  const int n = h.count;
+  const std::pair<int, int> tries[] = {{0, n - 1}, {0, 2}, {1, n - 1}, {0, 1}, {1, 2}, {2, n - 1}};
+  for (auto [i, j] : tries) {
+    if (i >= n || j >= n || i == j) continue;
+    glm::dvec3 d = h.centre[j] - h.centre[i];
+    double l = glm::length(d);
+    if (l > 0.0) return d / l;
+  }
+  return {0, 0, 1};
+}
+
+// Fit centre and half extents along fixed axes to the hull's support.
+ObbFrame fit_along(const BallHull& h, const glm::dmat3& axes) {
+  ObbFrame f;
+  f.axes = axes;
+  for (int k = 0; k < 3; ++k) {
+    double hi = h.support(axes[k]);
+    double lo = -h.support(-axes[k]);
+    f.centre += 0.5 * (hi + lo) * axes[k];
+    f.half[k] = 0.5 * (hi - lo);
+  }
+  return f;
+}
+
+ObbFrame curve_obb_fit(const BallHull& h, CurveObb mode) {
+  glm::dvec3 w = main_axis(h);
+  // Perpendicular offsets of the control points from the chord line through p0.
+  glm::dvec3 far_dir(0.0);
+  double far = 0.0;
+  for (int i = 0; i < h.count; ++i) {
+    glm::dvec3 q = h.centre[i] - h.centre[0];
+    glm::dvec3 perp = q - glm::dot(q, w) * w;
+    double l = glm::length(perp);
+    if (l > far) {
+      far = l;
+      far_dir = perp / l;
+    }
+  }
+  glm::dvec3 u1 = far > 0.0 ? far_dir : perpendicular(w);
+  glm::dvec3 u2 = glm::cross(w, u1);
+  if (mode == CurveObb::Tight) return fit_along(h, glm::dmat3(w, u1, u2));
+  // paper: a cylinder around the chord of radius (largest control-point distance + r),
+  // boxed with a square cross-section centred on the chord.
+  ObbFrame f = fit_along(h, glm::dmat3(w, u1, u2));
+  double radial = far + hull_max_radius(h);
+  double axial_centre = glm::dot(f.centre - h.centre[0], w);
+  f.centre = h.centre[0] + axial_centre * w;
+  f.half.y = radial;
+  f.half.z = radial;
+  return f;
+}
+
+// Largest |coordinate| of the hull in unit space under the stored map m composed with
+// object_to_world: max over the rows k of the support in both directions.
+double unit_extent(const BallHull& h, const Affine3& xf, const Mat3x4f& m) {
   Affine3 stored = from_mat3x4f(m);
   glm::dmat3 g = stored.linear * xf.linear;
   glm::dvec3 t = stored.linear * xf.translation + stored.translation;
   double worst = 0.0;
   for (int k = 0; k < 3; ++k) {
     glm::dvec3 row(g[0][k], g[1][k], g[2][k]);
-    double support = double(c.radius) * glm::length(row);
-    for (glm::dvec3 p : {glm::dvec3(c.a), glm::dvec3(c.b)})
-      worst = std::max(worst, std::abs(glm::dot(row, p) + t[k]) + support);
+    worst = std::max({worst, std::abs(h.support(row) + t[k]), std::abs(-h.support(-row) + t[k])});
   }
   return worst;
 }
 
 } // namespace
 
-MasqueradeBox capsule_masquerade_box(const CapsulePrim& c, const Affine3& xf) {
-  if (!(c.radius > 0.0f)) throw Error("obb: a capsule of radius 0 has no oriented box");
-  glm::dvec3 a(c.a), b(c.b);
-  glm::dvec3 axis = b - a;
-  double len = glm::length(axis);
-  glm::dvec3 w = len > 0.0 ? axis / len : glm::dvec3(0, 0, 1);
-  // Any unit vector perpendicular to w (Frisvad-style branch on the largest component).
-  glm::dvec3 helper = std::abs(w.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-  glm::dvec3 u1 = glm::normalize(glm::cross(w, helper));
-  glm::dvec3 u2 = glm::cross(w, u1);
-  double r = c.radius;
-  glm::dvec3 half(0.5 * len + r, r, r);
-  // unit -> object: x = center + R * diag(half) * u.
+ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb) {
+  BallHull h = ball_hull(g, prim);
+  if (g.type == PrimType::Sphere) return fit_along(h, glm::dmat3(1.0));
+  if (g.type == PrimType::Curve) return curve_obb_fit(h, curve_obb);
+  glm::dvec3 w = main_axis(h);
+  glm::dvec3 u1 = perpendicular(w);
+  return fit_along(h, glm::dmat3(w, u1, glm::cross(w, u1)));
+}
+
+MasqueradeBox masquerade_box(const Geometry& g, std::size_t prim, const Affine3& xf, CurveObb curve_obb) {
+  BallHull h = ball_hull(g, prim);
+  if (!(hull_max_radius(h) > 0.0))
+    throw Error(std::string("obb: a ") + prim_type_name(g.type) + " of radius 0 has no oriented box");
+  ObbFrame f = primitive_obb(g, prim, curve_obb);
+  // unit -> object: x = centre + axes * diag(half) * u.
   Affine3 unit_to_object;
-  unit_to_object.linear = glm::dmat3(w * half.x, u1 * half.y, u2 * half.z);
-  unit_to_object.translation = 0.5 * (a + b);
+  unit_to_object.linear = glm::dmat3(f.axes[0] * f.half.x, f.axes[1] * f.half.y, f.axes[2] * f.half.z);
+  unit_to_object.translation = f.centre;
   Affine3 unit_to_world;
   unit_to_world.linear = xf.linear * unit_to_object.linear;
   unit_to_world.translation = xf.apply_point(unit_to_object.translation);
@@ -85,20 +149,21 @@ MasqueradeBox capsule_masquerade_box(const CapsulePrim& c, const Affine3& xf) {
 
   MasqueradeBox out;
   // Round to fp32, then shrink the map until the stored matrix provably maps the
-  // capsule inside [-1,1]^3 (rounding can push it out by a few ulps).
+  // primitive inside [-1,1]^3 (rounding can push it out by a few ulps).
   double shrink = 1.0;
   for (int attempt = 0; attempt < 8; ++attempt) {
     Affine3 scaled = world_to_unit;
     scaled.linear *= shrink;
     scaled.translation *= shrink;
     out.world_to_unit = to_mat3x4f(scaled);
-    double e = unit_extent(c, xf, out.world_to_unit);
+    double e = unit_extent(h, xf, out.world_to_unit);
     if (e <= 1.0) break;
     shrink *= (1.0 - 4.0 * 5.96e-8) / e;
     if (attempt == 7) throw Error("obb: could not fit a conservative fp32 masquerade transform");
   }
   out.unit_to_world = to_mat3x4f(inverse(from_mat3x4f(out.world_to_unit)));
-  out.world_box = Aabb::intersect(capsule_world_box(c, xf), [&] {
+  Aabb exact = hull_world_box(h, xf);
+  out.world_box = Aabb::intersect(exact, [&] {
     Aabb corners;
     Affine3 u2w = inverse(from_mat3x4f(out.world_to_unit));
     for (int i = 0; i < 8; ++i)
@@ -107,7 +172,15 @@ MasqueradeBox capsule_masquerade_box(const CapsulePrim& c, const Affine3& xf) {
   }());
   glm::dvec3 e0 = unit_to_world.linear[0], e1 = unit_to_world.linear[1], e2 = unit_to_world.linear[2];
   out.obb_area = 8.0 * (glm::length(glm::cross(e0, e1)) + glm::length(glm::cross(e1, e2)) + glm::length(glm::cross(e2, e0)));
+  out.aabb_area = exact.area();
   return out;
+}
+
+MasqueradeBox capsule_masquerade_box(const CapsulePrim& c, const Affine3& xf) {
+  Geometry g;
+  g.type = PrimType::Capsule;
+  g.capsules.push_back(c);
+  return masquerade_box(g, 0, xf);
 }
 
 } // namespace masq

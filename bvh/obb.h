@@ -3,26 +3,51 @@
 #pragma once
 #include "bvh/aabb.h"
 #include "bvh/packed_scene.h"
+#include "bvh/prim_bounds.h"
 #include "scenes/scene.h"
+#include <string>
 
 namespace masq {
+
+// How a curve's OBB is oriented. paper: Wald et al. 2020's, the chord p0->p3 as axis
+// and a square cross-section wide enough for the control points' distance to the
+// chord plus the radius (a cylinder's box). tight: the same axis, but the
+// cross-section axes follow the control polygon's largest offset from the chord, and
+// every side is fitted to the control balls' support (never larger than paper).
+enum class CurveObb { Paper, Tight };
+const char* curve_obb_name(CurveObb m);
+CurveObb parse_curve_obb(const std::string& name); // throws masq::Error
+
+// An object-space box: centre + axes (orthonormal columns) * [-half, half].
+struct ObbFrame {
+  glm::dvec3 centre{0.0};
+  glm::dmat3 axes{1.0};
+  glm::dvec3 half{0.0};
+  double area() const { return 8.0 * (half.x * half.y + half.y * half.z + half.z * half.x); }
+};
+
+// OBB of a non-triangle primitive in object space: analytic for capsules and round
+// cones (axis and perpendicular radii, both end balls covered), a cube for spheres,
+// `curve_obb` for curves. Conservative for the hull of ball_hull().
+ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb = CurveObb::Tight);
 
 struct MasqueradeBox {
   Mat3x4f world_to_unit; // fp32 as stored: maps the primitive into [-1,1]^3 (verified)
   Mat3x4f unit_to_world; // its inverse (for drivers that take object-to-world)
   Aabb world_box;        // world AABB of the primitive (for the TLAS)
   double obb_area = 0;   // surface area of the world-space OBB
+  double aabb_area = 0;  // surface area of the primitive's exact world AABB
 };
 
-// Analytic OBB of a capsule: the axis and two perpendicular radii, covering both caps,
-// placed by `object_to_world`. The double-precision map is rounded to fp32 and then
-// checked in double against the primitive's exact extent (support function of the
-// swept ball) under the STORED matrix, shrinking until it provably maps inside the unit
-// box. Throws masq::Error for a zero-radius capsule (it has no volume to box).
+// The masquerade map of a primitive placed by `object_to_world`. The double-precision
+// map is rounded to fp32 and then checked in double against the hull's exact extent
+// (its support function) under the STORED matrix, shrinking until it provably maps
+// inside the unit box. Throws masq::Error for a primitive without volume (radius 0).
+MasqueradeBox masquerade_box(const Geometry& g, std::size_t prim, const Affine3& object_to_world,
+                             CurveObb curve_obb = CurveObb::Tight);
 MasqueradeBox capsule_masquerade_box(const CapsulePrim& c, const Affine3& object_to_world);
 
-// World AABB of a capsule under an affine map (exact: endpoints plus the ellipsoid's
-// support r*|row_k(L)| on each axis).
+// World AABB of a capsule under an affine map (exact).
 Aabb capsule_world_box(const CapsulePrim& c, const Affine3& object_to_world);
 
 // Affine helpers.

@@ -11,6 +11,14 @@ Method parse_method(const std::string& name) {
   throw Error("unknown method '" + name + "' (expected ref or masq)");
 }
 
+const char* mode_name(Mode m) { return m == Mode::Robust ? "robust" : "fast"; }
+
+Mode parse_mode(const std::string& name) {
+  if (name == "robust") return Mode::Robust;
+  if (name == "fast") return Mode::Fast;
+  throw Error("unknown mode '" + name + "' (expected robust or fast)");
+}
+
 std::size_t PackedScene::acceleration_bytes() const {
   return nodes.size() * sizeof(kernel::WideNode) + refs.size() * sizeof(std::int32_t) +
          instances.size() * sizeof(kernel::Instance) + frames.size() * sizeof(kernel::Frame);
@@ -18,7 +26,8 @@ std::size_t PackedScene::acceleration_bytes() const {
 
 std::size_t PackedScene::primitive_bytes() const {
   return geoms.size() * sizeof(kernel::Geometry) + triangles.size() * sizeof(kernel::Triangle) +
-         capsules.size() * sizeof(kernel::Capsule);
+         capsules.size() * sizeof(kernel::Capsule) + cones.size() * sizeof(kernel::RoundCone) +
+         spheres.size() * sizeof(kernel::Sphere) + curves.size() * sizeof(kernel::Curve);
 }
 
 } // namespace masq

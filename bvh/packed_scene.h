@@ -16,6 +16,26 @@ Method parse_method(const std::string& name); // throws masq::Error
 
 using Mat3x4f = std::array<float, 12>; // row-major 3x4 affine
 
+// fast: the intersectors as their papers write them and an unpadded masquerade box
+// test; robust: the fp32-hardened intersectors and the conservative padded box test.
+enum class Mode { Robust, Fast };
+const char* mode_name(Mode m);
+Mode parse_mode(const std::string& name); // throws masq::Error
+
+// The kernel variant a scene needs: the primitive types present (the others are
+// compiled out), the intersector mode and the phantom-curve iteration limit. Every
+// backend maps this onto its variant mechanism (spec constants, -D, C++ TUs).
+struct KernelFeatures {
+  bool triangles = false;
+  bool capsules = false;
+  bool cones = false;
+  bool spheres = false;
+  bool curves = false;
+  Mode mode = Mode::Robust;
+  int curve_iters = 8;
+  bool operator==(const KernelFeatures&) const = default;
+};
+
 struct BuildStats {
   double sah_cost = 0;         // TLAS: traversal 1 per wide node, 1 per instance reference
   double blas_sah_cost = 0;    // sum over BLAS, each relative to its own root box
@@ -37,9 +57,11 @@ struct PackedScene {
   std::vector<kernel::Geometry> geoms;
   std::vector<kernel::Triangle> triangles;
   std::vector<kernel::Capsule> capsules;
+  std::vector<kernel::RoundCone> cones;
+  std::vector<kernel::Sphere> spheres;
+  std::vector<kernel::Curve> curves;
   std::int32_t tlas_root = -1;
-  bool has_triangles = false;
-  bool has_capsules = false;
+  KernelFeatures features;
 
   // For the rayquery backend.
   std::vector<Mat3x4f> frame_object_to_world;    // per scene instance
@@ -51,7 +73,7 @@ struct PackedScene {
   BuildStats stats;
 
   std::size_t acceleration_bytes() const; // nodes + refs + instances + frames
-  std::size_t primitive_bytes() const;    // geoms + triangles + capsules
+  std::size_t primitive_bytes() const;    // geoms + all primitive arrays
 };
 
 } // namespace masq

@@ -21,16 +21,17 @@ struct BenchCli {
 
 int bench(BenchCli& c) {
   Scene scene = make_scene(c.scene);
+  c.bench.accel = accel_options(c.scene);
   if (!c.backends.empty()) c.bench.backends = c.backends;
   if (!c.methods.empty()) {
     c.bench.methods.clear();
     for (const std::string& m : c.methods) c.bench.methods.push_back(parse_method(m));
   }
   if (!c.quiet) c.bench.progress = [](const std::string& line) { fmt::print(stderr, "\r\033[K  {}", line); };
-  fmt::print("scene '{}': {} primitives ({} capsules r={} tilt {} deg + ground plane), {}x{} primary rays, "
+  fmt::print("scene '{}': {} primitives ({} {} strands r={} tilt {} deg + ground plane), {} mode, {}x{} primary rays, "
              "{} warm-up + {} timed traces, median (min-max) of device time\n",
-             scene.name, scene.primitive_count(), c.scene.bundle.count, c.scene.bundle.radius,
-             c.scene.bundle.tilt_deg, c.bench.width, c.bench.height, c.bench.warmup, c.bench.repetitions);
+             scene.name, scene.primitive_count(), c.scene.bundle.count, c.scene.prim, c.scene.bundle.radius,
+             c.scene.bundle.tilt_deg, c.scene.mode, c.bench.width, c.bench.height, c.bench.warmup, c.bench.repetitions);
   std::vector<BenchRow> rows = run_bench(scene, c.bench);
   if (!c.quiet) fmt::print(stderr, "\r\033[K");
   fmt::print("{}\n{}", bench_table(rows), bench_ratios(rows));

@@ -34,7 +34,7 @@ void heat(float x, float* rgb) {
 int render(const RenderOptions& o) {
   Scene scene = make_scene(o.scene);
   std::unique_ptr<Backend> be = make_backend(o.backend);
-  be->set_scene(build_accel(scene, parse_method(o.method)));
+  be->set_scene(build_accel(scene, parse_method(o.method), accel_options(o.scene)));
   std::vector<kernel::Ray> rays = make_camera_rays(scene.camera, o.width, o.height);
   std::vector<kernel::Hit> hits(rays.size());
   std::vector<kernel::RayStats> stats(rays.size());

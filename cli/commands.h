@@ -8,4 +8,5 @@ using Action = std::function<int()>;
 Action add_info(CLI::App& app);
 Action add_render(CLI::App& app);
 Action add_bench(CLI::App& app);
+Action add_stress(CLI::App& app);
 } // namespace masq::cli

@@ -10,13 +10,16 @@ int main(int argc, char** argv) {
              "  masq info\n"
              "  masq bench                          # default bundle scene, every backend x method\n"
              "  masq bench --backend cpu --method masq --width 256 --height 256\n"
+             "  masq bench --prim curve --subdiv 4 --mode fast\n"
              "  masq render --backend vulkan --out bundle   # bundle_shaded.png, bundle_heat.png\n"
+             "  masq stress --quick                 # numerical stress suite vs the long-double oracle\n"
              "Exit codes: 0 ok, 1 error (message on stderr), 2 bad usage.");
   app.require_subcommand(1);
   masq::cli::Action action;
   masq::cli::Action info = masq::cli::add_info(app);
   masq::cli::Action render = masq::cli::add_render(app);
   masq::cli::Action bench = masq::cli::add_bench(app);
+  masq::cli::Action stress = masq::cli::add_stress(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -27,6 +30,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("info")) return info();
     if (app.got_subcommand("render")) return render();
     if (app.got_subcommand("bench")) return bench();
+    if (app.got_subcommand("stress")) return stress();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "masq: %s\n", e.what());
     return 1;

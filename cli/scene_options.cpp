@@ -1,17 +1,33 @@
 #include "cli/scene_options.h"
+#include "scenes/curve_tools.h"
 
 namespace masq::cli {
 
 void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
-  cmd.add_option("--count", opt.bundle.count, "Capsules in the default bundle scene")->capture_default_str()->check(CLI::PositiveNumber);
-  cmd.add_option("--radius", opt.bundle.radius, "Capsule radius")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd.add_option("--count", opt.bundle.count, "Strands in the default bundle scene")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd.add_option("--radius", opt.bundle.radius, "Strand radius")->capture_default_str()->check(CLI::PositiveNumber);
   cmd.add_option("--tilt", opt.bundle.tilt_deg, "Bundle tilt in degrees (X-Y plane)")->capture_default_str();
   cmd.add_option("--seed", opt.bundle.seed, "Random seed of the bundle")->capture_default_str();
+  cmd.add_option("--prim", opt.prim, "Strand primitive: capsule, cone (round cone r..r/2), curve (bent cubic), sphere (beads)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"capsule", "cone", "curve", "sphere"}));
+  cmd.add_option("--subdiv", opt.subdivisions, "Curves: pre-subdivide each cubic into k pieces (1, 2, 4, 8...)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
   cmd.add_flag("--ortho", opt.orthographic, "Orthographic view along +z from z=-5 (the paper's setup)");
+  cmd.add_option("--mode", opt.mode, "Intersectors and masquerade box test: robust (fp32-hardened, conservative) or fast (as published)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"robust", "fast"}));
+  cmd.add_option("--curve-obb", opt.curve_obb, "Curve OBBs: paper (chord axis, cylinder) or tight (control-polygon fit)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"paper", "tight"}));
+  cmd.add_option("--curve-iters", opt.curve_iters, "Phantom curve iteration limit")->capture_default_str()->check(CLI::Range(1, 64));
 }
 
 Scene make_scene(const SceneOptions& opt) {
-  Scene s = make_default_scene(opt.bundle);
+  BundleParams bp = opt.bundle;
+  bp.prim = parse_prim_type(opt.prim);
+  Scene s = subdivide_curves(make_default_scene(bp), opt.subdivisions);
   if (opt.orthographic) {
     s.camera.eye = {0.0, 0.0, -5.0};
     s.camera.target = {0.0, 0.0, 0.0};
@@ -19,6 +35,14 @@ Scene make_scene(const SceneOptions& opt) {
     s.camera.ortho_height = 1.8;
   }
   return s;
+}
+
+AccelOptions accel_options(const SceneOptions& opt) {
+  AccelOptions a;
+  a.mode = parse_mode(opt.mode);
+  a.curve_obb = parse_curve_obb(opt.curve_obb);
+  a.curve_iters = opt.curve_iters;
+  return a;
 }
 
 } // namespace masq::cli

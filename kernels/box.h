@@ -60,5 +60,20 @@ FN bool hit_unit_box_padded(Affine m, vec3 wo, vec3 wd, vec3 oo, vec3 od, float 
   return tn <= tf && tf >= tmin && tn <= tmax;
 }
 
+// Fast mode: the plain unit-box test of the transformed ray, as RT hardware does it
+// (no padding, no widening; can cull grazing rays the intersector would hit).
+FN bool hit_unit_box(vec3 oo, vec3 od, float tmin, float tmax) {
+  vec3 inv = safe_rcp3(od);
+  float tx0 = (-1.0f - oo.x) * inv.x;
+  float tx1 = (1.0f - oo.x) * inv.x;
+  float ty0 = (-1.0f - oo.y) * inv.y;
+  float ty1 = (1.0f - oo.y) * inv.y;
+  float tz0 = (-1.0f - oo.z) * inv.z;
+  float tz1 = (1.0f - oo.z) * inv.z;
+  float tn = vmax3_(min(tx0, tx1), min(ty0, ty1), min(tz0, tz1));
+  float tf = vmin3_(max(tx0, tx1), max(ty0, ty1), max(tz0, tz1));
+  return tn <= tf && tf >= tmin && tn <= tmax;
+}
+
 KERNEL_NS_END
 #endif

@@ -7,7 +7,10 @@
 //     removed, leaving a 2D circle problem;
 //  3. forms the discriminant as (r-|v|)(r+|v|) from the closest-approach vector v,
 //     instead of b^2 - c, which cancels catastrophically;
-//  4. carries dot(d,d), so non-unit and transformed directions give exact t.
+//  4. carries dot(d,d), so non-unit and transformed directions give exact t;
+//  5. forms o - centre as (o - a) - ba/2: one rounding of a difference of inputs, so no
+//     error proportional to the distance of the capsule from the world origin;
+//  6. ignores crossings closer than the self-intersection window t_self (prim_hit.h).
 #ifndef MASQ_KERNEL_INTERSECT_CAPSULE_H
 #define MASQ_KERNEL_INTERSECT_CAPSULE_H
 #include "prim_hit.h"
@@ -33,18 +36,19 @@ FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax
   PrimHit res = prim_miss();
   res.t = tmax;
   float r = cap.radius;
-  if (!(r > 0.0f)) return prim_miss(); // zero/negative/NaN radius: no surface
+  float dd = dot(d, d);
+  // Zero/negative/NaN radius (no surface), no ray, or an empty/NaN interval: miss.
+  if (!(r > 0.0f) || !(dd > 0.0f) || !(tmin <= tmax)) return prim_miss();
   vec3 a = V3(cap.a);
   vec3 b = V3(cap.b);
   vec3 ba = b - a;
   float len = length(ba);
   float h = 0.5f * len;
   vec3 w = len > 0.0f ? ba / len : VEC3(0.0f, 0.0f, 1.0f);
-  vec3 c = a + 0.5f * ba;
-  float dd = dot(d, d);
-  if (!(dd > 0.0f)) return prim_miss();
+  // 5. origin relative to the centre, 6. self window.
+  vec3 oc = (o - a) - 0.5f * ba;
+  float tlo = max(tmin, self_eps_t(r, oc, dd));
   // 1. origin shift: p is the ray point nearest the centre, t = ts + s.
-  vec3 oc = o - c;
   float ts = -dot(oc, d) / dd;
   vec3 p = oc + ts * d;
   float pa = dot(p, w);
@@ -65,7 +69,7 @@ FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax
         for (int k = 0; k < 2; ++k) {
           float s = k == 0 ? s0 - q : s0 + q;
           float z = pa + s * da;
-          if (fabs_(z) <= h + seam) res = capsule_take(res, ts + s, tmin, pr + s * dr, (z + h) / len);
+          if (fabs_(z) <= h + seam) res = capsule_take(res, ts + s, tlo, pr + s * dr, min(max((z + h) / len, 0.0f), 1.0f));
         }
       }
     }
@@ -84,7 +88,7 @@ FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax
         float s = k == 0 ? s0 - q : s0 + q;
         float z = pa + s * da;
         if (h == 0.0f || side * z >= h - seam)
-          res = capsule_take(res, ts + s, tmin, pc + s * d, e == 0 ? 0.0f : 1.0f);
+          res = capsule_take(res, ts + s, tlo, pc + s * d, e == 0 ? 0.0f : 1.0f);
       }
     }
   }

@@ -1,18 +1,34 @@
-// Dispatch to the intersector of a geometry's primitive type. Types a scene lacks are
-// compiled out by the MASQ_HAVE_* switches.
+// Dispatch to the intersector of a geometry's primitive type and the run's mode
+// (robust or fast). Types a scene lacks are compiled out by the MASQ_HAVE_* switches.
 #ifndef MASQ_KERNEL_INTERSECT_PRIMITIVE_H
 #define MASQ_KERNEL_INTERSECT_PRIMITIVE_H
 #include "kernel_data.h"
 #include "variants.h"
 #include "intersect_capsule.h"
+#include "intersect_capsule_fast.h"
+#include "intersect_curve.h"
+#include "intersect_round_cone.h"
+#include "intersect_sphere.h"
 #include "intersect_triangle.h"
 
 KERNEL_NS_BEGIN
 FN PrimHit intersect_primitive(KD_PARAM Geometry g, int prim, vec3 o, vec3 d, float tmin, float tmax) {
+  int i = g.first + prim;
   if (MASQ_HAVE_CAPSULES && g.type == MASQ_PRIM_CAPSULE)
-    return intersect_capsule(KD(capsules)[g.first + prim], o, d, tmin, tmax);
+    return MASQ_ROBUST ? intersect_capsule(KD(capsules)[i], o, d, tmin, tmax)
+                       : intersect_capsule_fast(KD(capsules)[i], o, d, tmin, tmax);
+  if (MASQ_HAVE_CURVES && g.type == MASQ_PRIM_CURVE)
+    return MASQ_ROBUST ? intersect_curve(KD(curves)[i], o, d, tmin, tmax)
+                       : intersect_curve_fast(KD(curves)[i], o, d, tmin, tmax);
+  if (MASQ_HAVE_CONES && g.type == MASQ_PRIM_ROUND_CONE)
+    return MASQ_ROBUST ? intersect_round_cone(KD(cones)[i], o, d, tmin, tmax)
+                       : intersect_round_cone_fast(KD(cones)[i], o, d, tmin, tmax);
+  if (MASQ_HAVE_SPHERES && g.type == MASQ_PRIM_SPHERE)
+    return MASQ_ROBUST ? intersect_sphere(KD(spheres)[i], o, d, tmin, tmax)
+                       : intersect_sphere_fast(KD(spheres)[i], o, d, tmin, tmax);
   if (MASQ_HAVE_TRIANGLES && g.type == MASQ_PRIM_TRIANGLE)
-    return intersect_triangle(KD(triangles)[g.first + prim], o, d, tmin, tmax);
+    return MASQ_ROBUST ? intersect_triangle(KD(triangles)[i], o, d, tmin, tmax)
+                       : intersect_triangle_fast(KD(triangles)[i], o, d, tmin, tmax);
   return prim_miss();
 }
 KERNEL_NS_END

@@ -1,6 +1,8 @@
 // Watertight ray/triangle test (Woop, Benthin, Wald 2013): shear the triangle into the
 // ray's frame so that adjacent triangles share edge functions exactly; no ray slips
-// through a shared edge or vertex.
+// through a shared edge or vertex. Crossings closer than the self-intersection window
+// (prim_hit.h, r = 0, centre v0) are ignored, so a ray leaving a triangle does not
+// report it again. intersect_triangle_fast: Moller-Trumbore (not watertight, no window).
 #ifndef MASQ_KERNEL_INTERSECT_TRIANGLE_H
 #define MASQ_KERNEL_INTERSECT_TRIANGLE_H
 #include "prim_hit.h"
@@ -8,6 +10,9 @@
 KERNEL_NS_BEGIN
 FN PrimHit intersect_triangle(Triangle tri, vec3 o, vec3 d, float tmin, float tmax) {
   PrimHit res = prim_miss();
+  float dd = dot(d, d);
+  if (!(dd > 0.0f) || !(tmin <= tmax)) return res;
+  float tlo = max(tmin, self_eps_t(0.0f, o - V3(tri.v0), dd));
   vec3 ad = vabs_(d);
   int kz = (ad.x >= ad.y && ad.x >= ad.z) ? 0 : (ad.y >= ad.z ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
@@ -47,13 +52,38 @@ FN PrimHit intersect_triangle(Triangle tri, vec3 o, vec3 d, float tmin, float tm
     ev = -ev;
     ew = -ew;
   }
-  if (tt < tmin * det || tt > tmax * det) return res;
+  if (!(tt >= tlo * det && tt <= tmax * det)) return res;
   float inv_det = 1.0f / det;
   res.hit = 1;
   res.t = tt * inv_det;
   res.u = ev * inv_det;
   res.v = ew * inv_det;
   res.normal = cross(V3(tri.v1) - V3(tri.v0), V3(tri.v2) - V3(tri.v0));
+  return res;
+}
+
+FN PrimHit intersect_triangle_fast(Triangle tri, vec3 o, vec3 d, float tmin, float tmax) {
+  PrimHit res = prim_miss();
+  vec3 v0 = V3(tri.v0);
+  vec3 e1 = V3(tri.v1) - v0;
+  vec3 e2 = V3(tri.v2) - v0;
+  vec3 pv = cross(d, e2);
+  float det = dot(e1, pv);
+  if (det == 0.0f) return res;
+  float inv_det = 1.0f / det;
+  vec3 tv = o - v0;
+  float bu = dot(tv, pv) * inv_det;
+  if (bu < 0.0f || bu > 1.0f) return res;
+  vec3 qv = cross(tv, e1);
+  float bv = dot(d, qv) * inv_det;
+  if (bv < 0.0f || bu + bv > 1.0f) return res;
+  float t = dot(e2, qv) * inv_det;
+  if (!(t >= tmin && t <= tmax)) return res;
+  res.hit = 1;
+  res.t = t;
+  res.u = bu;
+  res.v = bv;
+  res.normal = cross(e1, e2);
   return res;
 }
 KERNEL_NS_END

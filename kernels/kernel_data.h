@@ -15,7 +15,10 @@
 #define MASQ_BINDING_RAYS 7
 #define MASQ_BINDING_HITS 8
 #define MASQ_BINDING_STATS 9
-#define MASQ_BINDING_COUNT 10
+#define MASQ_BINDING_CONES 10
+#define MASQ_BINDING_SPHERES 11
+#define MASQ_BINDING_CURVES 12
+#define MASQ_BINDING_COUNT 13
 
 #if defined(MASQ_LANG_GLSL)
 layout(std430, binding = MASQ_BINDING_NODES) readonly buffer NodesBuf { WideNode nodes[]; };
@@ -25,6 +28,9 @@ layout(std430, binding = MASQ_BINDING_FRAMES) readonly buffer FramesBuf { Frame 
 layout(std430, binding = MASQ_BINDING_GEOMS) readonly buffer GeomsBuf { Geometry geoms[]; };
 layout(std430, binding = MASQ_BINDING_TRIANGLES) readonly buffer TrianglesBuf { Triangle triangles[]; };
 layout(std430, binding = MASQ_BINDING_CAPSULES) readonly buffer CapsulesBuf { Capsule capsules[]; };
+layout(std430, binding = MASQ_BINDING_CONES) readonly buffer ConesBuf { RoundCone cones[]; };
+layout(std430, binding = MASQ_BINDING_SPHERES) readonly buffer SpheresBuf { Sphere spheres[]; };
+layout(std430, binding = MASQ_BINDING_CURVES) readonly buffer CurvesBuf { Curve curves[]; };
 #else
 #if defined(MASQ_LANG_OPENCL)
 #define MASQ_GLOBAL __global
@@ -40,6 +46,9 @@ STRUCT_BEGIN(KernelData)
   MASQ_GLOBAL const Geometry* geoms;
   MASQ_GLOBAL const Triangle* triangles;
   MASQ_GLOBAL const Capsule* capsules;
+  MASQ_GLOBAL const RoundCone* cones;
+  MASQ_GLOBAL const Sphere* spheres;
+  MASQ_GLOBAL const Curve* curves;
 STRUCT_END(KernelData)
 LAYOUT_NS_END
 #endif

@@ -13,6 +13,9 @@ LAYOUT_NS_BEGIN
 // Primitive types. A geometry holds primitives of one type.
 #define MASQ_PRIM_TRIANGLE 0
 #define MASQ_PRIM_CAPSULE 1
+#define MASQ_PRIM_ROUND_CONE 2
+#define MASQ_PRIM_SPHERE 3
+#define MASQ_PRIM_CURVE 4
 
 // A 4-wide BVH node with structure-of-arrays child boxes (one slab test per axis for
 // all children). Child slot i: count[i] > 0 is a leaf of count[i] references starting
@@ -73,6 +76,33 @@ STRUCT_BEGIN(Capsule)
   float pad;
 STRUCT_END(Capsule)
 
+// Round cone (Han et al.'s "link"): the convex hull of the spheres (a, ra) and
+// (b, rb). One sphere may contain the other (the primitive is then that sphere).
+STRUCT_BEGIN(RoundCone)
+  float a[3];
+  float ra;
+  float b[3];
+  float rb;
+STRUCT_END(RoundCone)
+
+STRUCT_BEGIN(Sphere)
+  float center[3];
+  float radius;
+STRUCT_END(Sphere)
+
+// Cubic Bezier curve p0..p3 swept by a sphere of constant radius (round ends, as
+// Embree's round curves), intersected with the phantom method of Reshetov & Luebke.
+STRUCT_BEGIN(Curve)
+  float p0[3];
+  float radius;
+  float p1[3];
+  float pad1;
+  float p2[3];
+  float pad2;
+  float p3[3];
+  float pad3;
+STRUCT_END(Curve)
+
 // dir need not be unit length; t is in units of dir.
 STRUCT_BEGIN(Ray)
   float org[3];
@@ -83,7 +113,8 @@ STRUCT_END(Ray)
 
 // prim < 0: miss. normal: unit geometric normal in world space, facing the side the
 // surface was hit from is NOT enforced (outward for capsules, winding for triangles).
-// u, v: triangle barycentrics, or capsule (axial parameter in [0,1], 0).
+// u, v: triangle barycentrics; capsule/round cone: (axial parameter in [0,1], 0);
+// curve: (curve parameter in [0,1], 0); sphere: (0, 0).
 STRUCT_BEGIN(Hit)
   float t;
   int prim;
@@ -116,6 +147,9 @@ STATIC_ASSERT(sizeof(Frame) == 64, frame_size);
 STATIC_ASSERT(sizeof(Geometry) == 16, geometry_size);
 STATIC_ASSERT(sizeof(Triangle) == 48, triangle_size);
 STATIC_ASSERT(sizeof(Capsule) == 32, capsule_size);
+STATIC_ASSERT(sizeof(RoundCone) == 32, round_cone_size);
+STATIC_ASSERT(sizeof(Sphere) == 16, sphere_size);
+STATIC_ASSERT(sizeof(Curve) == 64, curve_size);
 STATIC_ASSERT(sizeof(Ray) == 32, ray_size);
 STATIC_ASSERT(sizeof(Hit) == 48, hit_size);
 STATIC_ASSERT(sizeof(RayStats) == 16, ray_stats_size);

@@ -8,7 +8,8 @@
 #include "layout.h"
 
 #define MASQ_LAYOUT_STRUCTS(S) \
-  S(WideNode) S(Instance) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(Ray) S(Hit) S(RayStats) S(TraceParams)
+  S(WideNode) S(Instance) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(RoundCone) S(Sphere) S(Curve) S(Ray) \
+  S(Hit) S(RayStats) S(TraceParams)
 
 #define MASQ_LAYOUT_WideNode(F, A) \
   A(WideNode, lo_x, MASQ_WIDTH) A(WideNode, hi_x, MASQ_WIDTH) A(WideNode, lo_y, MASQ_WIDTH) \
@@ -20,6 +21,11 @@
 #define MASQ_LAYOUT_Geometry(F, A) F(Geometry, type) F(Geometry, first) F(Geometry, count) F(Geometry, pad)
 #define MASQ_LAYOUT_Triangle(F, A) A(Triangle, v0, 3) A(Triangle, v1, 3) A(Triangle, v2, 3) A(Triangle, pad, 3)
 #define MASQ_LAYOUT_Capsule(F, A) A(Capsule, a, 3) F(Capsule, radius) A(Capsule, b, 3) F(Capsule, pad)
+#define MASQ_LAYOUT_RoundCone(F, A) A(RoundCone, a, 3) F(RoundCone, ra) A(RoundCone, b, 3) F(RoundCone, rb)
+#define MASQ_LAYOUT_Sphere(F, A) A(Sphere, center, 3) F(Sphere, radius)
+#define MASQ_LAYOUT_Curve(F, A) \
+  A(Curve, p0, 3) F(Curve, radius) A(Curve, p1, 3) F(Curve, pad1) A(Curve, p2, 3) F(Curve, pad2) A(Curve, p3, 3) \
+  F(Curve, pad3)
 #define MASQ_LAYOUT_Ray(F, A) A(Ray, org, 3) F(Ray, tmin) A(Ray, dir, 3) F(Ray, tmax)
 #define MASQ_LAYOUT_Hit(F, A) \
   F(Hit, t) F(Hit, prim) F(Hit, geom) F(Hit, inst) A(Hit, normal, 3) F(Hit, u) F(Hit, v) A(Hit, pad, 3)

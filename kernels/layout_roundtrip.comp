@@ -19,22 +19,28 @@ layout(std430, binding = 2) readonly buffer In2 { Frame in_frames[]; };
 layout(std430, binding = 3) readonly buffer In3 { Geometry in_geoms[]; };
 layout(std430, binding = 4) readonly buffer In4 { Triangle in_triangles[]; };
 layout(std430, binding = 5) readonly buffer In5 { Capsule in_capsules[]; };
-layout(std430, binding = 6) readonly buffer In6 { Ray in_rays[]; };
-layout(std430, binding = 7) readonly buffer In7 { Hit in_hits[]; };
-layout(std430, binding = 8) readonly buffer In8 { RayStats in_stats[]; };
-layout(std430, binding = 9) readonly buffer In9 { TraceParams in_params[]; };
-layout(std430, binding = 10) writeonly buffer FlatOut { uint flat_out[]; };
-layout(std430, binding = 11) readonly buffer FlatIn { uint flat_in[]; };
-layout(std430, binding = 12) writeonly buffer Out0 { WideNode out_nodes[]; };
-layout(std430, binding = 13) writeonly buffer Out1 { Instance out_instances[]; };
-layout(std430, binding = 14) writeonly buffer Out2 { Frame out_frames[]; };
-layout(std430, binding = 15) writeonly buffer Out3 { Geometry out_geoms[]; };
-layout(std430, binding = 16) writeonly buffer Out4 { Triangle out_triangles[]; };
-layout(std430, binding = 17) writeonly buffer Out5 { Capsule out_capsules[]; };
-layout(std430, binding = 18) writeonly buffer Out6 { Ray out_rays[]; };
-layout(std430, binding = 19) writeonly buffer Out7 { Hit out_hits[]; };
-layout(std430, binding = 20) writeonly buffer Out8 { RayStats out_stats[]; };
-layout(std430, binding = 21) writeonly buffer Out9 { TraceParams out_params[]; };
+layout(std430, binding = 6) readonly buffer In6 { RoundCone in_round_cones[]; };
+layout(std430, binding = 7) readonly buffer In7 { Sphere in_spheres[]; };
+layout(std430, binding = 8) readonly buffer In8 { Curve in_curves[]; };
+layout(std430, binding = 9) readonly buffer In9 { Ray in_rays[]; };
+layout(std430, binding = 10) readonly buffer In10 { Hit in_hits[]; };
+layout(std430, binding = 11) readonly buffer In11 { RayStats in_stats[]; };
+layout(std430, binding = 12) readonly buffer In12 { TraceParams in_params[]; };
+layout(std430, binding = 13) writeonly buffer FlatOut { uint flat_out[]; };
+layout(std430, binding = 14) readonly buffer FlatIn { uint flat_in[]; };
+layout(std430, binding = 15) writeonly buffer Out0 { WideNode out_nodes[]; };
+layout(std430, binding = 16) writeonly buffer Out1 { Instance out_instances[]; };
+layout(std430, binding = 17) writeonly buffer Out2 { Frame out_frames[]; };
+layout(std430, binding = 18) writeonly buffer Out3 { Geometry out_geoms[]; };
+layout(std430, binding = 19) writeonly buffer Out4 { Triangle out_triangles[]; };
+layout(std430, binding = 20) writeonly buffer Out5 { Capsule out_capsules[]; };
+layout(std430, binding = 21) writeonly buffer Out6 { RoundCone out_round_cones[]; };
+layout(std430, binding = 22) writeonly buffer Out7 { Sphere out_spheres[]; };
+layout(std430, binding = 23) writeonly buffer Out8 { Curve out_curves[]; };
+layout(std430, binding = 24) writeonly buffer Out9 { Ray out_rays[]; };
+layout(std430, binding = 25) writeonly buffer Out10 { Hit out_hits[]; };
+layout(std430, binding = 26) writeonly buffer Out11 { RayStats out_stats[]; };
+layout(std430, binding = 27) writeonly buffer Out12 { TraceParams out_params[]; };
 layout(push_constant) uniform Params { uint n; } pc;
 
 // Words per struct, and the running start of each section (in units of n).
@@ -44,6 +50,9 @@ layout(push_constant) uniform Params { uint n; } pc;
 #define W_GEOM 4u
 #define W_TRI 12u
 #define W_CAP 8u
+#define W_RCONE 8u
+#define W_SPHERE 4u
+#define W_CURVE 16u
 #define W_RAY 8u
 #define W_HIT 12u
 #define W_STATS 4u
@@ -162,6 +171,58 @@ void main() {
   cb.pad = GETF;
   out_capsules[i] = cb;
   base += pc.n * W_CAP;
+
+  // RoundCone
+  w = base + i * W_RCONE;
+  RoundCone rca = in_round_cones[i];
+  for (j = 0; j < 3; ++j) PUTF(rca.a[j]);
+  PUTF(rca.ra);
+  for (j = 0; j < 3; ++j) PUTF(rca.b[j]);
+  PUTF(rca.rb);
+  w = base + i * W_RCONE;
+  RoundCone rcb;
+  for (j = 0; j < 3; ++j) rcb.a[j] = GETF;
+  rcb.ra = GETF;
+  for (j = 0; j < 3; ++j) rcb.b[j] = GETF;
+  rcb.rb = GETF;
+  out_round_cones[i] = rcb;
+  base += pc.n * W_RCONE;
+
+  // Sphere
+  w = base + i * W_SPHERE;
+  Sphere spa = in_spheres[i];
+  for (j = 0; j < 3; ++j) PUTF(spa.center[j]);
+  PUTF(spa.radius);
+  w = base + i * W_SPHERE;
+  Sphere spb;
+  for (j = 0; j < 3; ++j) spb.center[j] = GETF;
+  spb.radius = GETF;
+  out_spheres[i] = spb;
+  base += pc.n * W_SPHERE;
+
+  // Curve
+  w = base + i * W_CURVE;
+  Curve cva = in_curves[i];
+  for (j = 0; j < 3; ++j) PUTF(cva.p0[j]);
+  PUTF(cva.radius);
+  for (j = 0; j < 3; ++j) PUTF(cva.p1[j]);
+  PUTF(cva.pad1);
+  for (j = 0; j < 3; ++j) PUTF(cva.p2[j]);
+  PUTF(cva.pad2);
+  for (j = 0; j < 3; ++j) PUTF(cva.p3[j]);
+  PUTF(cva.pad3);
+  w = base + i * W_CURVE;
+  Curve cvb;
+  for (j = 0; j < 3; ++j) cvb.p0[j] = GETF;
+  cvb.radius = GETF;
+  for (j = 0; j < 3; ++j) cvb.p1[j] = GETF;
+  cvb.pad1 = GETF;
+  for (j = 0; j < 3; ++j) cvb.p2[j] = GETF;
+  cvb.pad2 = GETF;
+  for (j = 0; j < 3; ++j) cvb.p3[j] = GETF;
+  cvb.pad3 = GETF;
+  out_curves[i] = cvb;
+  base += pc.n * W_CURVE;
 
   // Ray
   w = base + i * W_RAY;

@@ -198,7 +198,9 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
           // Masquerade: the unit-box test is the OBB cull; the intersector then runs
           // on the untransformed ray (in the scene instance's frame).
           if (MASQ_STATS) res.stats.blas_nodes = res.stats.blas_nodes + 1;
-          if (!hit_unit_box_padded(m, wo, wd, oo, od, tmin, best.t, wh.tfar[i])) continue;
+          bool in_box = MASQ_ROBUST ? hit_unit_box_padded(m, wo, wd, oo, od, tmin, best.t, wh.tfar[i])
+                                    : hit_unit_box(oo, od, tmin, best.t);
+          if (!in_box) continue;
           Affine f = affine_from_frame(KD(frames)[inst.scene_inst]);
           Geometry g = KD(geoms)[inst.geom];
           if (MASQ_STATS) res.stats.isect_calls = res.stats.isect_calls + 1;

@@ -10,6 +10,12 @@
 layout(constant_id = 0) const bool MASQ_STATS = false;
 layout(constant_id = 1) const bool MASQ_HAVE_TRIANGLES = true;
 layout(constant_id = 2) const bool MASQ_HAVE_CAPSULES = true;
+// id 3: work-group size (local_size_x_id in the entry points)
+layout(constant_id = 4) const bool MASQ_HAVE_CONES = true;
+layout(constant_id = 5) const bool MASQ_HAVE_SPHERES = true;
+layout(constant_id = 6) const bool MASQ_HAVE_CURVES = true;
+layout(constant_id = 7) const bool MASQ_ROBUST = true;
+layout(constant_id = 8) const int MASQ_CURVE_ITERS = 8;
 #else
 #ifndef MASQ_STATS
 #define MASQ_STATS 0
@@ -19,6 +25,32 @@ layout(constant_id = 2) const bool MASQ_HAVE_CAPSULES = true;
 #endif
 #ifndef MASQ_HAVE_CAPSULES
 #define MASQ_HAVE_CAPSULES 1
+#endif
+#ifndef MASQ_HAVE_CONES
+#define MASQ_HAVE_CONES 1
+#endif
+#ifndef MASQ_HAVE_SPHERES
+#define MASQ_HAVE_SPHERES 1
+#endif
+#ifndef MASQ_HAVE_CURVES
+#define MASQ_HAVE_CURVES 1
+#endif
+// Robust intersectors and the padded (conservative) masquerade box test; 0 selects
+// the fast intersectors and the unpadded box test (benchmarked against each other).
+#ifndef MASQ_ROBUST
+#define MASQ_ROBUST 1
+#endif
+// Phantom curve iteration limit. The cpu backend reads it at run time (one compiled
+// variant serves every limit); OpenCL gets it as -D.
+#ifndef MASQ_CURVE_ITERS
+#if defined(MASQ_LANG_CPP)
+namespace masq::kernel {
+inline thread_local int curve_iters_runtime = 8;
+}
+#define MASQ_CURVE_ITERS (::masq::kernel::curve_iters_runtime)
+#else
+#define MASQ_CURVE_ITERS 8
+#endif
 #endif
 #endif
 

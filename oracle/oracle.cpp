@@ -1,4 +1,5 @@
 #include "oracle/oracle.h"
+#include "oracle/oracle_prims.h"
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,119 +10,20 @@ namespace masq::oracle {
 namespace {
 
 using ld = long double;
-struct V {
-  ld x, y, z;
-};
-V operator+(V a, V b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-V operator-(V a, V b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-V operator*(ld s, V a) { return {s * a.x, s * a.y, s * a.z}; }
-ld dot(V a, V b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-V cross(V a, V b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-V from(const glm::vec3& v) { return {v.x, v.y, v.z}; }
 const ld kInf = std::numeric_limits<ld>::infinity();
 
-struct Candidate {
-  bool hit = false;
-  ld t = kInf;
-  V normal{0, 0, 0};
-  ld clearance = kInf;
-  ld t_near = kInf; // where the ray passes the primitive (for clearance relevance)
-};
-
-// Roots of a t^2 + 2 b t + c = 0 (a > 0).
-int roots(ld a, ld b, ld c, ld out[2]) {
-  ld disc = b * b - a * c;
-  if (disc < 0) return 0;
-  ld s = std::sqrt(disc);
-  out[0] = (-b - s) / a;
-  out[1] = (-b + s) / a;
-  return 2;
-}
-
-Candidate capsule(const CapsulePrim& cp, V o, V d, ld tmin, ld tmax) {
-  Candidate c;
-  ld r = cp.radius;
-  if (!(r > 0)) return c;
-  V a = from(cp.a), b = from(cp.b);
-  V ba = b - a, oa = o - a;
-  ld baba = dot(ba, ba), bard = dot(ba, d), baoa = dot(ba, oa), dd = dot(d, d);
-  auto take = [&](ld t, V n) {
-    if (t >= tmin && t <= tmax && t < c.t) {
-      c.hit = true;
-      c.t = t;
-      c.normal = n;
+PrimResult intersect(const Geometry& g, std::size_t p, const PrimRay& ray) {
+  switch (g.type) {
+    case PrimType::Triangle: {
+      const glm::uvec3& tri = g.triangles[p];
+      return oracle_triangle(g.vertices[tri.x], g.vertices[tri.y], g.vertices[tri.z], ray);
     }
-  };
-  ld rt[2];
-  if (baba > 0) {
-    // Cylinder: |(oa + t d) x ba|^2 = r^2 |ba|^2, as a quadratic in t.
-    ld qa = baba * dd - bard * bard;
-    ld qb = baba * dot(oa, d) - baoa * bard;
-    ld qc = baba * dot(oa, oa) - baoa * baoa - r * r * baba;
-    if (qa > 0 && roots(qa, qb, qc, rt) == 2)
-      for (ld t : rt) {
-        ld y = baoa + t * bard;
-        if (y >= 0 && y <= baba) {
-          V p = oa + t * d;
-          take(t, p - (y / baba) * ba);
-        }
-      }
+    case PrimType::Capsule: return oracle_capsule(g.capsules[p], ray);
+    case PrimType::RoundCone: return oracle_round_cone(g.cones[p], ray);
+    case PrimType::Sphere: return oracle_sphere(g.spheres[p], ray);
+    case PrimType::Curve: return oracle_curve(g.curves[p], ray);
   }
-  for (int e = 0; e < 2; ++e) {
-    V oc = e == 0 ? oa : o - b;
-    if (roots(dd, dot(oc, d), dot(oc, oc) - r * r, rt) == 2)
-      for (ld t : rt) {
-        ld y = baoa + t * bard;
-        if (baba == 0 || (e == 0 ? y <= 0 : y >= baba)) take(t, oc + t * d);
-      }
-  }
-  // Clearance: distance from the ray's line to the segment (closest points of a line
-  // and a clamped segment), compared with r.
-  ld best = kInf, best_t = kInf;
-  auto consider = [&](ld s) { // s: segment parameter in [0,1]
-    s = std::clamp<ld>(s, 0, 1);
-    V q = a + s * ba;
-    ld t = dot(q - o, d) / dd;
-    V diff = o + t * d - q;
-    ld dist = std::sqrt(dot(diff, diff));
-    if (dist < best) {
-      best = dist;
-      best_t = t;
-    }
-  };
-  consider(0);
-  consider(1);
-  // Interior critical point of |oa + t d - s ba|^2 over (t, s).
-  ld denom = baba * dd - bard * bard;
-  if (baba > 0 && denom > 0) consider((dd * baoa - bard * dot(oa, d)) / denom);
-  c.clearance = std::fabs(best - r) / r;
-  c.t_near = best_t;
-  return c;
-}
-
-Candidate triangle(const Geometry& g, const glm::uvec3& tri, V o, V d, ld tmin, ld tmax) {
-  Candidate c;
-  V p0 = from(g.vertices[tri.x]), p1 = from(g.vertices[tri.y]), p2 = from(g.vertices[tri.z]);
-  V e1 = p1 - p0, e2 = p2 - p0;
-  V pv = cross(d, e2);
-  ld det = dot(e1, pv);
-  if (det == 0) return c;
-  V tv = o - p0;
-  ld u = dot(tv, pv) / det;
-  V qv = cross(tv, e1);
-  ld v = dot(d, qv) / det;
-  ld t = dot(e2, qv) / det;
-  ld w = 1 - u - v;
-  if (t >= tmin && t <= tmax) {
-    c.clearance = std::min({std::fabs(u), std::fabs(v), std::fabs(w)});
-    c.t_near = t;
-    if (u >= 0 && v >= 0 && w >= 0) {
-      c.hit = true;
-      c.t = t;
-      c.normal = cross(e1, e2);
-    }
-  }
-  return c;
+  return {};
 }
 
 } // namespace
@@ -155,27 +57,28 @@ OracleHit Oracle::trace(const kernel::Ray& ray) const {
   out.t = kInf;
   out.second_t = kInf;
   out.clearance = kInf;
-  V wo{ray.org[0], ray.org[1], ray.org[2]}, wd{ray.dir[0], ray.dir[1], ray.dir[2]};
-  for (ld x : {wo.x, wo.y, wo.z, wd.x, wd.y, wd.z})
+  const ld wo[3] = {ray.org[0], ray.org[1], ray.org[2]}, wd[3] = {ray.dir[0], ray.dir[1], ray.dir[2]};
+  for (ld x : {wo[0], wo[1], wo[2], wd[0], wd[1], wd[2]})
     if (!std::isfinite(x)) return out;
-  if (dot(wd, wd) == 0 || !(ray.tmin <= ray.tmax)) return out;
+  if (wd[0] == 0 && wd[1] == 0 && wd[2] == 0) return out;
+  if (!(ray.tmin <= ray.tmax)) return out;
   struct Near {
     ld clearance, t;
   };
   std::vector<Near> near;
   for (std::size_t i = 0; i < inst_.size(); ++i) {
     const InstanceLd& il = inst_[i];
-    auto xf = [&](V p, ld w) {
-      return V{il.w2o[0][0] * p.x + il.w2o[0][1] * p.y + il.w2o[0][2] * p.z + w * il.w2o[0][3],
-               il.w2o[1][0] * p.x + il.w2o[1][1] * p.y + il.w2o[1][2] * p.z + w * il.w2o[1][3],
-               il.w2o[2][0] * p.x + il.w2o[2][1] * p.y + il.w2o[2][2] * p.z + w * il.w2o[2][3]};
+    auto xf = [&](const ld* p, ld w) {
+      return Vld{il.w2o[0][0] * p[0] + il.w2o[0][1] * p[1] + il.w2o[0][2] * p[2] + w * il.w2o[0][3],
+                 il.w2o[1][0] * p[0] + il.w2o[1][1] * p[1] + il.w2o[1][2] * p[2] + w * il.w2o[1][3],
+                 il.w2o[2][0] * p[0] + il.w2o[2][1] * p[1] + il.w2o[2][2] * p[2] + w * il.w2o[2][3]};
     };
-    V o = xf(wo, 1), d = xf(wd, 0);
+    // Object space preserves t: the direction is mapped linearly, not renormalised.
+    PrimRay pr{xf(wo, 1), xf(wd, 0), ray.tmin, ray.tmax};
     const Geometry& g = scene_.geometries[il.geometry];
     std::size_t n = g.primitive_count();
     for (std::size_t p = 0; p < n; ++p) {
-      Candidate c = g.type == PrimType::Capsule ? capsule(g.capsules[p], o, d, ray.tmin, ray.tmax)
-                                                : triangle(g, g.triangles[p], o, d, ray.tmin, ray.tmax);
+      PrimResult c = intersect(g, p, pr);
       if (c.clearance < kInf) near.push_back({c.clearance, c.t_near});
       if (!c.hit) continue;
       if (c.t < out.t) {
@@ -185,11 +88,11 @@ OracleHit Oracle::trace(const kernel::Ray& ray) const {
         out.geom = il.geometry;
         out.inst = int(i);
         // World normal: transpose of world->object applied to the object normal.
-        V n2{il.w2o[0][0] * c.normal.x + il.w2o[1][0] * c.normal.y + il.w2o[2][0] * c.normal.z,
-             il.w2o[0][1] * c.normal.x + il.w2o[1][1] * c.normal.y + il.w2o[2][1] * c.normal.z,
-             il.w2o[0][2] * c.normal.x + il.w2o[1][2] * c.normal.y + il.w2o[2][2] * c.normal.z};
-        ld len = std::sqrt(dot(n2, n2));
-        out.normal = glm::dvec3(double(n2.x / len), double(n2.y / len), double(n2.z / len));
+        const Vld& m = c.normal;
+        ld n2[3];
+        for (int k = 0; k < 3; ++k) n2[k] = il.w2o[0][k] * m.x + il.w2o[1][k] * m.y + il.w2o[2][k] * m.z;
+        ld len = std::sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]);
+        out.normal = glm::dvec3(double(n2[0] / len), double(n2[1] / len), double(n2[2] / len));
       } else if (c.t < out.second_t) {
         out.second_t = c.t;
       }

@@ -1,7 +1,9 @@
 // Independent ground truth: brute force over every primitive of every instance in long
-// double. Shares no code with kernels/: capsules by the textbook cylinder and sphere
-// quadratics, triangles by Moller-Trumbore, transforms inverted in long double from the
-// scene's own double matrices.
+// double. Shares no code with kernels/: each primitive type by the methods in
+// oracle_prims.h (textbook quadratics for spheres and capsules, the tangent cone for
+// round cones, the swept-sphere union for curves, Moller-Trumbore for triangles, all
+// with the common self-intersection window), transforms inverted in long double from
+// the scene's own double matrices.
 #pragma once
 #include "kernels/layout.h"
 #include "scenes/scene.h"
@@ -18,7 +20,8 @@ struct OracleHit {
   glm::dvec3 normal{0.0};      // world space, unit
   long double second_t = 0;    // nearest hit of any OTHER primitive (inf if none)
   // Smallest relative clearance of any primitive the ray passes near, before the nearest
-  // hit: |distance - r| / r for capsules, |smallest barycentric| for triangles. Small
+  // hit: |distance - r| / r for round primitives, |smallest barycentric| for triangles
+  // (PrimResult::clearance, taken where the ray's closest approach is not beyond the hit). Small
   // values mark rays where fp32 may legitimately flip hit and miss.
   long double clearance = 0;
 };

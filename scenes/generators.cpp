@@ -9,8 +9,9 @@ Geometry make_bundle(const BundleParams& p) {
   if (p.count <= 0 || !(p.radius > 0.0f))
     throw Error("bundle: count and radius must be positive (count " + std::to_string(p.count) + ", radius " +
                 std::to_string(p.radius) + ")");
+  if (p.prim == PrimType::Triangle) throw Error("bundle: strands cannot be triangles");
   Geometry g;
-  g.type = PrimType::Capsule;
+  g.type = p.prim;
   std::mt19937_64 rng(p.seed);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   const double tilt = glm::radians(p.tilt_deg);
@@ -25,7 +26,24 @@ Geometry make_bundle(const BundleParams& p) {
     glm::dvec3 c = rr * (std::cos(phi) * e1 + std::sin(phi) * e2);
     // Length 1 including the caps: the segment is 1 - 2r long.
     double half = 0.5 - p.radius;
-    g.capsules.push_back({glm::vec3(c - half * axis), glm::vec3(c + half * axis), p.radius});
+    glm::dvec3 a = c - half * axis, b = c + half * axis;
+    switch (p.prim) {
+      case PrimType::Capsule: g.capsules.push_back({glm::vec3(a), glm::vec3(b), p.radius}); break;
+      case PrimType::RoundCone: g.cones.push_back({glm::vec3(a), p.radius, glm::vec3(b), 0.5f * p.radius}); break;
+      case PrimType::Curve: {
+        glm::dvec3 bend = 0.05 * e1;
+        CurvePrim cv{};
+        cv.p = {glm::vec3(a), glm::vec3(a + (b - a) / 3.0 + bend), glm::vec3(a + 2.0 * (b - a) / 3.0 - bend),
+                glm::vec3(b)};
+        cv.radius = p.radius;
+        g.curves.push_back(cv);
+        break;
+      }
+      case PrimType::Sphere:
+        for (int k = 0; k < 8; ++k) g.spheres.push_back({glm::vec3(a + (b - a) * ((k + 0.5) / 8.0)), 3.0f * p.radius});
+        break;
+      case PrimType::Triangle: break;
+    }
   }
   return g;
 }
@@ -67,6 +85,73 @@ Geometry make_random_capsules(int count, float min_radius, float max_radius, dou
     g.capsules.push_back({glm::vec3(a), glm::vec3(b), float(rad(rng))});
   }
   return g;
+}
+
+Geometry make_random_cones(int count, float min_radius, float max_radius, double extent, std::uint64_t seed) {
+  Geometry g;
+  g.type = PrimType::RoundCone;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> pos(-extent, extent);
+  std::uniform_real_distribution<double> len(0.0, 0.5 * extent);
+  std::uniform_real_distribution<double> rad(min_radius, max_radius);
+  std::normal_distribution<double> gauss;
+  for (int i = 0; i < count; ++i) {
+    glm::dvec3 a(pos(rng), pos(rng), pos(rng));
+    glm::dvec3 dir = glm::normalize(glm::dvec3(gauss(rng), gauss(rng), gauss(rng)));
+    double ra = rad(rng), rb = rad(rng);
+    // Every 8th: the b ball lies inside the a ball.
+    double l = i % 8 == 7 ? 0.5 * ra : len(rng);
+    if (i % 8 == 7) rb = 0.4 * ra;
+    g.cones.push_back({glm::vec3(a), float(ra), glm::vec3(a + l * dir), float(rb)});
+  }
+  return g;
+}
+
+Geometry make_random_spheres(int count, float min_radius, float max_radius, double extent, std::uint64_t seed) {
+  Geometry g;
+  g.type = PrimType::Sphere;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> pos(-extent, extent);
+  std::uniform_real_distribution<double> rad(min_radius, max_radius);
+  for (int i = 0; i < count; ++i) g.spheres.push_back({glm::vec3(pos(rng), pos(rng), pos(rng)), float(rad(rng))});
+  return g;
+}
+
+Geometry make_random_curves(int count, float min_radius, float max_radius, double extent, std::uint64_t seed) {
+  Geometry g;
+  g.type = PrimType::Curve;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> pos(-extent, extent);
+  std::uniform_real_distribution<double> len(0.05 * extent, 0.5 * extent);
+  std::uniform_real_distribution<double> rad(min_radius, max_radius);
+  std::normal_distribution<double> gauss;
+  for (int i = 0; i < count; ++i) {
+    glm::dvec3 a(pos(rng), pos(rng), pos(rng));
+    glm::dvec3 dir = glm::normalize(glm::dvec3(gauss(rng), gauss(rng), gauss(rng)));
+    double l = len(rng);
+    glm::dvec3 bend = glm::dvec3(gauss(rng), gauss(rng), gauss(rng)) * (0.15 * l);
+    CurvePrim c{};
+    for (int k = 0; k < 4; ++k) {
+      double s = k / 3.0;
+      glm::dvec3 p = a + (s * l) * dir + (k == 1 || k == 2 ? 1.0 : 0.0) * bend * (k == 1 ? 1.0 : -0.5);
+      c.p[std::size_t(k)] = glm::vec3(p);
+    }
+    c.radius = float(rad(rng));
+    g.curves.push_back(c);
+  }
+  return g;
+}
+
+Geometry make_random_geometry(PrimType type, int count, float min_radius, float max_radius, double extent,
+                              std::uint64_t seed) {
+  switch (type) {
+    case PrimType::Triangle: return make_random_mesh(count, extent, seed);
+    case PrimType::Capsule: return make_random_capsules(count, min_radius, max_radius, extent, seed);
+    case PrimType::RoundCone: return make_random_cones(count, min_radius, max_radius, extent, seed);
+    case PrimType::Sphere: return make_random_spheres(count, min_radius, max_radius, extent, seed);
+    case PrimType::Curve: return make_random_curves(count, min_radius, max_radius, extent, seed);
+  }
+  return {};
 }
 
 Geometry make_random_mesh(int triangles, double extent, std::uint64_t seed) {

@@ -2,6 +2,7 @@
 #include "scenes/error.h"
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace masq {
 
@@ -9,8 +10,21 @@ const char* prim_type_name(PrimType t) {
   switch (t) {
     case PrimType::Triangle: return "triangle";
     case PrimType::Capsule: return "capsule";
+    case PrimType::RoundCone: return "round cone";
+    case PrimType::Sphere: return "sphere";
+    case PrimType::Curve: return "curve";
   }
   return "?";
+}
+
+const char* prim_type_key(PrimType t) {
+  return t == PrimType::RoundCone ? "cone" : prim_type_name(t);
+}
+
+PrimType parse_prim_type(const std::string& key) {
+  for (PrimType t : {PrimType::Triangle, PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve})
+    if (key == prim_type_key(t)) return t;
+  throw Error("unknown primitive type '" + key + "' (expected triangle, capsule, cone, sphere or curve)");
 }
 
 std::size_t Scene::primitive_count() const {
@@ -26,26 +40,69 @@ std::string where(std::size_t g, const char* what, std::size_t i) {
   return "geometry " + std::to_string(g) + " " + what + " " + std::to_string(i);
 }
 
+void check_radius(float r, std::size_t g, const char* what, std::size_t i) {
+  if (!std::isfinite(r) || r < 0.0f)
+    throw Error("scene: " + where(g, what, i) + " has radius " + std::to_string(r) + " (must be finite and >= 0)");
+}
+
+void check_point(const glm::vec3& p, std::size_t g, const char* what, std::size_t i) {
+  if (!finite3(p)) throw Error("scene: " + where(g, what, i) + " has a non-finite point");
+}
+
+// A geometry holds primitives of its own type only.
+void check_only_own_type(const Geometry& geo, std::size_t g) {
+  const std::pair<PrimType, bool> holds[] = {{PrimType::Triangle, !geo.triangles.empty()},
+                                             {PrimType::Capsule, !geo.capsules.empty()},
+                                             {PrimType::RoundCone, !geo.cones.empty()},
+                                             {PrimType::Sphere, !geo.spheres.empty()},
+                                             {PrimType::Curve, !geo.curves.empty()}};
+  for (auto [type, present] : holds)
+    if (present && type != geo.type)
+      throw Error("scene: geometry " + std::to_string(g) + " (" + prim_type_name(geo.type) + "s) also holds " +
+                  prim_type_name(type) + "s");
+}
+
 void validate_geometry(const Geometry& geo, std::size_t g) {
-  if (geo.type == PrimType::Triangle) {
-    if (!geo.capsules.empty()) throw Error("scene: " + where(g, "(triangles) holds capsules", 0));
-    for (std::size_t i = 0; i < geo.vertices.size(); ++i)
-      if (!finite3(geo.vertices[i])) throw Error("scene: " + where(g, "vertex", i) + " is not finite");
-    for (std::size_t i = 0; i < geo.triangles.size(); ++i) {
-      const glm::uvec3& t = geo.triangles[i];
-      if (t.x >= geo.vertices.size() || t.y >= geo.vertices.size() || t.z >= geo.vertices.size())
-        throw Error("scene: " + where(g, "triangle", i) + " indexes a vertex beyond " +
-                    std::to_string(geo.vertices.size()));
-    }
-  } else {
-    if (!geo.triangles.empty()) throw Error("scene: " + where(g, "(capsules) holds triangles", 0));
-    for (std::size_t i = 0; i < geo.capsules.size(); ++i) {
-      const CapsulePrim& c = geo.capsules[i];
-      if (!finite3(c.a) || !finite3(c.b)) throw Error("scene: " + where(g, "capsule", i) + " has a non-finite endpoint");
-      if (!std::isfinite(c.radius) || c.radius < 0.0f)
-        throw Error("scene: " + where(g, "capsule", i) + " has radius " + std::to_string(c.radius) +
-                    " (must be finite and >= 0)");
-    }
+  check_only_own_type(geo, g);
+  switch (geo.type) {
+    case PrimType::Triangle:
+      for (std::size_t i = 0; i < geo.vertices.size(); ++i)
+        if (!finite3(geo.vertices[i])) throw Error("scene: " + where(g, "vertex", i) + " is not finite");
+      for (std::size_t i = 0; i < geo.triangles.size(); ++i) {
+        const glm::uvec3& t = geo.triangles[i];
+        if (t.x >= geo.vertices.size() || t.y >= geo.vertices.size() || t.z >= geo.vertices.size())
+          throw Error("scene: " + where(g, "triangle", i) + " indexes a vertex beyond " +
+                      std::to_string(geo.vertices.size()));
+      }
+      break;
+    case PrimType::Capsule:
+      for (std::size_t i = 0; i < geo.capsules.size(); ++i) {
+        const CapsulePrim& c = geo.capsules[i];
+        if (!finite3(c.a) || !finite3(c.b)) throw Error("scene: " + where(g, "capsule", i) + " has a non-finite endpoint");
+        check_radius(c.radius, g, "capsule", i);
+      }
+      break;
+    case PrimType::RoundCone:
+      for (std::size_t i = 0; i < geo.cones.size(); ++i) {
+        const RoundConePrim& c = geo.cones[i];
+        check_point(c.a, g, "round cone", i);
+        check_point(c.b, g, "round cone", i);
+        check_radius(c.ra, g, "round cone", i);
+        check_radius(c.rb, g, "round cone", i);
+      }
+      break;
+    case PrimType::Sphere:
+      for (std::size_t i = 0; i < geo.spheres.size(); ++i) {
+        check_point(geo.spheres[i].center, g, "sphere", i);
+        check_radius(geo.spheres[i].radius, g, "sphere", i);
+      }
+      break;
+    case PrimType::Curve:
+      for (std::size_t i = 0; i < geo.curves.size(); ++i) {
+        for (const glm::vec3& p : geo.curves[i].p) check_point(p, g, "curve", i);
+        check_radius(geo.curves[i].radius, g, "curve", i);
+      }
+      break;
   }
 }
 } // namespace

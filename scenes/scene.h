@@ -1,6 +1,7 @@
 // The in-memory scene every loader and generator produces: geometries of one primitive
 // type each, placed by instances with affine transforms, and a camera.
 #pragma once
+#include <array>
 #include <glm/glm.hpp>
 #include <cstdint>
 #include <string>
@@ -8,8 +9,10 @@
 
 namespace masq {
 
-enum class PrimType { Triangle, Capsule };
-const char* prim_type_name(PrimType t);
+enum class PrimType { Triangle, Capsule, RoundCone, Sphere, Curve };
+const char* prim_type_name(PrimType t); // for messages: "round cone"
+const char* prim_type_key(PrimType t);  // for options and files: "cone"
+PrimType parse_prim_type(const std::string& key); // throws masq::Error
 
 struct CapsulePrim {
   glm::vec3 a;
@@ -17,13 +20,42 @@ struct CapsulePrim {
   float radius;
 };
 
+// Convex hull of the spheres (a, ra) and (b, rb) (Han et al.'s "link").
+struct RoundConePrim {
+  glm::vec3 a;
+  float ra;
+  glm::vec3 b;
+  float rb;
+};
+
+struct SpherePrim {
+  glm::vec3 center;
+  float radius;
+};
+
+// Cubic Bezier curve swept by a sphere of constant radius (round ends).
+struct CurvePrim {
+  std::array<glm::vec3, 4> p;
+  float radius;
+};
+
 struct Geometry {
   PrimType type = PrimType::Triangle;
-  std::vector<glm::vec3> vertices;     // triangles: vertex positions
-  std::vector<glm::uvec3> triangles;   // triangles: vertex indices
-  std::vector<CapsulePrim> capsules;   // capsules
+  std::vector<glm::vec3> vertices;      // triangles: vertex positions
+  std::vector<glm::uvec3> triangles;    // triangles: vertex indices
+  std::vector<CapsulePrim> capsules;    // capsules
+  std::vector<RoundConePrim> cones;     // round cones
+  std::vector<SpherePrim> spheres;      // spheres
+  std::vector<CurvePrim> curves;        // cubic curves
   std::size_t primitive_count() const {
-    return type == PrimType::Triangle ? triangles.size() : capsules.size();
+    switch (type) {
+      case PrimType::Triangle: return triangles.size();
+      case PrimType::Capsule: return capsules.size();
+      case PrimType::RoundCone: return cones.size();
+      case PrimType::Sphere: return spheres.size();
+      case PrimType::Curve: return curves.size();
+    }
+    return 0;
   }
 };
 

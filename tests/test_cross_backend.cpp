@@ -15,6 +15,7 @@
 #include "host/backend.h"
 #include "oracle/oracle.h"
 #include "scenes/camera.h"
+#include "scenes/curve_tools.h"
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
 #include <cmath>
@@ -86,15 +87,15 @@ std::unique_ptr<Backend> backend_or_fail(const std::string& name) {
   }
 }
 
-void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays) {
+void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays, const AccelOptions& opt = {}) {
   oracle::Oracle oracle(scene);
   std::vector<oracle::OracleHit> truth = oracle.trace_all(rays);
   for (const std::string& name : backend_names()) {
     std::unique_ptr<Backend> be = backend_or_fail(name);
     if (!be) continue;
     for (Method m : {Method::Ref, Method::Masq}) {
-      SCOPED_TRACE(name + " " + method_name(m) + " on " + scene.name);
-      be->set_scene(build_accel(scene, m));
+      SCOPED_TRACE(name + " " + method_name(m) + " " + mode_name(opt.mode) + " on " + scene.name);
+      be->set_scene(build_accel(scene, m, opt));
       std::vector<kernel::Hit> hits(rays.size());
       be->trace(rays, hits, {});
       Tally t = compare(rays, truth, hits);
@@ -104,8 +105,8 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
       EXPECT_EQ(t.wrong_prim, 0) << t.first_failure;
       EXPECT_EQ(t.wrong_t, 0) << t.first_failure;
       EXPECT_EQ(t.wrong_normal, 0) << t.first_failure;
-      std::printf("[ %-8s %-4s ] %s: %d rays compared, %d hits, %d ambiguous skipped\n", name.c_str(),
-                  method_name(m), scene.name.c_str(), t.compared, t.hits, t.ambiguous);
+      std::printf("[ %-8s %-4s %-6s ] %s: %d rays compared, %d hits, %d ambiguous skipped\n", name.c_str(),
+                  method_name(m), mode_name(opt.mode), scene.name.c_str(), t.compared, t.hits, t.ambiguous);
     }
   }
 }
@@ -160,6 +161,64 @@ TEST(CrossBackend, RandomInstancedScenes) {
     }
     check_all_backends(s, rays);
   }
+}
+
+std::vector<kernel::Ray> random_rays(std::mt19937_64& rng, int n) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<kernel::Ray> rays;
+  for (int i = 0; i < n; ++i) {
+    glm::dvec3 from = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng))) * 5.0;
+    glm::dvec3 to = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
+    double scale = 0.3 + 2.0 * std::abs(u(rng)); // non-unit directions
+    rays.push_back(make_ray(from, (to - from) * (scale / glm::length(to - from))));
+  }
+  return rays;
+}
+
+class EveryPrimitive : public ::testing::TestWithParam<PrimType> {};
+
+TEST_P(EveryPrimitive, InstancedWithMeshRobustAndFast) {
+  // Each thin primitive type, instanced (rotation, non-uniform scale, translation)
+  // beside a triangle mesh, in both modes.
+  PrimType type = GetParam();
+  std::mt19937_64 rng(21 + int(type));
+  Scene s;
+  s.name = std::string("random ") + prim_type_key(type);
+  s.geometries.push_back(make_random_geometry(type, 200, 0.004f, 0.05f, 1.0, 31 + int(type)));
+  s.geometries.push_back(make_random_mesh(128, 1.0, 41));
+  for (int i = 0; i < 3; ++i) s.instances.push_back({0, random_affine(rng)});
+  s.instances.push_back({1, random_affine(rng)});
+  std::vector<kernel::Ray> rays = random_rays(rng, 3072);
+  for (Mode mode : {Mode::Robust, Mode::Fast}) {
+    AccelOptions opt;
+    opt.mode = mode;
+    check_all_backends(s, rays, opt);
+  }
+}
+
+TEST_P(EveryPrimitive, BundleCamera) {
+  BundleParams p;
+  p.count = 300;
+  p.radius = 0.004f;
+  p.prim = GetParam();
+  Scene s = make_default_scene(p);
+  s.name = std::string("bundle of ") + prim_type_key(p.prim);
+  check_all_backends(s, make_camera_rays(s.camera, 96, 72));
+}
+
+INSTANTIATE_TEST_SUITE_P(Types, EveryPrimitive,
+                         ::testing::Values(PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve),
+                         [](const ::testing::TestParamInfo<PrimType>& i) { return std::string(prim_type_key(i.param)); });
+
+TEST(CrossBackend, SubdividedCurvesWithPaperObbs) {
+  BundleParams p;
+  p.count = 200;
+  p.radius = 0.004f;
+  p.prim = PrimType::Curve;
+  Scene s = subdivide_curves(make_default_scene(p), 4);
+  AccelOptions opt;
+  opt.curve_obb = CurveObb::Paper;
+  check_all_backends(s, make_camera_rays(s.camera, 96, 72), opt);
 }
 
 TEST(CrossBackend, MasqueradeHalvesIntersectorCallsOnDefaultScene) {

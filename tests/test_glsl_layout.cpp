@@ -30,15 +30,22 @@ struct Section {
   const char* name;
   std::size_t bytes; // sizeof the struct
 };
-// In binding order (0..9 in, 12..21 out) and flat-section order of the kernel.
+// In binding order (0..12 in, 15..27 out) and flat-section order of the kernel.
 const Section kSections[] = {
-    {"WideNode", sizeof(WideNode)}, {"Instance", sizeof(Instance)}, {"Frame", sizeof(Frame)},
-    {"Geometry", sizeof(Geometry)}, {"Triangle", sizeof(Triangle)}, {"Capsule", sizeof(Capsule)},
-    {"Ray", sizeof(Ray)},           {"Hit", sizeof(Hit)},           {"RayStats", sizeof(RayStats)},
+    {"WideNode", sizeof(WideNode)},   {"Instance", sizeof(Instance)}, {"Frame", sizeof(Frame)},
+    {"Geometry", sizeof(Geometry)},   {"Triangle", sizeof(Triangle)}, {"Capsule", sizeof(Capsule)},
+    {"RoundCone", sizeof(RoundCone)}, {"Sphere", sizeof(Sphere)},     {"Curve", sizeof(Curve)},
+    {"Ray", sizeof(Ray)},             {"Hit", sizeof(Hit)},           {"RayStats", sizeof(RayStats)},
     {"TraceParams", sizeof(TraceParams)},
 };
 constexpr std::size_t kTypes = std::size(kSections);
-static_assert(kTypes == 10);
+static_assert(kTypes == 13);
+// Bindings of layout_roundtrip.comp: In0..In12, FlatOut, FlatIn, Out0..Out12.
+constexpr std::uint32_t kFlatOutBinding = kTypes;
+constexpr std::uint32_t kFlatInBinding = kTypes + 1;
+constexpr std::uint32_t kOutBinding0 = kTypes + 2;
+constexpr std::uint32_t kBindings = 2 * kTypes + 2;
+static_assert(kBindings == 28);
 
 // Distinct words that survive a float round trip (normal floats) and an int one.
 std::uint32_t word(std::uint32_t k, bool negative) {
@@ -72,7 +79,7 @@ TEST(GlslLayout, Std430MatchesCpp) {
     }
   }
 
-  std::vector<VkDescriptorType> types(22, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  std::vector<VkDescriptorType> types(kBindings, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
   vk::KernelLayout layout(*ctx, types, sizeof(std::uint32_t));
   std::vector<vk::Buffer> in_bufs, out_bufs;
   for (std::size_t k = 0; k < kTypes; ++k) {
@@ -82,15 +89,15 @@ TEST(GlslLayout, Std430MatchesCpp) {
     out_bufs.emplace_back(*ctx, in_structs[k].size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     std::vector<std::uint32_t> zeros(in_structs[k].size(), 0u);
     out_bufs.back().upload(zeros.data(), zeros.size() * 4);
-    layout.bind_buffer(static_cast<std::uint32_t>(12 + k), out_bufs.back());
+    layout.bind_buffer(kOutBinding0 + static_cast<std::uint32_t>(k), out_bufs.back());
   }
   vk::Buffer flat_out_buf(*ctx, flat_in.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   std::vector<std::uint32_t> zeros(flat_in.size(), 0u);
   flat_out_buf.upload(zeros.data(), zeros.size() * 4);
   vk::Buffer flat_in_buf(*ctx, flat_in.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   flat_in_buf.upload(flat_in.data(), flat_in.size() * 4);
-  layout.bind_buffer(10, flat_out_buf);
-  layout.bind_buffer(11, flat_in_buf);
+  layout.bind_buffer(kFlatOutBinding, flat_out_buf);
+  layout.bind_buffer(kFlatInBinding, flat_in_buf);
 
   VkPipeline pipeline = layout.create_pipeline(layout_roundtrip_comp_spv, {});
   const std::uint32_t n = kCount;

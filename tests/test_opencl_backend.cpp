@@ -85,7 +85,7 @@ PackedScene hand_built_scene() {
   s.capsules = {kernel::Capsule{{-1.0f, 0.0f, 0.0f}, 0.1f, {1.0f, 0.0f, 0.0f}, 0.0f},
                 kernel::Capsule{{-1.0f, 0.5f, 1.0f}, 0.2f, {1.0f, 0.5f, 1.0f}, 0.0f}};
   s.tlas_root = 0;
-  s.has_capsules = true;
+  s.features.capsules = true;
   return s;
 }
 

@@ -1,5 +1,6 @@
 #include "host/cpu/cpu_backend.h"
 #include "host/cpu/cpu_kernels.h"
+#include "kernels/variants.h"
 #include "scenes/error.h"
 #include <algorithm>
 #include <atomic>
@@ -36,6 +37,9 @@ class CpuBackend final : public Backend {
     kd_.geoms = scene_.geoms.data();
     kd_.triangles = scene_.triangles.data();
     kd_.capsules = scene_.capsules.data();
+    kd_.cones = scene_.cones.data();
+    kd_.spheres = scene_.spheres.data();
+    kd_.curves = scene_.curves.data();
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     has_scene_ = true;
   }
@@ -46,12 +50,16 @@ class CpuBackend final : public Backend {
     if (hits.size() != rays.size() || (!stats.empty() && stats.size() != rays.size()))
       throw Error("cpu: hits/stats spans must have one entry per ray");
     if (rays.size() > std::size_t(INT32_MAX)) throw Error("cpu: more than 2^31-1 rays in one batch");
-    cpu::TraceRangeFn fn = stats.empty() ? cpu::trace_range_plain : cpu::trace_range_stats;
+    const bool robust = scene_.features.mode == Mode::Robust;
+    cpu::TraceRangeFn fn = stats.empty() ? (robust ? cpu::trace_range_plain_robust : cpu::trace_range_plain_fast)
+                                         : (robust ? cpu::trace_range_stats_robust : cpu::trace_range_stats_fast);
+    const int curve_iters = scene_.features.curve_iters;
     const int n = int(rays.size());
     // Small chunks handed out dynamically balance uneven rays across threads.
     const int chunk = 256;
     std::atomic<int> next{0};
     auto worker = [&] {
+      kernel::curve_iters_runtime = curve_iters; // per thread (see kernels/variants.h)
       for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
         fn(kd_, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
            scene_.tlas_root);

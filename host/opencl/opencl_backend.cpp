@@ -23,10 +23,9 @@ constexpr std::size_t kMaxWindowRays = std::size_t{1} << 30;
 constexpr std::size_t kDummyBytes = 16;
 
 struct SceneBuffers {
-  cl::Buffer nodes, refs, instances, frames, geoms, triangles, capsules;
+  cl::Buffer nodes, refs, instances, frames, geoms, triangles, capsules, cones, spheres, curves;
   int tlas_root = -1;
-  bool has_triangles = false;
-  bool has_capsules = false;
+  KernelFeatures features;
   std::size_t bytes = 0;
 };
 
@@ -61,8 +60,10 @@ class OpenClBackend final : public Backend {
     sb.triangles = upload("triangles", scene.triangles, sb.bytes);
     sb.capsules = upload("capsules", scene.capsules, sb.bytes);
     sb.tlas_root = scene.tlas_root;
-    sb.has_triangles = scene.has_triangles;
-    sb.has_capsules = scene.has_capsules;
+    sb.cones = upload("round cones", scene.cones, sb.bytes);
+    sb.spheres = upload("spheres", scene.spheres, sb.bytes);
+    sb.curves = upload("curves", scene.curves, sb.bytes);
+    sb.features = scene.features;
     check(rt_.queue.finish(), "clFinish (scene upload)");
     scene_ = std::move(sb);
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -103,10 +104,13 @@ class OpenClBackend final : public Backend {
     check(k.setArg(4, sb.geoms), "clSetKernelArg(geoms)");
     check(k.setArg(5, sb.triangles), "clSetKernelArg(triangles)");
     check(k.setArg(6, sb.capsules), "clSetKernelArg(capsules)");
-    check(k.setArg(7, ray_buf_), "clSetKernelArg(rays)");
-    check(k.setArg(8, hit_buf_), "clSetKernelArg(hits)");
-    check(k.setArg(9, stat_buf_), "clSetKernelArg(stats)");
-    check(k.setArg(11, cl_int(sb.tlas_root)), "clSetKernelArg(tlas_root)");
+    check(k.setArg(7, sb.cones), "clSetKernelArg(cones)");
+    check(k.setArg(8, sb.spheres), "clSetKernelArg(spheres)");
+    check(k.setArg(9, sb.curves), "clSetKernelArg(curves)");
+    check(k.setArg(10, ray_buf_), "clSetKernelArg(rays)");
+    check(k.setArg(11, hit_buf_), "clSetKernelArg(hits)");
+    check(k.setArg(12, stat_buf_), "clSetKernelArg(stats)");
+    check(k.setArg(14, cl_int(sb.tlas_root)), "clSetKernelArg(tlas_root)");
 
     std::vector<cl::Event> events;
     for (std::size_t w0 = 0; w0 < n; w0 += window) {
@@ -115,8 +119,8 @@ class OpenClBackend final : public Backend {
             "clEnqueueWriteBuffer(rays)");
       for (std::size_t c0 = 0; c0 < wn; c0 += chunk) {
         const std::size_t cn = std::min(chunk, wn - c0);
-        check(k.setArg(10, cl_int(cn)), "clSetKernelArg(ray_count)");
-        check(k.setArg(12, cl_int(c0)), "clSetKernelArg(ray_offset)");
+        check(k.setArg(13, cl_int(cn)), "clSetKernelArg(ray_count)");
+        check(k.setArg(15, cl_int(c0)), "clSetKernelArg(ray_offset)");
         const std::size_t global = (cn + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
         cl::Event ev;
         check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr, &ev),
@@ -174,14 +178,17 @@ class OpenClBackend final : public Backend {
     cap = bytes;
   }
 
-  // The program variant for the current scene's primitive types, built on first use.
+  // The program variant for the current scene's features, built on first use.
   Variant& variant(bool want_stats) {
-    const bool tri = scene_->has_triangles, cap = scene_->has_capsules;
-    const int key = (want_stats ? 1 : 0) | (tri ? 2 : 0) | (cap ? 4 : 0);
-    auto it = variants_.find(key);
+    const KernelFeatures& f = scene_->features;
+    auto flag = [](const char* name, bool on) { return std::string(" -D ") + name + (on ? "=1" : "=0"); };
+    std::string options = opencl::base_build_options() + flag("MASQ_STATS", want_stats) +
+                          flag("MASQ_HAVE_TRIANGLES", f.triangles) + flag("MASQ_HAVE_CAPSULES", f.capsules) +
+                          flag("MASQ_HAVE_CONES", f.cones) + flag("MASQ_HAVE_SPHERES", f.spheres) +
+                          flag("MASQ_HAVE_CURVES", f.curves) + flag("MASQ_ROBUST", f.mode == Mode::Robust) +
+                          " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters);
+    auto it = variants_.find(options);
     if (it != variants_.end()) return it->second;
-    std::string options = opencl::base_build_options() + " -D MASQ_STATS=" + (want_stats ? "1" : "0") +
-                          " -D MASQ_HAVE_TRIANGLES=" + (tri ? "1" : "0") + " -D MASQ_HAVE_CAPSULES=" + (cap ? "1" : "0");
     opencl::BuiltProgram built = opencl::build_program(rt_, opencl::trace_source(), options, "kernels/trace.cl");
     Variant v;
     v.program = built.program;
@@ -189,13 +196,13 @@ class OpenClBackend final : public Backend {
     cl_int err = CL_SUCCESS;
     v.kernel = cl::Kernel(v.program, "trace", &err);
     check(err, "clCreateKernel(trace)");
-    return variants_.emplace(key, std::move(v)).first->second;
+    return variants_.emplace(options, std::move(v)).first->second;
   }
 
   opencl::Runtime rt_;
   std::size_t chunk_rays_;
   std::optional<SceneBuffers> scene_;
-  std::map<int, Variant> variants_;
+  std::map<std::string, Variant> variants_; // by build options
   cl::Buffer ray_buf_, hit_buf_, stat_buf_;
   std::size_t ray_cap_ = 0, hit_cap_ = 0, stat_cap_ = 0;
   TraceTiming timing_;

@@ -9,6 +9,7 @@
 // lavapipe builds its BVH in submission order without sorting, so primitives and
 // instances are submitted in the order of masq's own BVH leaves (PackedScene's
 // geometry_leaf_order and tlas_leaf_order).
+#include "bvh/prim_bounds.h"
 #include "host/vulkan/acceleration_structures.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vulkan_backends.h"
@@ -28,8 +29,8 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr std::uint32_t kLocalSize = 64;
-constexpr std::uint32_t kBindingTlas = 10;   // as in kernels/rayquery.comp
-constexpr std::uint32_t kBindingPrimMap = 11;
+constexpr std::uint32_t kBindingTlas = 13;   // as in kernels/rayquery.comp
+constexpr std::uint32_t kBindingPrimMap = 14;
 const char* const kName = "rayquery";
 // The driver tests the unit box in its own fp32 object space; the masquerade transform
 // scales a thin capsule's radius up to 1, so the object-space origin carries an error
@@ -53,15 +54,15 @@ VkTransformMatrixKHR to_vk(const Mat3x4f& m) {
   return t;
 }
 
-VkAabbPositionsKHR capsule_box(const kernel::Capsule& c) {
-  float lo[3], hi[3], scale = 0.0f;
-  for (int k = 0; k < 3; ++k) {
-    lo[k] = std::min(c.a[k], c.b[k]) - c.radius;
-    hi[k] = std::max(c.a[k], c.b[k]) + c.radius;
-    scale = std::max({scale, std::fabs(lo[k]), std::fabs(hi[k]), hi[k] - lo[k]});
-  }
-  float pad = scale * kAabbMargin;
-  return {lo[0] - pad, lo[1] - pad, lo[2] - pad, hi[0] + pad, hi[1] + pad, hi[2] + pad};
+// The driver's AABB of a procedural primitive: the exact box of its ball hull (from
+// the fp32 data the intersector reads), padded and rounded outward.
+VkAabbPositionsKHR procedural_box(const PackedScene& s, int geom, int prim) {
+  Aabb b = hull_box(ball_hull(s, geom, prim));
+  double scale = 0.0;
+  for (int k = 0; k < 3; ++k) scale = std::max({scale, std::fabs(b.lo[k]), std::fabs(b.hi[k]), b.hi[k] - b.lo[k]});
+  double pad = scale * kAabbMargin;
+  return {round_down(b.lo.x - pad), round_down(b.lo.y - pad), round_down(b.lo.z - pad),
+          round_up(b.hi.x + pad),   round_up(b.hi.y + pad),   round_up(b.hi.z + pad)};
 }
 
 class RayQueryBackend final : public Backend {
@@ -88,8 +89,7 @@ class RayQueryBackend final : public Backend {
     scene_.bind(layout_);
     layout_.bind_buffer(kBindingPrimMap, prim_map_);
     layout_.bind_acceleration_structure(kBindingTlas, tlas_.handle());
-    has_triangles_ = scene.has_triangles;
-    has_capsules_ = scene.has_capsules;
+    features_ = scene.features;
     tlas_count_ = static_cast<std::int32_t>(scene.instances.size());
     have_scene_ = true;
     timing_.scene_seconds = seconds_since(t0);
@@ -183,13 +183,11 @@ class RayQueryBackend final : public Backend {
         v.insert(v.end(), {t.v0[0], t.v0[1], t.v0[2], t.v1[0], t.v1[1], t.v1[2], t.v2[0], t.v2[1], t.v2[2]});
       }
       as = vk::build_triangle_blas(*ctx_, v);
-    } else if (geo.type == MASQ_PRIM_CAPSULE) {
+    } else {
       std::vector<VkAabbPositionsKHR> boxes;
       boxes.reserve(order.size());
-      for (std::int32_t p : order) boxes.push_back(capsule_box(s.capsules.at(static_cast<std::size_t>(geo.first + p))));
+      for (std::int32_t p : order) boxes.push_back(procedural_box(s, g, p));
       as = vk::build_aabb_blas(*ctx_, boxes);
-    } else {
-      throw Error(fmt::format("rayquery: geometry {} has unknown primitive type {}", g, geo.type));
     }
     return blas_.emplace(g, std::move(as)).first->second;
   }
@@ -227,7 +225,7 @@ class RayQueryBackend final : public Backend {
 
   VkPipeline pipeline(bool stats) {
     const vk::PipelineVariants::Variant& v =
-        variants_.get({stats, has_triangles_, has_capsules_, kLocalSize}, [&](VkPipeline p) {
+        variants_.get(vk::spec_constants(features_, stats, kLocalSize), [&](VkPipeline p) {
           // An empty dispatch (ray_count 0) triggers the driver's JIT.
           batch_.bind_minimal(layout_);
           kernel::TraceParams pc{0, 0, 0, 0};
@@ -248,8 +246,7 @@ class RayQueryBackend final : public Backend {
   vk::AccelStructure unit_box_;
   vk::AccelStructure tlas_;
   std::int32_t tlas_count_ = 0;
-  bool has_triangles_ = false;
-  bool has_capsules_ = false;
+  KernelFeatures features_;
   bool have_scene_ = false;
   TraceTiming timing_;
 };

@@ -27,7 +27,8 @@ void check_storage_range(const Context& ctx, const char* backend, const char* wh
 }
 
 void SceneBuffers::bind(KernelLayout& layout) const {
-  for (std::uint32_t i = 0; i < arrays.size(); ++i) layout.bind_buffer(MASQ_BINDING_NODES + i, arrays[i]);
+  for (std::uint32_t i = 0; i < arrays.size(); ++i)
+    if (arrays[i].valid()) layout.bind_buffer(i, arrays[i]);
 }
 
 SceneBuffers upload_scene_arrays(Context& ctx, const char* backend, const PackedScene& s, bool with_bvh) {
@@ -44,7 +45,15 @@ SceneBuffers upload_scene_arrays(Context& ctx, const char* backend, const Packed
   upload_array(ctx, backend, "scene geoms", s.geoms, b.arrays[MASQ_BINDING_GEOMS], b.bytes);
   upload_array(ctx, backend, "scene triangles", s.triangles, b.arrays[MASQ_BINDING_TRIANGLES], b.bytes);
   upload_array(ctx, backend, "scene capsules", s.capsules, b.arrays[MASQ_BINDING_CAPSULES], b.bytes);
+  upload_array(ctx, backend, "scene round cones", s.cones, b.arrays[MASQ_BINDING_CONES], b.bytes);
+  upload_array(ctx, backend, "scene spheres", s.spheres, b.arrays[MASQ_BINDING_SPHERES], b.bytes);
+  upload_array(ctx, backend, "scene curves", s.curves, b.arrays[MASQ_BINDING_CURVES], b.bytes);
   return b;
+}
+
+std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, std::uint32_t local_size) {
+  return {stats,     f.triangles, f.capsules, local_size, f.cones, f.spheres, f.curves, f.mode == Mode::Robust,
+          static_cast<std::uint32_t>(f.curve_iters)};
 }
 
 void RayBatch::ensure(std::size_t capacity, KernelLayout& layout) {

@@ -1,9 +1,10 @@
 // What the compute and ray-query backends share: the scene arrays as storage buffers
-// (bindings 0..6, each checked against maxStorageBufferRange), and tracing a batch of
+// (bindings 0..6 and 10..12, each checked against maxStorageBufferRange), and tracing a batch of
 // rays in chunks small enough that the ray, hit and stats buffers fit one binding and
 // one dispatch.
 #pragma once
 #include "bvh/packed_scene.h"
+#include "kernels/kernel_data.h"
 #include "host/vulkan/vk_pipeline.h"
 #include <array>
 #include <span>
@@ -15,10 +16,15 @@ namespace masq::vk {
 void check_storage_range(const Context& ctx, const char* backend, const char* what, std::uint64_t bytes);
 
 struct SceneBuffers {
-  std::array<Buffer, 7> arrays; // MASQ_BINDING_NODES .. MASQ_BINDING_CAPSULES
+  // Indexed by binding: MASQ_BINDING_NODES .. MASQ_BINDING_CURVES (the per-ray
+  // bindings 7..9 stay empty here; RayBatch owns them).
+  std::array<Buffer, MASQ_BINDING_COUNT> arrays;
   std::size_t bytes = 0;        // real sizes (no dummies)
   void bind(KernelLayout& layout) const;
 };
+// Specialisation constants of the kernels (ids as in kernels/variants.h).
+std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, std::uint32_t local_size);
+
 // with_bvh false: nodes and refs (masq's own BVH) get 16-byte dummies (ray query).
 SceneBuffers upload_scene_arrays(Context& ctx, const char* backend, const PackedScene& scene, bool with_bvh = true);
 

@@ -155,7 +155,7 @@ PipelineVariants::~PipelineVariants() {
   for (auto& [spec, v] : cache_) layout_.destroy_pipeline(v.pipeline);
 }
 
-const PipelineVariants::Variant& PipelineVariants::get(const std::array<std::uint32_t, 4>& spec,
+const PipelineVariants::Variant& PipelineVariants::get(const std::vector<std::uint32_t>& spec,
                                                        const std::function<void(VkPipeline)>& warm_up) {
   auto it = cache_.find(spec);
   if (it != cache_.end()) return it->second;

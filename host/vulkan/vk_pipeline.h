@@ -47,7 +47,7 @@ class KernelLayout {
   VkQueryPool queries_ = VK_NULL_HANDLE;
 };
 
-// The pipelines of one shader, one per specialisation (constant ids 0..3), created on
+// The pipelines of one shader, one per specialisation (value i -> constant id i), created on
 // first use and kept. compile_seconds covers creation plus the caller's warm-up
 // dispatch, because lavapipe compiles at the first dispatch.
 class PipelineVariants {
@@ -60,12 +60,12 @@ class PipelineVariants {
   ~PipelineVariants();
   PipelineVariants(const PipelineVariants&) = delete;
   PipelineVariants& operator=(const PipelineVariants&) = delete;
-  const Variant& get(const std::array<std::uint32_t, 4>& spec, const std::function<void(VkPipeline)>& warm_up);
+  const Variant& get(const std::vector<std::uint32_t>& spec, const std::function<void(VkPipeline)>& warm_up);
 
  private:
   KernelLayout& layout_;
   std::span<const std::uint32_t> spirv_;
-  std::map<std::array<std::uint32_t, 4>, Variant> cache_;
+  std::map<std::vector<std::uint32_t>, Variant> cache_;
 };
 
 } // namespace masq::vk

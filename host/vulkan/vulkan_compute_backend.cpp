@@ -38,8 +38,7 @@ class VulkanComputeBackend final : public Backend {
     scene_ = vk::upload_scene_arrays(*ctx_, kName, scene);
     scene_.bind(layout_);
     tlas_root_ = scene.tlas_root;
-    has_triangles_ = scene.has_triangles;
-    has_capsules_ = scene.has_capsules;
+    features_ = scene.features;
     have_scene_ = true;
     timing_.scene_seconds = seconds_since(t0);
   }
@@ -57,7 +56,7 @@ class VulkanComputeBackend final : public Backend {
  private:
   VkPipeline pipeline(bool stats) {
     const vk::PipelineVariants::Variant& v =
-        variants_.get({stats, has_triangles_, has_capsules_, kLocalSize}, [&](VkPipeline p) {
+        variants_.get(vk::spec_constants(features_, stats, kLocalSize), [&](VkPipeline p) {
           // An empty dispatch (ray_count 0) triggers the driver's JIT.
           batch_.bind_minimal(layout_);
           kernel::TraceParams pc{0, tlas_root_, 0, 0};
@@ -73,8 +72,7 @@ class VulkanComputeBackend final : public Backend {
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
   std::int32_t tlas_root_ = -1;
-  bool has_triangles_ = false;
-  bool has_capsules_ = false;
+  KernelFeatures features_;
   bool have_scene_ = false;
   TraceTiming timing_;
 };

@@ -1,0 +1,199 @@
+// Ray/round cone (Han et al.'s "link": the convex hull of the spheres (a, ra), (b, rb)),
+// robust and fast.
+//
+// Geometry. Axis w = (b-a)/L, axial coordinate z from a, radial distance rho. The
+// lateral surface is the cone tangent to both spheres. Its outward normal in a
+// meridian plane is n = (cos th, sin th) in (rho, z), with sin th = (ra - rb)/L (th > 0:
+// the cone narrows towards b). The tangent line satisfies n.(x - a) = ra, and indeed
+// n.(b - a) + rb = L sin th + rb = ra, so the lateral surface is
+//     rho cos th + z sin th = ra,
+// touching sphere a at z = za = ra sin th and sphere b at z = zb = L + rb sin th (the
+// points a + ra n and b + rb n). Between them it is the surface; sphere a is exposed
+// for z <= za, sphere b for z >= zb. On [za, zb], ra - z sin th >= rb cos^2 th >= 0,
+// so the range test also rejects the cone's other nappe. L <= |ra - rb|: one sphere
+// contains the other and the primitive is the bigger sphere.
+//
+// Robust form (the ideas of the robust capsule):
+//  1. origin relative to the centre formed as (o - a) - ba/2, then shifted along the
+//     ray to its closest approach p to the centre: every quantity is of the size of
+//     the primitive, not of its distance;
+//  2. axis frame: p = pr + z0' w, d = dr + da w (pr, dr radial); with c = cos th,
+//     s = sin th, k = ra - s z0 (z0 = axial coordinate of p from a) and m = s da, the
+//     side is c^2 |pr + t dr|^2 = (k - m t)^2, i.e. A t^2 + 2 B t + C = 0 with
+//       A = (c|dr| - m)(c|dr| + m),  B = c^2 pr.dr + k m,  C = (c|pr| - k)(c|pr| + k);
+//  3. the discriminant in factored form: expanding,
+//       B^2 - A C = c^2 (|k dr + m pr|^2 - c^2 |pr x dr|^2)
+//                 = c^2 (X - c Y)(X + c Y),  X = |k dr + m pr|,  Y = |pr x dr|,
+//     which holds at any origin on the ray (for m = 0, s = 0 it is the capsule's
+//     (r - |v|)(r + |v|) |dr|^2); X - cY is the genuine silhouette quantity, not a
+//     difference of two squares of the size of the primitive's length;
+//  4. stable roots q = -(B + sign(B) sqrt(disc)), t0 = q/A, t1 = C/q (A may be 0 or
+//     negative: a ray steeper than the cone meets both nappes; the range test sorts
+//     them out); spheres as in the robust capsule's caps;
+//  5. dot(d,d) carried; the self-intersection window applied (prim_hit.h; centre =
+//     midpoint of a and b, r = max(ra, rb)); a seam tolerance (MASQ_CAPSULE_SEAM) lets
+//     side and sphere hits overlap slightly at the tangency circles so rounding cannot
+//     open a gap (the surfaces are tangent there).
+// Fast: Quilez's "rounded cone" intersector (iquilezles.org) as written, adapted to
+// non-unit d (dd in the t^2 terms), both roots and exposure tests for the spheres (a
+// ray starting inside reports its exit), and the contained-sphere case.
+#ifndef MASQ_KERNEL_INTERSECT_ROUND_CONE_H
+#define MASQ_KERNEL_INTERSECT_ROUND_CONE_H
+#include "prim_hit.h"
+#include "intersect_capsule.h"
+#include "intersect_sphere.h"
+
+KERNEL_NS_BEGIN
+
+// Axial parameter of a hit at axial coordinate z (from a): clamped to [0, 1].
+FN float cone_u(float z, float len) { return min(max(z / len, 0.0f), 1.0f); }
+
+FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float tmax) {
+  float ra = rc.ra;
+  float rb = rc.rb;
+  float dd = dot(d, d);
+  // No ray or an empty/NaN interval: miss. Negative and NaN radii count as 0 (a point
+  // end; both 0: no surface), as in the oracle.
+  if (!(dd > 0.0f) || !(tmin <= tmax)) return prim_miss();
+  ra = ra > 0.0f ? ra : 0.0f;
+  rb = rb > 0.0f ? rb : 0.0f;
+  float rmax = max(ra, rb);
+  if (!(rmax > 0.0f)) return prim_miss();
+  vec3 a = V3(rc.a);
+  vec3 ba = V3(rc.b) - a;
+  vec3 oa = o - a;
+  vec3 oc = oa - 0.5f * ba;
+  float tlo = max(tmin, self_eps_t(rmax, oc, dd));
+  float len = length(ba);
+  if (!(len > fabs_(ra - rb))) {
+    // One sphere contains the other (or zero length): the bigger sphere.
+    PrimHit hs = sphere_hit_robust(ra >= rb ? oa : oa - ba, rmax, d, dd, tlo, tmax);
+    hs.u = ra >= rb ? 0.0f : 1.0f;
+    return hs;
+  }
+  vec3 w = ba / len;
+  float h = 0.5f * len;
+  float sn = (ra - rb) / len;
+  float cs = sqrt((1.0f - sn) * (1.0f + sn));
+  float za = ra * sn;
+  float zb = len + rb * sn;
+  float seam = MASQ_CAPSULE_SEAM * (h + rmax);
+
+  PrimHit res = prim_miss();
+  res.t = tmax;
+  // 1. closest approach to the centre: t = ts + s.
+  float ts = -dot(oc, d) / dd;
+  vec3 p = oc + ts * d;
+  float pa = dot(p, w);
+  float da = dot(d, w);
+  float z0 = pa + h;
+  // 2.-4. lateral surface.
+  vec3 pr = p - pa * w;
+  vec3 dr = d - da * w;
+  float k = ra - sn * z0;
+  float m = sn * da;
+  float lpr = length(pr);
+  float ldr = length(dr);
+  float qa = (cs * ldr - m) * (cs * ldr + m);
+  float qb = cs * cs * dot(pr, dr) + k * m;
+  float qc = (cs * lpr - k) * (cs * lpr + k);
+  float X = length(k * dr + m * pr);
+  float Y = length(cross(pr, dr));
+  float disc = (X - cs * Y) * (X + cs * Y);
+  if (disc >= 0.0f) {
+    float sq = cs * sqrt(disc);
+    float q = -(qb + (qb >= 0.0f ? sq : -sq));
+    if (q != 0.0f) {
+      for (int j = 0; j < 2; ++j) {
+        float s = j == 0 ? q / qa : qc / q;
+        float z = z0 + s * da;
+        if (z >= za - seam && z <= zb + seam) {
+          vec3 xr = pr + s * dr;
+          res = capsule_take(res, ts + s, tlo, cs * xr + (sn * length(xr)) * w, cone_u(z, len));
+        }
+      }
+    }
+  }
+  // Spheres, each on its exposed part only.
+  for (int e = 0; e < 2; ++e) {
+    float rs = e == 0 ? ra : rb;
+    vec3 pc = p - (e == 0 ? -h : h) * w;
+    float s0 = -dot(pc, d) / dd;
+    vec3 v = pc + s0 * d;
+    float lv = length(v);
+    float sdisc = (rs - lv) * (rs + lv);
+    if (rs > 0.0f && sdisc >= 0.0f) {
+      float sq = sqrt(sdisc / dd);
+      for (int j = 0; j < 2; ++j) {
+        float s = j == 0 ? s0 - sq : s0 + sq;
+        float z = z0 + s * da;
+        if (e == 0 ? z <= za + seam : z >= zb - seam)
+          res = capsule_take(res, ts + s, tlo, pc + s * d, cone_u(z, len));
+      }
+    }
+  }
+  if (res.hit == 0) return prim_miss();
+  return res;
+}
+
+// Quilez's rounded cone. y = ba.(oa + t d) - ra rr is 0 on the tangency circle of
+// sphere a and d2 = |ba|^2 - rr^2 on that of sphere b.
+FN PrimHit intersect_round_cone_fast(RoundCone rc, vec3 ro, vec3 rd, float tmin, float tmax) {
+  float ra = rc.ra;
+  float rb = rc.rb;
+  ra = ra > 0.0f ? ra : 0.0f;
+  rb = rb > 0.0f ? rb : 0.0f;
+  if (!(max(ra, rb) > 0.0f)) return prim_miss();
+  vec3 pa = V3(rc.a);
+  vec3 pb = V3(rc.b);
+  vec3 ba = pb - pa;
+  vec3 oa = ro - pa;
+  vec3 ob = ro - pb;
+  float dd = dot(rd, rd);
+  float rr = ra - rb;
+  float m0 = dot(ba, ba);
+  float d2 = m0 - rr * rr;
+  if (!(d2 > 0.0f)) // one sphere contains the other: the bigger one
+    return sphere_hit_fast(ra >= rb ? oa : ob, max(ra, rb), rd, dd, tmin, tmax);
+  float m1 = dot(ba, oa);
+  float m2 = dot(ba, rd);
+  float m3 = dot(rd, oa);
+  float m5 = dot(oa, oa);
+  float m6 = dot(ob, rd);
+  float m7 = dot(ob, ob);
+  PrimHit res = prim_miss();
+  res.t = tmax;
+  // body
+  float k2 = d2 * dd - m2 * m2;
+  float k1 = d2 * m3 - m1 * m2 + m2 * rr * ra;
+  float k0 = d2 * m5 - m1 * m1 + m1 * rr * ra * 2.0f - m0 * ra * ra;
+  float h = k1 * k1 - k0 * k2;
+  if (h < 0.0f) return prim_miss(); // the spheres lie inside the infinite cone
+  float sh = sqrt(h);
+  for (int j = 0; j < 2; ++j) {
+    float t = (j == 0 ? -sh - k1 : sh - k1) / k2;
+    float y = m1 - ra * rr + t * m2;
+    if (y > 0.0f && y < d2)
+      res = capsule_take(res, t, tmin, d2 * (oa + t * rd) - ba * y, cone_u(y + ra * rr, m0));
+  }
+  // caps
+  float h1 = m3 * m3 - dd * (m5 - ra * ra);
+  float h2 = m6 * m6 - dd * (m7 - rb * rb);
+  for (int e = 0; e < 2; ++e) {
+    float hc = e == 0 ? h1 : h2;
+    float bc = e == 0 ? m3 : m6;
+    if (hc > 0.0f) {
+      float shc = sqrt(hc);
+      for (int j = 0; j < 2; ++j) {
+        float t = (j == 0 ? -bc - shc : -bc + shc) / dd;
+        float y = m1 - ra * rr + t * m2;
+        if (e == 0 ? y <= 0.0f : y >= d2)
+          res = capsule_take(res, t, tmin, (e == 0 ? oa : ob) + t * rd, cone_u(y + ra * rr, m0));
+      }
+    }
+  }
+  if (res.hit == 0) return prim_miss();
+  return res;
+}
+KERNEL_NS_END
+#endif

@@ -1,0 +1,75 @@
+#include "scenes/curve_tools.h"
+#include "scenes/error.h"
+#include <string>
+
+namespace masq {
+
+namespace {
+std::array<glm::dvec3, 4> control(const CurvePrim& c) {
+  return {glm::dvec3(c.p[0]), glm::dvec3(c.p[1]), glm::dvec3(c.p[2]), glm::dvec3(c.p[3])};
+}
+
+// The piece [s0, s1] of a cubic as its own control points (blossoming).
+std::array<glm::dvec3, 4> piece(const std::array<glm::dvec3, 4>& p, double s0, double s1) {
+  auto blossom = [&](double a, double b, double c) {
+    auto lerp = [](glm::dvec3 x, glm::dvec3 y, double t) { return x + (y - x) * t; };
+    glm::dvec3 q0 = lerp(p[0], p[1], a), q1 = lerp(p[1], p[2], a), q2 = lerp(p[2], p[3], a);
+    glm::dvec3 r0 = lerp(q0, q1, b), r1 = lerp(q1, q2, b);
+    return lerp(r0, r1, c);
+  };
+  return {blossom(s0, s0, s0), blossom(s0, s0, s1), blossom(s0, s1, s1), blossom(s1, s1, s1)};
+}
+} // namespace
+
+glm::dvec3 bezier_point(const CurvePrim& c, double s) {
+  auto p = control(c);
+  double t = 1.0 - s;
+  return t * t * t * p[0] + 3.0 * t * t * s * p[1] + 3.0 * t * s * s * p[2] + s * s * s * p[3];
+}
+
+Scene subdivide_curves(const Scene& scene, int k) {
+  if (k < 1) throw Error("subdivide_curves: k = " + std::to_string(k) + " (must be >= 1)");
+  Scene out = scene;
+  if (k == 1) return out;
+  for (Geometry& g : out.geometries) {
+    if (g.type != PrimType::Curve) continue;
+    std::vector<CurvePrim> split;
+    split.reserve(g.curves.size() * std::size_t(k));
+    for (const CurvePrim& c : g.curves) {
+      auto p = control(c);
+      for (int i = 0; i < k; ++i) {
+        auto q = piece(p, double(i) / k, double(i + 1) / k);
+        CurvePrim n{};
+        for (int j = 0; j < 4; ++j) n.p[std::size_t(j)] = glm::vec3(q[std::size_t(j)]);
+        n.radius = c.radius;
+        split.push_back(n);
+      }
+    }
+    g.curves = std::move(split);
+  }
+  out.name = scene.name + " (curves x" + std::to_string(k) + ")";
+  return out;
+}
+
+Scene curves_to_segments(const Scene& scene, int n, PrimType type) {
+  if (n < 1) throw Error("curves_to_segments: n = " + std::to_string(n) + " (must be >= 1)");
+  if (type != PrimType::Capsule && type != PrimType::RoundCone)
+    throw Error(std::string("curves_to_segments: cannot make ") + prim_type_name(type) + "s");
+  Scene out = scene;
+  for (Geometry& g : out.geometries) {
+    if (g.type != PrimType::Curve) continue;
+    Geometry seg;
+    seg.type = type;
+    for (const CurvePrim& c : g.curves)
+      for (int i = 0; i < n; ++i) {
+        glm::vec3 a(bezier_point(c, double(i) / n)), b(bezier_point(c, double(i + 1) / n));
+        if (type == PrimType::Capsule) seg.capsules.push_back({a, b, c.radius});
+        else seg.cones.push_back({a, c.radius, b, c.radius});
+      }
+    g = std::move(seg);
+  }
+  out.name = scene.name + " (curves as " + std::to_string(n) + " " + prim_type_name(type) + "s)";
+  return out;
+}
+
+} // namespace masq

@@ -1,0 +1,20 @@
+// Scene rewrites for curves: pre-subdivision (each cubic split into k pieces, the
+// masquerade paper's 1/2/4/8 "subdivisions", tighter boxes per piece) and
+// approximation by linear segments (the error mode's cheap alternative to cubics).
+#pragma once
+#include "scenes/scene.h"
+
+namespace masq {
+
+// Every curve becomes k curves (de Casteljau in double, k >= 1). The swept-ball
+// surface is unchanged up to the fp32 rounding of the new control points.
+Scene subdivide_curves(const Scene& scene, int k);
+
+// Every curve becomes n linear pieces between points of the curve, as capsules or
+// round cones (type must be Capsule or RoundCone; n >= 1).
+Scene curves_to_segments(const Scene& scene, int n, PrimType type);
+
+// A point of a cubic Bezier curve (double precision).
+glm::dvec3 bezier_point(const CurvePrim& c, double s);
+
+} // namespace masq
