@@ -34,9 +34,10 @@ std::string bench_ratios(const std::vector<BenchRow>& rows) {
     for (const BenchRow& r : rows) {
       if (r.backend != m.backend || r.method != Method::Ref || !r.unavailable.empty()) continue;
       out += fmt::format("{:<9} masq vs ref: speedup {:.2f}x, intersector calls {:.2f}x fewer ({:.2f} vs {:.2f} per ray), "
-                         "acceleration memory {:.2f}x\n",
+                         "acceleration memory {:.2f}x, OBB/AABB surface area {:.3f}\n",
                          m.backend, m.mrays_per_s() / r.mrays_per_s(), r.isect_calls / m.isect_calls, m.isect_calls,
-                         r.isect_calls, double(m.accel_bytes) / double(r.accel_bytes));
+                         r.isect_calls, double(m.accel_bytes) / double(r.accel_bytes),
+                         m.build.aabb_area > 0 ? m.build.obb_area / m.build.aabb_area : 0.0);
     }
   }
   return out;
@@ -62,7 +63,8 @@ nlohmann::json bench_json(const Scene& scene, const BenchOptions& opt, const std
       e["bytes"] = {{"acceleration", r.accel_bytes}, {"primitives", r.prim_bytes}, {"device", r.device_bytes}};
       e["build"] = {{"tlas_sah", r.build.sah_cost}, {"blas_sah", r.build.blas_sah_cost},
                     {"tlas_nodes", r.build.tlas_nodes}, {"blas_nodes", r.build.blas_nodes},
-                    {"instances", r.build.instances}, {"max_depth", r.build.max_depth}};
+                    {"instances", r.build.instances}, {"max_depth", r.build.max_depth},
+                    {"obb_area", r.build.obb_area},   {"aabb_area", r.build.aabb_area}};
     }
     j["results"].push_back(e);
   }

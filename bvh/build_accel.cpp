@@ -191,6 +191,8 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
       for (std::size_t p = 0; p < g.primitive_count(); ++p) {
         if (!(hull_max_radius(ball_hull(g, p)) > 0.0)) continue; // no surface: nothing to box
         MasqueradeBox mb = masquerade_box(g, p, inst.object_to_world, opt.curve_obb);
+        ps.stats.obb_area += mb.obb_area;
+        ps.stats.aabb_area += mb.aabb_area;
         ps.instances.push_back(make_instance(mb.world_to_unit, -1, gi, int(p), int(si)));
         ps.instance_object_to_world.push_back(mb.unit_to_world);
         inst_boxes.push_back(mb.world_box);

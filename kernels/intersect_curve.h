@@ -60,6 +60,9 @@
 #define MASQ_CURVE_TOL 9.765625e-4f
 // Fast acceptance: the paper's |ds| bound in curve-parameter units.
 #define MASQ_CURVE_FAST_TOL 5e-5f
+#ifndef MASQ_CURVE_SEEDS
+#define MASQ_CURVE_SEEDS 8
+#endif
 
 KERNEL_NS_BEGIN
 
@@ -79,6 +82,7 @@ STRUCT_END(CurveFrame)
 STRUCT_BEGIN(CurvePoint)
   vec3 p;
   vec3 d;
+  vec3 dd; // second derivative
 STRUCT_END(CurvePoint)
 
 // One phantom step at s.
@@ -110,6 +114,7 @@ FN CurvePoint curve_eval(CurveFrame f, float s) {
   CurvePoint e;
   e.p = s1 * ab + s * bc;
   e.d = 3.0f * (bc - ab);
+  e.dd = 6.0f * ((c - b) - (b - a));
   if (!(dot(e.d, e.d) > f.deg2)) e.d = s < 0.5f ? f.t0 : f.t1;
   return e;
 }
@@ -146,8 +151,10 @@ FN CurveStep curve_step(CurveFrame f, float s, float side) {
   return st;
 }
 
-// Robust chain from s0: safeguarded secant steps until a sign change of the update
-// brackets the root, then Illinois regula falsi (bisection if it leaves the bracket).
+// Robust chain from s0: Newton steps with the straight-curve slope (s += update, at
+// most 0.5) until a sign change of the update brackets the root, then Illinois regula
+// falsi (bisection if it leaves the bracket). (A secant slope was tried: it overshoots
+// from phantom regions and converged to the wrong crossing more often.)
 // s stays in [0,1]; a chain that wants to leave from an end stops (the end ball takes
 // over there). Accepts a real crossing within tol (a length) of the normal plane.
 FN CurveRoot curve_chain(CurveFrame f, float s0, float side, float tol) {
@@ -164,6 +171,7 @@ FN CurveRoot curve_chain(CurveFrame f, float s0, float side, float tol) {
   float b = s0;
   float gb = 0.0f;
   int br = 0;
+  int rp = 0;
   for (int k = 0; k < MASQ_CURVE_ITERS; ++k) {
     CurveStep st = curve_step(f, s, side);
 #ifdef MASQ_CURVE_DEBUG
@@ -201,20 +209,145 @@ FN CurveRoot curve_chain(CurveFrame f, float s0, float side, float tol) {
       sn = (a * gb - b * ga) / (gb - ga);
       if (!(sn > min(a, b) && sn < max(a, b))) sn = 0.5f * (a + b);
     } else {
-      float step = g; // Newton with the straight-curve derivative -1
-      if (k > 0) {
-        float m = (g - gp) / (s - sp);
-        if (m < -0.125f && m > -8.0f) step = -g / m;
-      }
+      float step = g; // Newton with the straight-curve slope -1
+#if AITKEN
+      // Monotone linear convergence (same regime, same sign, shrinking): the secant
+      // through the last two iterates (Aitken's extrapolation), at most 8 steps' worth.
+      if (k > 0 && st.real == rp && g * gp > 0.0f && fabs_(g) < 0.875f * fabs_(gp)) step = g * (s - sp) / (gp - g);
+#endif
       sn = s + min(max(step, -0.5f), 0.5f);
     }
     sn = min(max(sn, 0.0f), 1.0f);
     if (sn == s) break;
     sp = s;
     gp = g;
+    rp = st.real;
     s = sn;
   }
   return rt;
+}
+
+// Robust chain (side -1: entry, +1: exit). The local primitive is the ball at C(s)
+// (the swept sphere itself) rather than the paper's cylinder: the ray (z axis) meets it
+// at X = (0, 0, C_z + side w), w = sqrt(r^2 - |C_xy|^2), and the residual is the
+// paper's, the hit's offset from the normal plane at C(s):
+//   R(s) = (X - C(s)) . C'(s) = -q1 + side w C'_z,   q1 = C_xy . C'_xy.
+// A root is the phantom fixed point (X on the circle of s, on the envelope). Newton
+// uses the exact R' (C'' included), which at the root is the paper's slope -|C'|^2 up to
+// the curvature term, while the cylinder's crossing, for a ray running nearly along the
+// curve, moves by r / sin(angle) per unit of tilt and sends the paper's step astray.
+// Where the ray misses the ball (phantom), Newton on |C_xy|^2 finds the closest
+// approach. On an s-interval where the ray is within r, R > 0 at its left end and
+// R < 0 at its right end, so a real point with R > 0 and any later point with R < 0 or
+// outside the interval bracket a root: then Illinois regula falsi, or bisection.
+FN CurveRoot curve_chain_ball(CurveFrame f, float s0, float side, float tol) {
+  CurveRoot rt;
+  rt.found = 0;
+  rt.z = 0.0f;
+  rt.s = s0;
+  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
+  float s = s0;
+  float r = f.r;
+  float lo = -1.0f; // bracket: R > 0 (or phantom) at lo, R < 0 (or phantom) at hi
+  float hi = 2.0f;
+  float rlo = 0.0f; // R there, 0 for a phantom end
+  float rhi = 0.0f;
+  int last = 0;     // which end moved last (+1 lo, -1 hi), for Illinois
+  for (int k = 0; k < MASQ_CURVE_ITERS; ++k) {
+    CurvePoint e = curve_eval(f, s);
+    vec3 c0 = e.p;
+    vec3 cd = e.d;
+    vec3 c2 = e.dd;
+    float d2 = dot(cd, cd);
+    float dxy = cd.x * cd.x + cd.y * cd.y;
+    float q1 = c0.x * cd.x + c0.y * cd.y;        // |C_xy|^2' / 2
+    float q2 = dxy + c0.x * c2.x + c0.y * c2.y; // |C_xy|^2'' / 2
+    float rho = sqrt(c0.x * c0.x + c0.y * c0.y);
+    float w2 = (r - rho) * (r + rho);
+    float ds;
+    int real = w2 >= 0.0f ? 1 : 0;
+    if (real != 0) {
+      float w = sqrt(w2);
+      float rr = side * w * cd.z - q1;
+      float res = fabs_(rr) / sqrt(d2);
+#ifdef MASQ_CURVE_DEBUG
+      if (g_curve_debug) printf("  ball side %g k %d s %.9g real w/r %.4g res/r %.4g z %.6g [%g %g]\n", side, k, s, w / r, res / r, c0.z + side * w, lo, hi);
+#endif
+      if (res <= tol) {
+        rt.found = 1;
+        rt.z = c0.z + side * w;
+        rt.s = s;
+        rt.nrm = VEC3(-c0.x, -c0.y, side * w) - (rr / d2) * cd;
+        break;
+      }
+      if (rr > 0.0f) {
+        if (s > lo) {
+          lo = s;
+          rlo = rr;
+          if (last == 1) rhi = 0.5f * rhi;
+          last = 1;
+        }
+      } else if (s < hi) {
+        hi = s;
+        rhi = rr;
+        if (last == -1) rlo = 0.5f * rlo;
+        last = -1;
+      }
+      float dr = side * (w * c2.z - (q1 / w) * cd.z) - q2; // R'
+      ds = dr < 0.0f ? -rr / dr : rr / d2;
+    } else {
+#ifdef MASQ_CURVE_DEBUG
+      if (g_curve_debug) printf("  ball side %g k %d s %.9g phantom rho/r %.4g [%g %g]\n", side, k, s, rho / r, lo, hi);
+#endif
+      // A phantom point beyond a real end closes the bracket on that end's side.
+      if (lo >= 0.0f && s > lo && s < hi) {
+        hi = s;
+        rhi = 0.0f;
+        last = -1;
+      } else if (hi <= 1.0f && s < hi && s > lo) {
+        lo = s;
+        rlo = 0.0f;
+        last = 1;
+      }
+      ds = q2 > 0.0f ? -q1 / q2 : (q1 > 0.0f ? -0.125f : 0.125f); // closest approach
+      if (!(lo >= 0.0f && hi <= 1.0f) && fabs_(ds) * sqrt(d2) <= tol) break; // converged: a miss
+    }
+    float sn = s + min(max(ds, -0.5f), 0.5f);
+    if (lo >= 0.0f && hi <= 1.0f) { // bracketed
+      if (rlo != 0.0f && rhi != 0.0f) sn = (lo * rhi - hi * rlo) / (rhi - rlo);
+      if (!(sn > lo && sn < hi) || (k & 3) == 3) sn = 0.5f * (lo + hi);
+    }
+    sn = min(max(sn, 0.0f), 1.0f);
+    if (!(sn != s)) break; // stuck at an end (or NaN)
+    s = sn;
+  }
+  return rt;
+}
+
+// Third start of the robust chains: the sample (of MASQ_CURVE_SEEDS + 1) where the
+// curve passes closest to the ray line (smallest |C_xy(s)|). The line meets the solid
+// iff min_s |C_xy(s)| <= r, so the crossings are near there, wherever the ends'
+// tangents point (from an end, a bent curve can send the iteration the wrong way).
+FN float curve_seed(CurveFrame f) {
+  vec3 a1 = 3.0f * (f.b1 - f.b0);
+  vec3 a2 = 3.0f * ((f.b2 - f.b1) - (f.b1 - f.b0));
+  vec3 a3 = (f.b3 - f.b0) + 3.0f * (f.b1 - f.b2);
+  float h = 1.0f / (MASQ_CURVE_SEEDS * 1.0f);
+  float qm = inf_();
+  float sm = 0.0f;
+  float fj = 0.0f; // sample index as a float (no casts in the dialect)
+  for (int j = 0; j <= MASQ_CURVE_SEEDS; ++j) {
+    float s = fj * h;
+    fj += 1.0f;
+    float x = f.b0.x + s * (a1.x + s * (a2.x + s * a3.x));
+    float y = f.b0.y + s * (a1.y + s * (a2.y + s * a3.y));
+    float q = x * x + y * y;
+    if (q < qm) {
+      qm = q;
+      sm = s;
+    }
+  }
+  return sm;
 }
 
 // The paper's chain: steps clamped to 0.5; on a sign change regula falsi between the
@@ -344,12 +477,29 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
   // Exit chains only when the origin (at tlo) may be inside the solid.
   float zlo = (tlo - ts) * dl;
   int maybe_inside = dot(pp, pp) + zlo * zlo <= rb2 ? 1 : 0;
-  if (sc > 0.0f) {
+#ifdef MASQ_CURVE_DEBUG
+  if (g_curve_debug) printf(" robust %d ts %g dl %g zlo %g inside %d r %g b0 %g %g %g b3 %g %g %g\n", robust, ts, dl, zlo, maybe_inside, r, f.b0.x, f.b0.y, f.b0.z, f.b3.x, f.b3.y, f.b3.z);
+#endif
+  if (sc > 0.0f && robust != 0) {
+    float sd = curve_seed(f);
+    for (int k = 0; k < 6; ++k) {
+      if (k >= 3 && maybe_inside == 0) break;
+      float s0 = k % 3 == 0 ? sd : (k % 3 == 1 ? 0.0f : 1.0f);
+      float side = k < 3 ? -1.0f : 1.0f;
+#if BALL
+      CurveRoot rt = curve_chain_ball(f, s0, side, MASQ_CURVE_TOL * r);
+#else
+      CurveRoot rt = curve_chain(f, s0, side, MASQ_CURVE_TOL * r);
+#endif
+      if (rt.found != 0) best = curve_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
+    }
+  }
+  if (sc > 0.0f && robust == 0) {
     for (int k = 0; k < 4; ++k) {
       if (k >= 2 && maybe_inside == 0) break;
       float s0 = (k & 1) == 0 ? 0.0f : 1.0f;
       float side = k < 2 ? -1.0f : 1.0f;
-      CurveRoot rt = robust != 0 ? curve_chain(f, s0, side, MASQ_CURVE_TOL * r) : curve_chain_fast(f, s0, side);
+      CurveRoot rt = curve_chain_fast(f, s0, side);
       if (rt.found != 0) best = curve_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
     }
   }

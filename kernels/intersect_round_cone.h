@@ -17,8 +17,8 @@
 //  1. origin relative to the centre formed as (o - a) - ba/2, then shifted along the
 //     ray to its closest approach p to the centre: every quantity is of the size of
 //     the primitive, not of its distance;
-//  2. axis frame: p = pr + z0' w, d = dr + da w (pr, dr radial); with c = cos th,
-//     s = sin th, k = ra - s z0 (z0 = axial coordinate of p from a) and m = s da, the
+//  2. axis frame: p = pr + pa w, d = dr + da w (pr, dr radial); with c = cos th,
+//     s = sin th, k = ra - s z0 (z0 = pa + L/2: axial coordinate of p from a), m = s da, the
 //     side is c^2 |pr + t dr|^2 = (k - m t)^2, i.e. A t^2 + 2 B t + C = 0 with
 //       A = (c|dr| - m)(c|dr| + m),  B = c^2 pr.dr + k m,  C = (c|pr| - k)(c|pr| + k);
 //  3. the discriminant in factored form: expanding,
@@ -27,13 +27,32 @@
 //     which holds at any origin on the ray (for m = 0, s = 0 it is the capsule's
 //     (r - |v|)(r + |v|) |dr|^2); X - cY is the genuine silhouette quantity, not a
 //     difference of two squares of the size of the primitive's length;
-//  4. stable roots q = -(B + sign(B) sqrt(disc)), t0 = q/A, t1 = C/q (A may be 0 or
-//     negative: a ray steeper than the cone meets both nappes; the range test sorts
-//     them out); spheres as in the robust capsule's caps;
-//  5. dot(d,d) carried; the self-intersection window applied (prim_hit.h; centre =
-//     midpoint of a and b, r = max(ra, rb)); a seam tolerance (MASQ_CAPSULE_SEAM) lets
-//     side and sphere hits overlap slightly at the tangency circles so rounding cannot
-//     open a gap (the surfaces are tangent there).
+//  4. stable roots q = -(B + sign(B) sqrt(disc)), s0 = q/A, s1 = C/q. Where the ray
+//     is inside the solid cone is read off the sign of A, not from tests on the
+//     roots: A > 0, between the roots; A < 0 (a ray steeper than the cone meets both
+//     nappes), the half-line on the slab's nappe, s <= both roots if m > 0 (k - m s
+//     grows towards s = -inf) and s >= both if m < 0; A = 0, the half-line where
+//     2 B s + C <= 0. So a root that passes infinity as A changes sign (a ray parallel
+//     to a generator) or a pair that meets at the apex (a ray through the point end
+//     of rb = 0) changes nothing discontinuously;
+//  5. pieces as intervals, not as surface patches. The solid is the union of three
+//     convex pieces: the truncated solid cone T = {inside the cone, za <= z <= zb} and
+//     the two balls. The ray's interval in T is the slab's interval [(za - z0)/da,
+//     (zb - z0)/da] cut by the cone's; each ball gives its chord. The solid is convex,
+//     so its interval is [min, max] of the three, and its entry (or, from inside, its
+//     exit) is the hit. No range test on a root's z: for a ray nearly parallel to the
+//     axis z is ill-conditioned (a lateral rounding error e moves it by e / angle, up
+//     to r at L/r = 1e4), and near a tangency circle such a test rejected side roots
+//     while the grazed sphere was missed too, losing rays that clearly cross the
+//     solid. Clipped by the slab, T's interval ends on the slab plane instead, inside
+//     the ball, so a ball missed by rounding leaves an end within rounding of the
+//     surface;
+//  6. the normal is chosen by where the point lies (z <= za: ball a, z >= zb: ball b,
+//     else the side), not by which piece's crossing was nearest: near a tangency
+//     circle the pieces' crossings agree to second order in the distance from it, so
+//     the nearest is a coin toss there while the normals differ to first order;
+//  7. dot(d,d) carried; the self-intersection window applied (prim_hit.h; centre =
+//     midpoint of a and b, r = max(ra, rb)).
 // Fast: Quilez's "rounded cone" intersector (iquilezles.org) as written, adapted to
 // non-unit d (dd in the t^2 terms), both roots and exposure tests for the spheres (a
 // ray starting inside reports its exit), and the contained-sphere case.
@@ -67,20 +86,17 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
   float len = length(ba);
   if (!(len > fabs_(ra - rb))) {
     // One sphere contains the other (or zero length): the bigger sphere.
-    PrimHit hs = sphere_hit_robust(ra >= rb ? oa : oa - ba, rmax, d, dd, tlo, tmax);
+    PrimHit hs = sphere_hit_robust(ra >= rb ? oa : o - V3(rc.b), rmax, d, dd, tlo, tmax);
     hs.u = ra >= rb ? 0.0f : 1.0f;
     return hs;
   }
   vec3 w = ba / len;
   float h = 0.5f * len;
   float sn = (ra - rb) / len;
-  float cs = sqrt((1.0f - sn) * (1.0f + sn));
+  float cs = sqrt(max((1.0f - sn) * (1.0f + sn), 0.0f)); // |sn| < 1 unless division rounds up
   float za = ra * sn;
   float zb = len + rb * sn;
-  float seam = MASQ_CAPSULE_SEAM * (h + rmax);
 
-  PrimHit res = prim_miss();
-  res.t = tmax;
   // 1. closest approach to the centre: t = ts + s.
   float ts = -dot(oc, d) / dd;
   vec3 p = oc + ts * d;
@@ -100,21 +116,56 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
   float X = length(k * dr + m * pr);
   float Y = length(cross(pr, dr));
   float disc = (X - cs * Y) * (X + cs * Y);
-  if (disc >= 0.0f) {
-    float sq = cs * sqrt(disc);
+  // 5. the ray's interval [lo, hi] (in s) in the truncated solid cone T: the slab
+  // za <= z <= zb cut down to where f = A s^2 + 2 B s + C <= 0 (on the slab that is
+  // inside the solid cone: the apex, z = ra / s, lies outside [za, zb]).
+  float lo = -inf_();
+  float hi = inf_();
+  // A > 0 and disc < 0: the line misses the cone. A <= 0 and disc < 0 is impossible
+  // (the line would lie inside both nappes without passing the apex): a ray through
+  // the apex, rounded; it is taken as passing it (disc = 0).
+  bool in_t = disc >= 0.0f || qa <= 0.0f;
+  if (da != 0.0f) {
+    float sa = (za - z0) / da;
+    float sb = (zb - z0) / da;
+    lo = min(sa, sb);
+    hi = max(sa, sb);
+  } else {
+    in_t = in_t && z0 >= za && z0 <= zb;
+  }
+  if (in_t) {
+    float sq = cs * sqrt(max(disc, 0.0f));
     float q = -(qb + (qb >= 0.0f ? sq : -sq));
-    if (q != 0.0f) {
-      for (int j = 0; j < 2; ++j) {
-        float s = j == 0 ? q / qa : qc / q;
-        float z = z0 + s * da;
-        if (z >= za - seam && z <= zb + seam) {
-          vec3 xr = pr + s * dr;
-          res = capsule_take(res, ts + s, tlo, cs * xr + (sn * length(xr)) * w, cone_u(z, len));
-        }
+    float r1 = q != 0.0f ? qc / q : 0.0f;
+    if (qa != 0.0f) {
+      float r0 = q / qa; // q = 0 (B = 0, AC = 0): the double root 0
+      if (qa > 0.0f) {
+        // f <= 0 between the roots.
+        lo = max(lo, min(r0, r1));
+        hi = min(hi, max(r0, r1));
+      } else if (m > 0.0f) {
+        // A < 0 (the ray is steeper than the cone: f <= 0 outside the roots, one
+        // half-line in each nappe); m > 0: k - m s > 0 as s -> -inf, the slab's nappe.
+        hi = min(hi, min(r0, r1));
+      } else {
+        lo = max(lo, max(r0, r1));
       }
+    } else if (qb > 0.0f) {
+      hi = min(hi, r1); // A = 0 (parallel to a generator): f = 2 B s + C
+    } else if (qb < 0.0f) {
+      lo = max(lo, r1);
+    } else {
+      in_t = qc <= 0.0f; // f = C: along a cylinder's axis (sn = 0, dr = 0)
     }
   }
-  // Spheres, each on its exposed part only.
+  // Union with the two balls: the solid is convex, so its interval is [min, max] of the
+  // pieces' intervals (each piece lies inside the solid: no exposure tests needed).
+  float s_in = inf_();
+  float s_out = -inf_();
+  if (in_t && lo <= hi) {
+    s_in = lo;
+    s_out = hi;
+  }
   for (int e = 0; e < 2; ++e) {
     float rs = e == 0 ? ra : rb;
     vec3 pc = p - (e == 0 ? -h : h) * w;
@@ -124,15 +175,35 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
     float sdisc = (rs - lv) * (rs + lv);
     if (rs > 0.0f && sdisc >= 0.0f) {
       float sq = sqrt(sdisc / dd);
-      for (int j = 0; j < 2; ++j) {
-        float s = j == 0 ? s0 - sq : s0 + sq;
-        float z = z0 + s * da;
-        if (e == 0 ? z <= za + seam : z >= zb - seam)
-          res = capsule_take(res, ts + s, tlo, pc + s * d, cone_u(z, len));
-      }
+      s_in = min(s_in, s0 - sq);
+      s_out = max(s_out, s0 + sq);
     }
   }
-  if (res.hit == 0) return prim_miss();
+  // Nearest boundary crossing in the window: the entry, or the exit from inside.
+  PrimHit res = prim_miss();
+  if (!(s_in <= s_out)) return res;
+  float t_in = ts + s_in;
+  float t_out = ts + s_out;
+  bool take_in = t_in >= tlo && t_in <= tmax;
+  if (!take_in && !(t_out >= tlo && t_out <= tmax)) return res;
+  float s = take_in ? s_in : s_out;
+  float z = z0 + s * da;
+  // 6. the normal of the surface part the point lies on, chosen by z (near a seam the
+  // pieces' crossings nearly coincide, so which piece gave s says little).
+  vec3 nrm;
+  if (z <= za && ra > 0.0f) {
+    nrm = (p + h * w) + s * d;
+  } else if (z >= zb && rb > 0.0f) {
+    nrm = (p - h * w) + s * d;
+  } else {
+    vec3 xr = pr + s * dr;
+    nrm = cs * xr + (sn * length(xr)) * w;
+  }
+  if (!(dot(nrm, nrm) > 0.0f)) nrm = z >= zb ? w : -w; // on the axis at a point end
+  res.hit = 1;
+  res.t = take_in ? t_in : t_out;
+  res.normal = nrm;
+  res.u = cone_u(z, len);
   return res;
 }
 

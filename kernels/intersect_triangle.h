@@ -2,7 +2,8 @@
 // ray's frame so that adjacent triangles share edge functions exactly; no ray slips
 // through a shared edge or vertex. Crossings closer than the self-intersection window
 // (prim_hit.h, r = 0, centre v0) are ignored, so a ray leaving a triangle does not
-// report it again. intersect_triangle_fast: Moller-Trumbore (not watertight, no window).
+// report it again.
+// intersect_triangle_fast: Moller-Trumbore (not watertight, no window).
 #ifndef MASQ_KERNEL_INTERSECT_TRIANGLE_H
 #define MASQ_KERNEL_INTERSECT_TRIANGLE_H
 #include "prim_hit.h"
@@ -25,7 +26,6 @@ FN PrimHit intersect_triangle(Triangle tri, vec3 o, vec3 d, float tmin, float tm
   }
   float sx = vcomp(d, kx) / dz;
   float sy = vcomp(d, ky) / dz;
-  float sz = 1.0f / dz;
   vec3 a = V3(tri.v0) - o;
   vec3 b = V3(tri.v1) - o;
   vec3 c = V3(tri.v2) - o;
@@ -41,6 +41,7 @@ FN PrimHit intersect_triangle(Triangle tri, vec3 o, vec3 d, float tmin, float tm
   if ((eu < 0.0f || ev < 0.0f || ew < 0.0f) && (eu > 0.0f || ev > 0.0f || ew > 0.0f)) return res;
   float det = eu + ev + ew;
   if (det == 0.0f) return res;
+  float sz = 1.0f / dz;
   float az = sz * vcomp(a, kz);
   float bz = sz * vcomp(b, kz);
   float cz = sz * vcomp(c, kz);
@@ -53,12 +54,20 @@ FN PrimHit intersect_triangle(Triangle tri, vec3 o, vec3 d, float tmin, float tm
     ew = -ew;
   }
   if (!(tt >= tlo * det && tt <= tmax * det)) return res;
+  // A ray starting on the triangle's plane (within 16u of |o - v0| + |v0|: the
+  // rounding of a hit point spawned there, whose coordinates are as large as v0's)
+  // cannot cross that plane again; oblique rays would otherwise re-hit it beyond the t
+  // window (the error in t grows as 1/cos of the angle to the normal, the plane
+  // distance does not).
+  vec3 nrm = cross(V3(tri.v1) - V3(tri.v0), V3(tri.v2) - V3(tri.v0));
+  vec3 ov = o - V3(tri.v0);
+  if (fabs_(dot(ov, nrm)) <= 16.0f * MASQ_U * (length(ov) + length(V3(tri.v0))) * length(nrm)) return res;
   float inv_det = 1.0f / det;
   res.hit = 1;
   res.t = tt * inv_det;
   res.u = ev * inv_det;
   res.v = ew * inv_det;
-  res.normal = cross(V3(tri.v1) - V3(tri.v0), V3(tri.v2) - V3(tri.v0));
+  res.normal = nrm;
   return res;
 }
 

@@ -54,9 +54,35 @@ void main() {
   if (params.has_tlas != 0 && ray_is_valid(wo, wd, ray.tmin, ray.tmax) && tmin <= tmax) {
     Nearest gen = best; // the last generated (procedural) hit
     rayQueryEXT rq;
-    rayQueryInitializeEXT(rq, tlas, gl_RayFlagsNoneEXT, 0xFF, wo, tmin, wd, tmax);
+    // Robust mode: triangles are non-opaque, so each triangle candidate comes here and
+    // the same watertight intersector as every other backend (with its self-intersection
+    // rules) decides it; fast mode lets the driver commit triangles itself.
+    rayQueryInitializeEXT(rq, tlas, MASQ_ROBUST ? gl_RayFlagsNoOpaqueEXT : gl_RayFlagsNoneEXT, 0xFF, wo, tmin, wd,
+                          tmax);
     while (rayQueryProceedEXT(rq)) {
-      if (rayQueryGetIntersectionTypeEXT(rq, false) != gl_RayQueryCandidateIntersectionAABBEXT) continue;
+      uint candidate = rayQueryGetIntersectionTypeEXT(rq, false);
+      if (candidate == gl_RayQueryCandidateIntersectionTriangleEXT) {
+        Instance inst = instances[rayQueryGetIntersectionInstanceCustomIndexEXT(rq, false)];
+        int prim = mapped_prim(inst.geom, rayQueryGetIntersectionPrimitiveIndexEXT(rq, false));
+        float tcur = rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionNoneEXT
+                         ? rayQueryGetIntersectionTEXT(rq, true)
+                         : tmax;
+        if (MASQ_STATS) st.isect_calls = st.isect_calls + 1;
+        PrimHit ph = intersect_primitive(geoms[inst.geom], prim, rayQueryGetIntersectionObjectRayOriginEXT(rq, false),
+                                         rayQueryGetIntersectionObjectRayDirectionEXT(rq, false), tmin, tcur);
+        if (ph.hit != 0 && (gen.prim < 0 || ph.t <= gen.t)) {
+          rayQueryConfirmIntersectionEXT(rq);
+          gen.t = ph.t;
+          gen.prim = prim;
+          gen.geom = inst.geom;
+          gen.inst = inst.scene_inst;
+          gen.normal = ph.normal;
+          gen.u = ph.u;
+          gen.v = ph.v;
+        }
+        continue;
+      }
+      if (candidate != gl_RayQueryCandidateIntersectionAABBEXT) continue;
       Instance inst = instances[rayQueryGetIntersectionInstanceCustomIndexEXT(rq, false)];
       int prim;
       vec3 o;
@@ -90,6 +116,8 @@ void main() {
     uint committed = rayQueryGetIntersectionTypeEXT(rq, true);
     if (committed == gl_RayQueryCommittedIntersectionGeneratedEXT) {
       best = gen;
+    } else if (committed == gl_RayQueryCommittedIntersectionTriangleEXT && MASQ_ROBUST) {
+      best = gen; // confirmed in the loop by our own intersector
     } else if (committed == gl_RayQueryCommittedIntersectionTriangleEXT) {
       Instance inst = instances[rayQueryGetIntersectionInstanceCustomIndexEXT(rq, true)];
       int prim = mapped_prim(inst.geom, rayQueryGetIntersectionPrimitiveIndexEXT(rq, true));

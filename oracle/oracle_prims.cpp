@@ -4,9 +4,12 @@
 //    end spheres; round cone: the tangent cone of the two spheres plus their outer caps;
 //    curve: the swept-sphere union solved over the curve parameter; triangle:
 //    Moller-Trumbore.
-//  - Every quadratic is solved with the ray re-based at its closest approach to the
-//    primitive's centre, so its constant term lives on the primitive's scale rather
-//    than the distance travelled, and with the cancellation-free root pair.
+//  - Every quadratic is solved with the ray re-based near the primitive (spheres: the
+//    closest approach to the centre; capsule and cone: to the axis, within the solid's
+//    axial extent), so its terms live on the primitive's scale rather than the distance
+//    travelled or the length, and with the cancellation-free root pair.
+//  - Clearance of spheres, capsules and cones is the exact gap between the ray segment
+//    and the solid (closed form, see linear_core_gap); curves: see oracle_curve.
 //  - Convex solids (sphere, capsule, cone): the ray meets the boundary at its entry and
 //    exit, so the crossing interval is [min, max] of the boundary crossings found
 //    (pieces meet at seams; a seam tolerance of 1e-12 of the size keeps both pieces'
@@ -114,6 +117,25 @@ Based base_at(Vld o, Vld d, Vld c) {
   return {o + t0 * d, t0};
 }
 
+// For a solid of revolution about the axis a + y w (|w| = 1) spanning y in [ylo, yhi]:
+// the ray re-based at its closest approach to the axis line, kept inside that slab.
+// Based at the centre alone, a ray meeting a long thin solid near one end would solve a
+// quadratic whose terms are (L / r)^2 larger than their difference.
+Based base_at_axis(Vld o, Vld d, Vld a, Vld w, ld ylo, ld yhi) {
+  Based b = base_at(o, d, a + (0.5L * (ylo + yhi)) * w);
+  Vld x = b.o - a;
+  ld y = dot(x, w), dw = dot(d, w);
+  Vld xp = x - y * w, dp = d - dw * w;
+  ld dp2 = dot(dp, dp);
+  if (dp2 == 0) return b;
+  ld tau = -dot(xp, dp) / dp2;
+  if (dw != 0) {
+    ld t1 = (ylo - y) / dw, t2 = (yhi - y) / dw;
+    tau = std::clamp(tau, std::min(t1, t2), std::max(t1, t2));
+  }
+  return {b.o + tau * d, b.t0 + tau};
+}
+
 // Ray parameters where o + t d crosses the sphere (c, r).
 int sphere_roots(Vld c, ld r, Vld o, Vld d, ld out[2]) {
   Based b = base_at(o, d, c);
@@ -124,32 +146,39 @@ int sphere_roots(Vld c, ld r, Vld o, Vld d, ld out[2]) {
   return n;
 }
 
-// Distance between the ray segment [tmin, tmax] and the segment [a, b] (exact: the
-// interior stationary point and the four edges of the parameter rectangle).
-std::pair<ld, ld> segment_distance(Vld a, Vld b, const PrimRay& ray) {
-  Vld o = ray.o, d = ray.d, ba = b - a, w0 = o - a;
-  ld dd = dot(d, d), baba = dot(ba, ba), bard = dot(ba, d), baw = dot(ba, w0), dw = dot(d, w0);
-  ld best = kInf, best_t = kInf;
-  auto consider = [&](ld t, ld s) {
-    ld dist = len(w0 + t * d - s * ba);
-    if (dist < best) {
-      best = dist;
-      best_t = t;
-    }
-  };
-  auto clamp_t = [&](ld t) { return std::clamp(t, ray.tmin, ray.tmax); };
-  consider(clamp_t(-dw / dd), 0);
-  if (baba > 0) {
-    consider(clamp_t((bard - dw) / dd), 1);
-    for (ld t : {ray.tmin, ray.tmax})
-      if (std::isfinite(t)) consider(t, clamp01((baw + t * bard) / baba));
-    ld denom = dd * baba - bard * bard;
-    if (denom > 0) {
-      ld t = (bard * baw - baba * dw) / denom, s = (dd * baw - bard * dw) / denom;
-      if (s >= 0 && s <= 1 && t >= ray.tmin && t <= ray.tmax) consider(t, s);
-    }
+// argmin over s in [0,1] of |u0 + s u1| + k s: convex (a norm of an affine function
+// plus a linear term). Unconstrained, |u0 + s u1| = sqrt(A x^2 + h^2) with A = |u1|^2,
+// x = s - s0 (s0 the foot of the perpendicular, h its distance); the derivative
+// A x / sqrt(A x^2 + h^2) + k vanishes at x = -k h / sqrt(A (A - k^2)) when k^2 < A, and
+// otherwise has the sign of k throughout.
+ld argmin_norm_plus_linear(Vld u0, Vld u1, ld k) {
+  ld A = dot(u1, u1);
+  if (A == 0 || k * k >= A) return k > 0 ? 0 : (k < 0 ? 1 : 0);
+  ld s0 = -dot(u0, u1) / A;
+  if (k == 0) return clamp01(s0);
+  return clamp01(s0 - k * len(u0 + s0 * u1) / std::sqrt(A * (A - k * k)));
+}
+
+// Clearance of a solid that is the union over s in [0,1] of the balls
+// (a + s (b - a), ra + s (rb - ra)) (spheres, capsules, round cones):
+//   G = min over s in [0,1], t in [tmin, tmax] of |o + t d - c(s)| - r(s),
+// exactly the distance from the ray segment to the solid when the ray misses it
+// (negative, a penetration depth, when it enters it). G is jointly convex in (s, t);
+// its minimiser over all t has t at the foot of the perpendicular from c(s), and if that
+// foot lies beyond tmin or tmax the constrained minimiser lies on that bound (convexity),
+// where it is a point-to-core problem of the same form. Returns {G, t at the minimiser}.
+std::pair<ld, ld> linear_core_gap(Vld a, ld ra, Vld b, ld rb, const PrimRay& ray) {
+  Vld o = ray.o, d = ray.d, ab = b - a, w0 = a - o; // c(s) - o = w0 + s ab
+  ld inv_dd = 1 / dot(d, d), k = ra - rb;          // -r(s) = -ra + s k
+  ld w0d = dot(w0, d) * inv_dd, abd = dot(ab, d) * inv_dd;
+  Vld u0 = w0 - w0d * d, u1 = ab - abd * d;
+  ld s = argmin_norm_plus_linear(u0, u1, k);
+  ld t = w0d + s * abd;
+  if (t < ray.tmin || t > ray.tmax) {
+    t = t < ray.tmin ? ray.tmin : ray.tmax;
+    s = argmin_norm_plus_linear(w0 - t * d, ab, k);
   }
-  return {best, best_t};
+  return {len(w0 + s * ab - t * d) - (ra - s * k), t};
 }
 
 // Minimum of a unimodal function over [lo, hi] by golden section: (argmin, min).
@@ -176,31 +205,6 @@ std::pair<ld, ld> golden_min(Fn fn, ld lo, ld hi, ld rel_width) {
   return f1 <= f2 ? std::pair{x1, f1} : std::pair{x2, f2};
 }
 
-// Clearance of a solid that is the union over s in [0,1] of the balls
-// (a + s (b - a), ra + s (rb - ra)) (capsules and round cones): the minimum over s of
-// distance(ray segment, centre(s)) - radius(s) is exactly the distance from the ray
-// segment to the solid when the ray misses it (negative, a penetration depth, when it
-// enters it). The function is convex in s (distance from a linearly moving point to a
-// segment, minus a linear term), so golden section finds it. Relative to max(ra, rb).
-void linear_core_clearance(Vld a, ld ra, Vld b, ld rb, const PrimRay& ray, PrimResult& res) {
-  auto g = [&](ld s, ld* t_near) {
-    Vld q = a + s * (b - a);
-    auto [dist, t] = segment_distance(q, q, ray);
-    if (t_near != nullptr) *t_near = t;
-    return dist - (ra + s * (rb - ra));
-  };
-  auto [s, v] = golden_min([&](ld x) { return g(x, nullptr); }, 0, 1, 1e-15L);
-  for (ld e : {ld(0), ld(1)}) {
-    ld ve = g(e, nullptr);
-    if (ve < v) {
-      v = ve;
-      s = e;
-    }
-  }
-  g(s, &res.t_near);
-  res.clearance = std::fabs(v) / std::max(ra, rb);
-}
-
 Hull sphere_hull(Vld c, ld r, Vld o, Vld d, ld u) {
   Hull h;
   ld rt[2];
@@ -214,9 +218,11 @@ Hull sphere_hull(Vld c, ld r, Vld o, Vld d, ld u) {
 Hull capsule_hull(Vld a, Vld b, ld r, const PrimRay& ray) {
   Hull h;
   Vld d = ray.d;
-  Based base = base_at(ray.o, d, 0.5L * (a + b));
-  Vld ba = b - a, oa = base.o - a;
-  ld baba = dot(ba, ba), bard = dot(ba, d), baoa = dot(ba, oa), L = std::sqrt(baba);
+  Vld ba = b - a;
+  ld baba = dot(ba, ba), L = std::sqrt(baba);
+  Based base = baba > 0 ? base_at_axis(ray.o, d, a, (1 / L) * ba, -r, L + r) : base_at(ray.o, d, a);
+  Vld oa = base.o - a;
+  ld bard = dot(ba, d), baoa = dot(ba, oa);
   ld tol = kSeam * (L + r) * L; // in units of y = ba . x
   ld rt[2];
   if (baba > 0) {
@@ -252,8 +258,8 @@ Hull cone_hull(Vld a, ld ra, Vld b, ld rb, const PrimRay& ray) {
   ld L = len(ab), rmax = std::max(ra, rb), rmin = std::min(ra, rb);
   if (L + rmin <= rmax) return ra >= rb ? sphere_hull(a, ra, ray.o, d, 0) : sphere_hull(b, rb, ray.o, d, 1);
   Hull h;
-  Based base = base_at(ray.o, d, 0.5L * (a + b));
   Vld w = (1 / L) * ab;
+  Based base = base_at_axis(ray.o, d, a, w, -rmax, L + rmax);
   ld s = (ra - rb) / L, c2 = (1 - s) * (1 + s), c = std::sqrt(c2);
   Vld x0 = base.o - a;
   ld y0 = dot(x0, w), dw = dot(d, w);
@@ -393,18 +399,23 @@ struct SInterval {
 
 ld self_window_t(ld radius, Vld o_minus_centre, ld dd) {
   const ld rel = 1.0L / 1024, u = 1.0L / 16777216;
-  return (rel * std::max<ld>(radius, 0) + 8 * u * len(o_minus_centre)) / std::sqrt(dd);
+  return (rel * std::max<ld>(radius, 0) + 32 * u * len(o_minus_centre)) / std::sqrt(dd);
 }
+
+// Clearance first: it is the exact gap between the ray segment and the solid, so a
+// clearly positive gap means no crossing in [tmin, tmax] and the crossing solve is
+// skipped (most primitive/ray pairs of a brute-force scene trace).
+bool gap_clear(ld gap, ld r) { return gap > 1e-8L * r; }
 
 PrimResult oracle_sphere(const SpherePrim& p, const PrimRay& ray) {
   PrimResult res;
   ld r = nonneg(p.radius);
   if (!valid(ray) || r == 0) return res;
   Vld c = from(p.center);
-  select_hull(sphere_hull(c, r, ray.o, ray.d, 0), ray, r, c, res);
-  auto [dist, t] = segment_distance(c, c, ray);
-  res.clearance = std::fabs(dist - r) / r;
+  auto [gap, t] = linear_core_gap(c, r, c, r, ray);
+  res.clearance = std::fabs(gap) / r;
   res.t_near = t;
+  if (!gap_clear(gap, r)) select_hull(sphere_hull(c, r, ray.o, ray.d, 0), ray, r, c, res);
   return res;
 }
 
@@ -413,20 +424,23 @@ PrimResult oracle_capsule(const CapsulePrim& p, const PrimRay& ray) {
   ld r = nonneg(p.radius);
   if (!valid(ray) || r == 0) return res;
   Vld a = from(p.a), b = from(p.b);
-  select_hull(capsule_hull(a, b, r, ray), ray, r, 0.5L * (a + b), res);
-  auto [dist, t] = segment_distance(a, b, ray);
-  res.clearance = std::fabs(dist - r) / r;
+  auto [gap, t] = linear_core_gap(a, r, b, r, ray);
+  res.clearance = std::fabs(gap) / r;
   res.t_near = t;
+  if (!gap_clear(gap, r)) select_hull(capsule_hull(a, b, r, ray), ray, r, 0.5L * (a + b), res);
   return res;
 }
 
+// Clearance relative to max(ra, rb).
 PrimResult oracle_round_cone(const RoundConePrim& p, const PrimRay& ray) {
   PrimResult res;
   ld ra = nonneg(p.ra), rb = nonneg(p.rb), rmax = std::max(ra, rb);
   if (!valid(ray) || rmax == 0) return res;
   Vld a = from(p.a), b = from(p.b);
-  select_hull(cone_hull(a, ra, b, rb, ray), ray, rmax, 0.5L * (a + b), res);
-  linear_core_clearance(a, ra, b, rb, ray, res);
+  auto [gap, t] = linear_core_gap(a, ra, b, rb, ray);
+  res.clearance = std::fabs(gap) / rmax;
+  res.t_near = t;
+  if (!gap_clear(gap, rmax)) select_hull(cone_hull(a, ra, b, rb, ray), ray, rmax, 0.5L * (a + b), res);
   return res;
 }
 
@@ -572,8 +586,10 @@ PrimResult oracle_curve(const CurvePrim& p, const PrimRay& ray) {
       best_t = tc;
     }
   }
+  ld hull_radius = 0; // the curve lies in the control points' hull, so in this ball about centre
+  for (const Vld& q : P) hull_radius = std::max(hull_radius, len(q - centre));
   for (ld te : {ray.tmin, ray.tmax}) {
-    if (!std::isfinite(te)) continue;
+    if (!std::isfinite(te) || len((o + te * d) - centre) - hull_radius >= best) continue;
     Cubic V = W; // C(s) - (o + te d) = W(s) + (T(s) - te) d
     for (int i = 0; i < 4; ++i) V.c[i] = V.c[i] + (T[i] - (i == 0 ? te : 0)) * d;
     ld vn[8];
@@ -596,6 +612,10 @@ PrimResult oracle_triangle(const glm::vec3& v0, const glm::vec3& v1, const glm::
   if (!valid(ray)) return res;
   Vld p0 = from(v0), p1 = from(v1), p2 = from(v2), o = ray.o, d = ray.d;
   Vld e1 = p1 - p0, e2 = p2 - p0;
+  // A triangle without area (coincident or collinear vertices) has no surface. The
+  // cross product of fp32 differences is exact in long double, so this test is exact.
+  Vld area = cross(e1, e2);
+  if (area.x == 0 && area.y == 0 && area.z == 0) return res;
   Vld pv = cross(d, e2);
   ld det = dot(e1, pv);
   if (det == 0) return res;
@@ -606,8 +626,17 @@ PrimResult oracle_triangle(const glm::vec3& v0, const glm::vec3& v1, const glm::
   ld t = dot(e2, qv) / det;
   ld w = 1 - u - v;
   if (!(t >= ray.tmin && t <= ray.tmax)) return res;
-  res.clearance = std::min({std::fabs(u), std::fabs(v), std::fabs(w)});
+  // Clearance: the smallest barycentric, times the sine of the angle between ray and
+  // plane. Seen along the ray, the triangle is a sliver that thin, so this is the
+  // ray's distance to the nearest edge perpendicular to the ray, relative to the
+  // triangle's size: what fp32 rounding of the ray's position competes with.
+  const ld sin_angle = std::fabs(dot(d, area)) / (len(d) * len(area));
+  res.clearance = std::min({std::fabs(u), std::fabs(v), std::fabs(w)}) * sin_angle;
   res.t_near = t;
+  // The kernels' plane rule: an origin on the triangle's plane (within 16u of
+  // |o - v0| + |v0|) never hits the triangle.
+  const ld plane_tol = 16.0L / 16777216.0L * (len(tv) + len(p0)) * len(area);
+  if (std::fabs(dot(tv, area)) <= plane_tol) return res;
   if (u >= 0 && v >= 0 && w >= 0 && t >= self_window_t(0, tv, dot(d, d))) {
     res.hit = true;
     res.t = t;

@@ -50,7 +50,7 @@ PrimResult oracle_curve(const CurvePrim& p, const PrimRay& ray);
 PrimResult oracle_triangle(const glm::vec3& v0, const glm::vec3& v1, const glm::vec3& v2, const PrimRay& ray);
 
 // The self-intersection window every intersector applies:
-//   t_self = (2^-10 * radius + 8 * 2^-24 * |o - centre|) / sqrt(dd),  dd = dot(d, d).
+//   t_self = (2^-10 * radius + 32 * 2^-24 * |o - centre|) / sqrt(dd),  dd = dot(d, d).
 ld self_window_t(ld radius, Vld o_minus_centre, ld dd);
 
 } // namespace masq::oracle

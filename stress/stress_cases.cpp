@@ -223,7 +223,7 @@ Built build_scene(const CellSpec& c, Rng& rng) {
         break;
       case PrimType::Triangle: {
         glm::dvec3 v0 = a, v1 = e, v2 = centre + 0.8 * L * m;
-        if (c.degenerate == "collinear") v2 = centre;
+        if (c.degenerate == "collinear") v2 = v1; // two coincident vertices: no area
         unsigned base = unsigned(g.vertices.size());
         for (const glm::dvec3& v : {v0, v1, v2}) g.vertices.push_back(glm::vec3(v));
         g.triangles.push_back({base, base + 1, base + 2});

@@ -159,6 +159,7 @@ nlohmann::json stress_json(const StressReport& r) {
     e["max_normal_deg"] = m.max_normal_deg;
     e["mean_normal_deg"] = m.mean_normal_deg();
     e["trace_seconds"] = m.trace_seconds;
+    if (!m.example.empty()) e["first_disagreement"] = m.example;
     for (int k = 0; k < kRayKinds; ++k) {
       e["by_kind"][ray_kind_name(RayKind(k))] = {{"rays", m.rays_by_kind[std::size_t(k)]},
                                                  {"disagree", m.disagree_by_kind[std::size_t(k)]}};
@@ -175,7 +176,8 @@ std::string stress_failures(const StressReport& r, double max_rate) {
     if (c.m.rate() > max_rate || c.m.false_culls > 0 || c.m.self_hits > 0)
       out += fmt::format("{} {} {} {}: rate {} ({} of {}), false culls {}, self hits {}\n", c.backend,
                          prim_type_key(c.spec.type), c.spec.label, method_name(c.method), rate_str(c.m.rate()),
-                         c.m.disagree, c.m.compared, c.m.false_culls, c.m.self_hits);
+                         c.m.disagree, c.m.compared, c.m.false_culls, c.m.self_hits) +
+             (c.m.example.empty() ? "" : "    first: " + c.m.example + "\n");
   }
   return out;
 }

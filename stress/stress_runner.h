@@ -17,10 +17,13 @@ struct Metrics {
   std::size_t disagree = 0;   // hit/miss differs, or a different surface (|dt| > r)
   std::size_t self_hits = 0;  // surface-start rays that re-hit their origin (|t d| < r/100)
   std::size_t false_culls = 0; // masq: ref hits on the same backend and mode, masq does not
-  double max_dt = 0, sum_dt = 0; // |dt| * |d| / r over agreeing hits
+  // |dt| * |d| / r and normal error over agreeing, well-conditioned hits (origin
+  // perturbations within the band move the hit by less than r / 1000).
+  double max_dt = 0, sum_dt = 0;
   std::size_t dt_count = 0;
   double max_normal_deg = 0, sum_normal_deg = 0;
   double trace_seconds = 0;
+  std::string example; // the first disagreement, for reproduction
   std::array<std::size_t, kRayKinds> rays_by_kind{}, disagree_by_kind{};
   double rate() const { return compared ? double(disagree) / double(compared) : 0.0; }
   double mean_dt() const { return dt_count ? sum_dt / double(dt_count) : 0.0; }

@@ -4,10 +4,11 @@
 #include "oracle/oracle.h"
 #include "oracle/oracle_prims.h"
 #include <gtest/gtest.h>
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <algorithm>
 #include <random>
 
 using namespace masq;
@@ -132,7 +133,7 @@ TEST(OracleSphere, SelfWindowOnSurface) {
   EXPECT_DOUBLE_EQ(double(h.t), 1.0);
   // A crossing just beyond the window is reported, one just inside it is not.
   ld tw = self_window_t(0.5L, {0, 0, -0.5L}, 1);
-  EXPECT_NEAR(double(tw), (0.5 / 1024 + 8 * 0.5 / 16777216.0), 1e-18);
+  EXPECT_NEAR(double(tw), (0.5 / 1024 + 32 * 0.5 / 16777216.0), 1e-18);
   EXPECT_TRUE(oracle_sphere({{0, 0, 0}, 0.5f}, ray({0, 0, -0.5L - 1.01L * tw}, {0, 0, 1})).hit);
   PrimResult in = oracle_sphere({{0, 0, 0}, 0.5f}, ray({0, 0, -0.5L - 0.5L * tw}, {0, 0, 1}));
   ASSERT_TRUE(in.hit);
@@ -286,6 +287,20 @@ TEST(OracleRoundCone, ContainedSphereIsTheBiggerSphere) {
   PrimResult in = oracle_round_cone(c, ray({0, 0, 0}, {0, 1, 0}));
   ASSERT_TRUE(in.hit);
   EXPECT_DOUBLE_EQ(double(in.t), 1.0);
+}
+
+TEST(OracleRoundCone, ClearanceIsTheGapToTheSolid) {
+  // The line x = 0.8, z = -1 along y: the flank's outward normal there is (0.6, 0, -0.8),
+  // so the gap is 0.6 * 0.8 + 0.8 * 1 - ra = 0.28 (foot at x = 0.632, on the flank).
+  PrimResult h = oracle_round_cone(kCone, ray({0.8L, -10, -1}, {0, 1, 0}));
+  EXPECT_FALSE(h.hit);
+  EXPECT_NEAR(double(h.clearance), 0.28, 1e-7);
+  EXPECT_NEAR(double(h.t_near), 10.0, 1e-12);
+  // Past the tip along the axis, the segment ending at x = 3: the gap to ball b.
+  PrimResult e = oracle_round_cone(kCone, ray({5, 0, 0}, {-1, 0, 0}, 0, 2));
+  EXPECT_FALSE(e.hit);
+  EXPECT_NEAR(double(e.clearance), 2 - 0.4, 1e-7);
+  EXPECT_NEAR(double(e.t_near), 2.0, 0);
 }
 
 TEST(OracleRoundCone, EqualRadiiMatchCapsule) {
@@ -472,8 +487,8 @@ TEST(OracleCurve, ZeroRadiusAndInvalidRaysMiss) {
 }
 
 TEST(OracleCurve, UShapedCurveSecondEntry) {
-  // A U in the xz-plane: both arms cross the ray x = 0? No: a ray along x through both
-  // arms (at z = 0.6) enters, exits, and enters again.
+  // A U in the xz-plane; a ray along x at z = 0.9 crosses both arms: it enters, exits,
+  // and enters again. Restarting past each crossing finds the next one.
   CurvePrim c;
   c.p = {glm::vec3(-1, 0, 1), glm::vec3(-1, 0, -1), glm::vec3(1, 0, -1), glm::vec3(1, 0, 1)};
   c.radius = 0.05f;
@@ -493,72 +508,121 @@ TEST(OracleCurve, UShapedCurveSecondEntry) {
   EXPECT_GT(double(second.u), 0.8);
 }
 
-// A curved curve against the union of 20000 balls along it. The sampled union lies
-// inside the swept solid, so its first entry is never before the oracle's, and the gap
-// between neighbouring balls (~ spacing^2 / 8r) bounds how far after.
+// A curve against the union of 20000 balls along it. The sampled union lies inside the
+// swept solid, so its first entry is never before the oracle's and its first exit (from
+// a start inside) never after; the dip between neighbouring balls (spacing D: D^2 / 8r;
+// along a ray meeting the surface obliquely, which clearance >= 1e-3 limits, up to ~25
+// times that) bounds the difference.
+struct UnionStats {
+  int compared = 0, hits = 0, exits = 0;
+  double worst_entry = 0, worst_exit = 0, worst_clearance = 0;
+};
+
+void check_against_ball_union(const CurvePrim& c, std::mt19937_64& rng, int rays, UnionStats& st) {
+  std::uniform_real_distribution<float> u(-1, 1);
+  const int n = 20000;
+  std::vector<Vld> cs(n);
+  std::vector<ld> rs(n, c.radius);
+  for (int k = 0; k < n; ++k) {
+    // Long-double Bernstein evaluation.
+    ld s = ld(k) / (n - 1), w[4] = {(1 - s) * (1 - s) * (1 - s), 3 * s * (1 - s) * (1 - s), 3 * s * s * (1 - s), s * s * s};
+    for (int j = 0; j < 4; ++j) {
+      cs[k].x += w[j] * c.p[j].x;
+      cs[k].y += w[j] * c.p[j].y;
+      cs[k].z += w[j] * c.p[j].z;
+    }
+  }
+  ld spacing = 0;
+  for (int k = 1; k < n; ++k) spacing = std::max(spacing, std::sqrt(dotl(sub(cs[k], cs[k - 1]), sub(cs[k], cs[k - 1]))));
+  const double tol = double(50 * spacing * spacing / (8 * c.radius)) + 1e-12;
+  for (int i = 0; i < rays; ++i) {
+    PrimRay ry = aimed_ray(rng, bezier(c, 0.5 + 0.55 * u(rng)), c.radius);
+    PrimResult o = oracle_curve(c, ry);
+    UnionHit s = ball_union_entry(cs, rs, ry);
+    // Clearance: the sampled minimum distance from the ray (t >= 0) to the curve is never
+    // below the true one, and above it by at most half a spacing (a sample lies that
+    // close to the nearest curve point), ~spacing^2 / distance away from the curve.
+    ld sampled = kInf, dd = dotl(ry.d, ry.d);
+    for (const Vld& q : cs) {
+      ld t = std::max<ld>(0, dotl(sub(q, ry.o), ry.d) / dd);
+      Vld diff = sub(q, {ry.o.x + t * ry.d.x, ry.o.y + t * ry.d.y, ry.o.z + t * ry.d.z});
+      sampled = std::min(sampled, std::sqrt(dotl(diff, diff)));
+    }
+    ld best = c.radius * (o.hit ? 1 - o.clearance : 1 + o.clearance);
+    EXPECT_GE(double(sampled), double(best - 1e-12L)) << i;
+    EXPECT_LT(double(sampled - best), double(std::min(0.51L * spacing, spacing * spacing / best) + 1e-12L)) << i;
+    st.worst_clearance = std::max(st.worst_clearance, double((sampled - best) / c.radius));
+    if (o.clearance < 1e-3L) continue;
+    ++st.compared;
+    ASSERT_EQ(o.hit, s.t < kInf) << i;
+    if (!o.hit) continue;
+    ++st.hits;
+    ld dl = std::sqrt(dotl(ry.d, ry.d));
+    EXPECT_GE(double(s.t), double(o.t - 1e-12L)) << i;
+    EXPECT_LT(double((s.t - o.t) * dl), tol) << i;
+    st.worst_entry = std::max(st.worst_entry, double((s.t - o.t) * dl / c.radius));
+    EXPECT_GT(double(dotl(s.n, o.normal) / c.radius), 0.999) << i;
+    // u: the hit point is at distance r from C(u).
+    glm::vec3 cu = bezier(c, double(o.u));
+    Vld hp{ry.o.x + o.t * ry.d.x, ry.o.y + o.t * ry.d.y, ry.o.z + o.t * ry.d.z};
+    Vld off = sub(hp, v(cu));
+    EXPECT_NEAR(double(std::sqrt(dotl(off, off))), c.radius, 1e-5 * c.radius);
+    // The same line started inside the solid (abeam the centre of the entry ball): its exit.
+    PrimRay in = ry;
+    ld tc = dotl(sub(cs[s.ball], ry.o), ry.d) / (dl * dl);
+    in.o = {ry.o.x + tc * ry.d.x, ry.o.y + tc * ry.d.y, ry.o.z + tc * ry.d.z};
+    PrimResult x = oracle_curve(c, in);
+    ld ex = ball_union_exit(cs, rs, in);
+    ASSERT_TRUE(x.hit) << i;
+    EXPECT_LE(double(ex), double(x.t + 1e-12L)) << i;
+    EXPECT_LT(double((x.t - ex) * dl), tol) << i;
+    st.worst_exit = std::max(st.worst_exit, double((x.t - ex) * dl / c.radius));
+    ++st.exits;
+  }
+}
+
 TEST(OracleCurve, MatchesUnionOfSampledBalls) {
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<float> u(-1, 1);
-  int compared = 0, hits = 0, exits = 0;
-  double worst_entry = 0, worst_exit = 0;
+  UnionStats st;
   for (int prim = 0; prim < 8; ++prim) {
+    SCOPED_TRACE(prim);
     CurvePrim c;
     for (int k = 0; k < 4; ++k) c.p[k] = glm::vec3(u(rng), u(rng), u(rng));
     c.radius = 0.03f + 0.15f * std::abs(u(rng));
-    const int n = 20000;
-    std::vector<Vld> cs(n);
-    std::vector<ld> rs(n, c.radius);
-    for (int k = 0; k < n; ++k) {
-      // Long-double Bernstein evaluation.
-      ld s = ld(k) / (n - 1), w[4] = {(1 - s) * (1 - s) * (1 - s), 3 * s * (1 - s) * (1 - s), 3 * s * s * (1 - s), s * s * s};
-      for (int j = 0; j < 4; ++j) {
-        cs[k].x += w[j] * c.p[j].x;
-        cs[k].y += w[j] * c.p[j].y;
-        cs[k].z += w[j] * c.p[j].z;
-      }
-    }
-    // Between neighbouring balls (spacing D) the sampled surface dips by D^2 / 8r; along
-    // a ray meeting the surface obliquely (clearance >= 1e-3 limits how obliquely) by
-    // up to ~25 times that.
-    ld spacing = 0;
-    for (int k = 1; k < n; ++k) spacing = std::max(spacing, std::sqrt(dotl(sub(cs[k], cs[k - 1]), sub(cs[k], cs[k - 1]))));
-    const double tol = double(50 * spacing * spacing / (8 * c.radius)) + 1e-12;
-    for (int i = 0; i < 60; ++i) {
-      PrimRay ry = aimed_ray(rng, bezier(c, 0.5 + 0.55 * u(rng)), c.radius);
-      PrimResult o = oracle_curve(c, ry);
-      UnionHit s = ball_union_entry(cs, rs, ry);
-      if (o.clearance < 1e-3L) continue;
-      ++compared;
-      ASSERT_EQ(o.hit, s.t < kInf) << prim << " " << i;
-      if (!o.hit) continue;
-      ++hits;
-      ld dl = std::sqrt(dotl(ry.d, ry.d));
-      EXPECT_GE(double(s.t), double(o.t - 1e-12L)) << prim << " " << i;
-      EXPECT_LT(double((s.t - o.t) * dl), tol) << prim << " " << i;
-      worst_entry = std::max(worst_entry, double((s.t - o.t) * dl / c.radius));
-      EXPECT_GT(double(dotl(s.n, o.normal) / c.radius), 0.999) << prim << " " << i;
-      // u: the hit point is at distance r from C(u).
-      glm::vec3 cu = bezier(c, double(o.u));
-      Vld hp{ry.o.x + o.t * ry.d.x, ry.o.y + o.t * ry.d.y, ry.o.z + o.t * ry.d.z};
-      Vld off = sub(hp, v(cu));
-      EXPECT_NEAR(double(std::sqrt(dotl(off, off))), c.radius, 1e-5 * c.radius);
-      // The same line started inside the solid (abeam the centre of the entry ball): its exit.
-      PrimRay in = ry;
-      ld tc = dotl(sub(cs[s.ball], ry.o), ry.d) / (dl * dl);
-      in.o = {ry.o.x + tc * ry.d.x, ry.o.y + tc * ry.d.y, ry.o.z + tc * ry.d.z};
-      PrimResult x = oracle_curve(c, in);
-      ld ex = ball_union_exit(cs, rs, in);
-      ASSERT_TRUE(x.hit) << prim << " " << i;
-      EXPECT_LE(double(ex), double(x.t + 1e-12L)) << prim << " " << i;
-      EXPECT_LT(double((x.t - ex) * dl), tol) << prim << " " << i;
-      worst_exit = std::max(worst_exit, double((x.t - ex) * dl / c.radius));
-      ++exits;
+    check_against_ball_union(c, rng, 60, st);
+  }
+  std::printf("sampled-ball union vs oracle: worst entry %.3g r, exit %.3g r, clearance %.3g r (%d exits)\n",
+              st.worst_entry, st.worst_exit, st.worst_clearance, st.exits);
+  EXPECT_GT(st.compared, 350);
+  EXPECT_GT(st.hits, 150);
+}
+
+TEST(OracleCurve, DegenerateShapesMatchUnionOfSampledBalls) {
+  std::mt19937_64 rng(2);
+  const glm::vec3 A(-1, 0, 0), B(1, 0.5f, 0), C(0.2f, 1, 0.3f), D(1, -0.5f, 0.2f);
+  const float e = 1e-6f;
+  const std::array<glm::vec3, 4> shapes[] = {
+      {A, B, A, B},                                    // out and back (self-overlapping)
+      {A, A, B, B},                                    // zero tangent at both ends
+      {A, C, B, A},                                    // closed loop
+      {A, B, C, D},                                    // self-intersecting in projection
+      {A, D, B, C},                                    // cusp-like
+      {A, A + glm::vec3(e, 0, 0), A + glm::vec3(0, e, 0), A + glm::vec3(0, 0, e)}, // nearly a point
+      {A, glm::mix(A, B, 0.3f) + glm::vec3(0, 1e-4f, 0), glm::mix(A, B, 0.7f), B}, // nearly straight
+  };
+  UnionStats st;
+  int k = 0;
+  for (const auto& p : shapes) {
+    SCOPED_TRACE(k++);
+    for (float r : {0.05f, 0.3f}) {
+      CurvePrim c{p, r};
+      check_against_ball_union(c, rng, 40, st);
     }
   }
-  std::printf("sampled-ball union vs oracle: worst entry %.3g r, worst exit %.3g r (%d exits)\n", worst_entry,
-              worst_exit, exits);
-  EXPECT_GT(compared, 350);
-  EXPECT_GT(hits, 150);
+  std::printf("degenerate shapes: worst entry %.3g r, worst exit %.3g r (%d exits)\n", st.worst_entry, st.worst_exit,
+              st.exits);
+  EXPECT_GT(st.hits, 250);
 }
 
 TEST(OracleCurve, TimePerRay) {

@@ -43,6 +43,33 @@ constexpr float kUnitBoxMargin = 1e-3f;
 // coordinate magnitude or extent, to absorb the driver's own box-test rounding.
 constexpr float kAabbMargin = 1e-5f;
 
+// Robust mode: the driver's own fp32 ray transform into a masquerade instance errs by
+// up to gamma_4 (|A_k| . |o| + |b_k|) on unit axis k (docs/robustness.md), which far
+// from the world origin (|b| ~ |A| |c|) exceeds any fixed margin. The unit box cannot be
+// padded per ray inside the driver, so each instance's OBB is widened per axis by that
+// bound for every ray origin within `reach` of the world origin (every coordinate at
+// most reach). The reach starts at twice the largest OBB centre coordinate plus one;
+// a batch whose rays start farther out rebuilds the TLAS with a larger reach first.
+Mat3x4f widened_unit_to_world(const kernel::Instance& inst, const Mat3x4f& unit_to_world, double reach) {
+  constexpr double kGamma4 = 4.0 * 5.9604645e-8 / (1.0 - 4.0 * 5.9604645e-8);
+  Mat3x4f m = unit_to_world;
+  for (int k = 0; k < 3; ++k) {
+    const float* row = inst.world_to_object + 4 * k;
+    double a = std::fabs(row[0]) + std::fabs(row[1]) + std::fabs(row[2]);
+    double pad = 2.0 * kGamma4 * (a * reach + std::fabs(row[3]));
+    // Column k of the unit -> world map scales unit axis k.
+    for (int r = 0; r < 3; ++r) m[std::size_t(4 * r + k)] = float(double(m[std::size_t(4 * r + k)]) * (1.0 + pad));
+  }
+  return m;
+}
+
+double origin_reach(const PackedScene& s) {
+  double far = 0.0;
+  for (const Mat3x4f& m : s.instance_object_to_world)
+    far = std::max({far, std::fabs(double(m[3])), std::fabs(double(m[7])), std::fabs(double(m[11]))});
+  return 2.0 * far + 1.0;
+}
+
 std::uint64_t effective_limit(std::uint64_t device, std::uint64_t fake) {
   return fake != 0 && fake < device ? fake : device;
 }
@@ -78,6 +105,7 @@ class RayQueryBackend final : public Backend {
   void set_scene(const PackedScene& scene) override {
     auto t0 = Clock::now();
     have_scene_ = false;
+    kept_.reset();
     tlas_ = vk::AccelStructure();
     blas_.clear();
     unit_box_ = vk::AccelStructure();
@@ -85,7 +113,9 @@ class RayQueryBackend final : public Backend {
     check_counts(scene);
     scene_ = vk::upload_scene_arrays(*ctx_, kName, scene, false);
     upload_prim_map(scene);
+    reach_ = origin_reach(scene);
     build_structures(scene);
+    if (scene.features.mode == Mode::Robust && scene.method == Method::Masq) kept_ = scene; // for TLAS rebuilds
     scene_.bind(layout_);
     layout_.bind_buffer(kBindingPrimMap, prim_map_);
     layout_.bind_acceleration_structure(kBindingTlas, tlas_.handle());
@@ -98,6 +128,7 @@ class RayQueryBackend final : public Backend {
   void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
              std::span<kernel::RayStats> stats) override {
     if (!have_scene_) throw Error("rayquery: trace called before set_scene");
+    widen_for(rays);
     VkPipeline p = pipeline(!stats.empty());
     timing_.trace_seconds = batch_.run(kName, layout_, p, kLocalSize, tlas_count_ > 0 ? 1 : 0, rays, hits, stats);
   }
@@ -192,7 +223,26 @@ class RayQueryBackend final : public Backend {
     return blas_.emplace(g, std::move(as)).first->second;
   }
 
-  void build_structures(const PackedScene& s) {
+  // Robust masquerade: make sure the instance OBBs are widened for every origin of
+  // this batch (see widened_unit_to_world); rebuilds the TLAS when one starts farther
+  // out than the current reach (doubling, so a growing sequence rebuilds rarely).
+  void widen_for(std::span<const kernel::Ray> rays) {
+    if (!kept_) return;
+    double far = 0.0;
+    for (const kernel::Ray& r : rays)
+      for (float c : r.org)
+        if (std::isfinite(c)) far = std::max(far, double(std::fabs(c)));
+    if (far <= reach_) return;
+    reach_ = std::max(2.0 * reach_, far);
+    build_tlas(*kept_);
+    layout_.bind_acceleration_structure(kBindingTlas, tlas_.handle());
+  }
+
+  void build_structures(const PackedScene& s) { build_tlas(s); }
+
+  void build_tlas(const PackedScene& s) {
+    const bool robust = s.features.mode == Mode::Robust;
+    const double reach = reach_;
     std::vector<VkAccelerationStructureInstanceKHR> entries;
     entries.reserve(s.instances.size());
     for (std::int32_t i : s.tlas_leaf_order) {
@@ -215,7 +265,8 @@ class RayQueryBackend final : public Backend {
         }
         if (static_cast<std::size_t>(i) >= s.instance_object_to_world.size())
           throw Error(fmt::format("rayquery: instance {} has no instance_object_to_world transform", i));
-        e.transform = to_vk(s.instance_object_to_world[static_cast<std::size_t>(i)]);
+        const Mat3x4f& u2w = s.instance_object_to_world[static_cast<std::size_t>(i)];
+        e.transform = to_vk(robust ? widened_unit_to_world(inst, u2w, reach) : u2w);
         e.accelerationStructureReference = unit_box_.address();
       }
       entries.push_back(e);
@@ -248,6 +299,8 @@ class RayQueryBackend final : public Backend {
   std::int32_t tlas_count_ = 0;
   KernelFeatures features_;
   bool have_scene_ = false;
+  double reach_ = 1.0;               // robust masquerade: origins covered by the OBB widening
+  std::optional<PackedScene> kept_;  // robust masquerade scenes, for TLAS rebuilds
   TraceTiming timing_;
 };
 
