@@ -47,7 +47,7 @@ FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax
   vec3 w = len > 0.0f ? ba / len : VEC3(0.0f, 0.0f, 1.0f);
   // 5. origin relative to the centre, 6. self window.
   vec3 oc = (o - a) - 0.5f * ba;
-  float tlo = max(tmin, self_eps_t(r, oc, dd));
+  float tlo = max(tmin, self_eps_t_span(r, oc, len, dd));
   // 1. origin shift: p is the ray point nearest the centre, t = ts + s.
   float ts = -dot(oc, d) / dd;
   vec3 p = oc + ts * d;

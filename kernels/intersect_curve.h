@@ -1,35 +1,49 @@
 // Ray / cubic Bezier curve swept by a sphere of constant radius r (round ends, like
 // Embree's round curves): the solid is the union of the balls B(C(s), r), s in [0,1].
-// Its boundary is the tube envelope (the circles of radius r perpendicular to C'(s),
-// s in [0,1]) plus the outer halves of the end balls at p0 and p3 (for hair-like
-// curves: radius of curvature above r, no fold-back within 2r).
+// Its boundary is the tube envelope -- the circles of radius r about C(s) perpendicular
+// to C'(s) -- plus the outer halves of the end balls at p0 and p3 (for hair-like curves:
+// radius of curvature above r, no fold-back within 2r). A hit is the nearest crossing of
+// that boundary in [t_lo, tmax] (rays starting inside report their exit); t is in units
+// of d (not normalised); normal: outward, unnormalised, in the ray's space; u = s.
 //
-// Tube: Reshetov & Luebke, "Phantom Ray-Hair Intersector" (HPG 2018). In a ray-centric
-// frame (ray = z axis) the cylinder ("cone" with zero slope) with axis C'(s) through
-// C(s) is intersected with the ray; the hit's signed distance from the plane through
-// C(s) perpendicular to C'(s), over |C'(s)|^2, is the update of s. A fixed point lies on
-// the circle of s, i.e. on the envelope. Iterations start once from each end (s = 0
-// and s = 1). Entry crossings iterate on the cylinder's near root, exit crossings on
-// its far root (needed only when the ray can start inside: rays spawned on or in the
-// curve report the exit). End balls: closed-form spheres, kept on their outer
-// hemisphere only (the inner one lies inside the tube, so it is no crossing of the
-// union). The nearest crossing in [t_lo, tmax] wins.
+// Both modes follow Reshetov & Luebke, "Phantom Ray-Hair Intersector" (HPG 2018): move
+// to a ray-centric frame (origin near the curve, ray = z axis), then iterate on the
+// curve parameter s. At each s a local primitive about C(s) is intersected with the
+// ray, and the offset of that hit X from the plane through C(s) perpendicular to C'(s),
+//   R(s) = (X - C(s)) . C'(s),
+// over the derivative, updates s. A root puts X on the circle of s: on the envelope.
+// The end balls are closed-form spheres, kept on their outer hemisphere only (the inner
+// one lies inside the tube: no crossing of the union).
+//
+// intersect_curve_fast -- the paper's loop as written: the local primitive is the
+// cylinder about the tangent line (its "cone" with zero slope), the update R / |C'|^2
+// (slope of a straight curve), steps clamped to 0.5, regula falsi when the update
+// changes sign (bisection every 4th iteration), |ds| < 5e-5 in curve-parameter units,
+// one chain from each end (s = 0 and s = 1) on the cylinder's near root, plus the same
+// on the far root when the origin may be inside; plain subtraction for the origin
+// shift; no self window. At most MASQ_CURVE_ITERS steps per chain.
 //
 // intersect_curve (robust):
-//  - the origin moves to the ray point nearest the curve's centre, computed with an
-//    exact o - centre (TwoSum) and an fma-accurate moment (o - centre) x d, so the
-//    curve's position across the ray does not carry an error of u * |o - centre|
-//    (0.06 r at 10^6 radii away); every later quantity is of the size of the curve;
-//  - discriminants as (r - h)(r + h) from the distance h of the ray to the axis;
-//  - acceptance when the hit is within 2^-10 r of the normal plane (tolerance scaled
-//    to r, not to the parameter); safeguarded secant / Illinois regula falsi steps;
-//  - exit iterations whenever the origin may be inside the bounding ball;
-//  - self window t_self (prim_hit.h) on every crossing.
-// intersect_curve_fast: the paper's loop as written (plain steps clamped to 0.5,
-// regula falsi on a sign change with a bisection every 4th iteration, |ds| < 5e-5 in
-// curve-parameter units, chain stops when s leaves [0,1]), origin shift by plain
-// subtraction, no self window. Both run at most MASQ_CURVE_ITERS curve evaluations per
-// chain (the fast one usually stops after fewer: its tolerance is looser).
+//  - the frame's origin is the ray point nearest the curve's centre, from an exact
+//    o - centre (TwoSum) and an fma-accurate moment (o - centre) x d, so the curve's
+//    offset from the ray does not carry an error of u |o - centre| (0.06 r at 10^6 radii);
+//  - the residual is taken on the ball at C(s) (the swept sphere itself), where it
+//    brackets (see "robust mode" below): phase 1 walks to the ray's closest approach
+//    to the curve by Newton's method with C'' (the phantom steps), phase 2 to the
+//    crossing with the paper's cylinder step as predictor, kept inside the bracket;
+//  - chains start at the two most promising minima of the curve's distance from the ray
+//    line (sampled) and at both ends; entry and exit crossings;
+//  - tolerances scaled to r: the closest approach to 2^-10 r along the curve, crossings
+//    to 2^-7 r from the normal plane (the error in t is second order in that: ~3e-5 r);
+//  - discriminants as (r - h)(r + h); the self window t_self (prim_hit.h; span: the
+//    control polygon's length).
+// At most MASQ_CURVE_ITERS steps per phase and start; most rays stop after 2 to 5, so
+// the limit costs time only on hard rays. Measured against the long-double oracle
+// (tests/test_curve_intersector.cpp): at 12 no disagreement outside the fp32 band on
+// 57,600 random and silhouette rays (at 8: 8 of them, 1.4e-4); rays within ~0.03 rad
+// of a bent curve's tangent remain the weak spot (1.2e-3 flips, 0.7e-3 wrong
+// crossings at 12; the paper's loop: 3.9% and 2.2%).
+// Recommended: MASQ_CURVE_ITERS = 12.
 #ifndef MASQ_KERNEL_INTERSECT_CURVE_H
 #define MASQ_KERNEL_INTERSECT_CURVE_H
 #include "prim_hit.h"
@@ -37,12 +51,14 @@
 // GLSL: a specialization constant of that name comes from variants.h.
 #if !defined(MASQ_LANG_GLSL)
 #ifndef MASQ_CURVE_ITERS
-#define MASQ_CURVE_ITERS 8
+#define MASQ_CURVE_ITERS 12
 #endif
 #endif
 
 // A fused multiply-add (error-free products) and a guard that keeps GLSL compilers
-// from contracting or reordering the error-free transforms.
+// from contracting or reordering the error-free transforms. (OpenCL C and C++ neither
+// reassociate nor contract without fast-math flags; an unfused fma would only lose
+// the extra digits, never give a wrong result.)
 #if defined(MASQ_LANG_CPP)
 #define MASQ_CURVE_FMA(a, b, c) std::fma((a), (b), (c))
 #else
@@ -54,15 +70,19 @@
 #define MASQ_CURVE_EXACT
 #endif
 
-// Robust acceptance: distance of the hit from the normal plane at C(s), relative to r.
-// The cylinder and the tube agree to second order there, so the surface error is about
-// kappa * (tol r)^2: nothing at this size. Also the seam overlap of caps and tube.
+// Robust: closest approach converged when its step is below this times r along the
+// curve (the distance it decides hit/miss by is then off by ~5e-7 r); also the
+// overlap of the end balls and the tube at the seam.
 #define MASQ_CURVE_TOL 9.765625e-4f
-// Fast acceptance: the paper's |ds| bound in curve-parameter units.
-#define MASQ_CURVE_FAST_TOL 5e-5f
+// Robust: a crossing is accepted within this times r of the normal plane; the entry
+// of the ball family is stationary there, so t is off by ~tol^2 r / 2.
+#define MASQ_CURVE_TOL_CROSS 7.8125e-3f
+// Robust: samples of the curve's distance from the ray line that choose the starts.
 #ifndef MASQ_CURVE_SEEDS
-#define MASQ_CURVE_SEEDS 8
+#define MASQ_CURVE_SEEDS 16
 #endif
+// Fast: the paper's |ds| bound in curve-parameter units.
+#define MASQ_CURVE_FAST_TOL 5e-5f
 
 KERNEL_NS_BEGIN
 
@@ -85,16 +105,8 @@ STRUCT_BEGIN(CurvePoint)
   vec3 dd; // second derivative
 STRUCT_END(CurvePoint)
 
-// One phantom step at s.
-STRUCT_BEGIN(CurveStep)
-  int ok;      // tangent usable (not zero, not parallel to the ray)
-  int real;    // the ray meets the cylinder at s
-  float z;     // the ray's crossing of the cylinder (closest approach if none)
-  float g;     // update of s
-  float res;   // |g| |C'(s)|: the crossing's distance from the normal plane at C(s)
-  vec3 nrm;    // outward normal at the crossing (frame coordinates)
-STRUCT_END(CurveStep)
-
+// A crossing found by a chain: frame z of the hit, curve parameter, outward normal
+// (frame coordinates).
 STRUCT_BEGIN(CurveRoot)
   int found;
   float z;
@@ -119,7 +131,18 @@ FN CurvePoint curve_eval(CurveFrame f, float s) {
   return e;
 }
 
-// One phantom step at s. side -1: the cylinder's near root (entry), +1: far root (exit).
+// ---------------------------------------------------------------- fast mode
+
+// One phantom step at s (the paper's): the ray against the cylinder of radius r about
+// the tangent line at C(s). side -1: its near root (entry), +1: its far root (exit).
+STRUCT_BEGIN(CurveStep)
+  int ok;      // tangent usable (not zero, not parallel to the ray)
+  int real;    // the ray meets the cylinder
+  float z;     // the ray's crossing of the cylinder (closest approach if none)
+  float g;     // update of s
+  vec3 nrm;    // outward normal at the crossing (frame coordinates)
+STRUCT_END(CurveStep)
+
 FN CurveStep curve_step(CurveFrame f, float s, float side) {
   CurvePoint e = curve_eval(f, s);
   vec3 c0 = e.p;
@@ -129,7 +152,6 @@ FN CurveStep curve_step(CurveFrame f, float s, float side) {
   st.real = 0;
   st.z = 0.0f;
   st.g = 0.0f;
-  st.res = inf_();
   st.nrm = VEC3(0.0f, 0.0f, 0.0f);
   float dd2 = dot(cd, cd);
   float aa = cd.x * cd.x + cd.y * cd.y; // |C'|^2 sin^2(angle between axis and ray)
@@ -146,212 +168,13 @@ FN CurveStep curve_step(CurveFrame f, float s, float side) {
   st.real = disc >= 0.0f ? 1 : 0;
   st.z = c0.z + zeta;
   st.g = ax / dd2;
-  st.res = fabs_(ax) / sqrt(dd2);
   st.nrm = VEC3(-c0.x, -c0.y, zeta) - st.g * cd;
   return st;
 }
 
-// Robust chain from s0: Newton steps with the straight-curve slope (s += update, at
-// most 0.5) until a sign change of the update brackets the root, then Illinois regula
-// falsi (bisection if it leaves the bracket). (A secant slope was tried: it overshoots
-// from phantom regions and converged to the wrong crossing more often.)
-// s stays in [0,1]; a chain that wants to leave from an end stops (the end ball takes
-// over there). Accepts a real crossing within tol (a length) of the normal plane.
-FN CurveRoot curve_chain(CurveFrame f, float s0, float side, float tol) {
-  CurveRoot rt;
-  rt.found = 0;
-  rt.z = 0.0f;
-  rt.s = s0;
-  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
-  float s = s0;
-  float sp = s0;
-  float gp = 0.0f;
-  float a = s0;
-  float ga = 0.0f;
-  float b = s0;
-  float gb = 0.0f;
-  int br = 0;
-  int rp = 0;
-  for (int k = 0; k < MASQ_CURVE_ITERS; ++k) {
-    CurveStep st = curve_step(f, s, side);
-#ifdef MASQ_CURVE_DEBUG
-    if (g_curve_debug) printf("  side %g k %d s %.9g ok %d real %d g %.4g res/r %.4g z %.6g\n", side, k, s, st.ok, st.real, st.g, st.res / f.r, st.z);
-#endif
-    if (st.ok == 0) break;
-    if (st.res <= tol) {
-      if (st.real != 0) {
-        rt.found = 1;
-        rt.z = st.z;
-        rt.s = s;
-        rt.nrm = st.nrm;
-      }
-      break; // converged: a crossing, or the closest approach of a miss
-    }
-    float g = st.g;
-    if (br != 0) {
-      if (g * gb < 0.0f) {
-        a = b;
-        ga = gb;
-      } else {
-        ga = 0.5f * ga;
-      }
-      b = s;
-      gb = g;
-    } else if (k > 0 && g * gp < 0.0f) {
-      br = 1;
-      a = sp;
-      ga = gp;
-      b = s;
-      gb = g;
-    }
-    float sn;
-    if (br != 0) {
-      sn = (a * gb - b * ga) / (gb - ga);
-      if (!(sn > min(a, b) && sn < max(a, b))) sn = 0.5f * (a + b);
-    } else {
-      float step = g; // Newton with the straight-curve slope -1
-#if AITKEN
-      // Monotone linear convergence (same regime, same sign, shrinking): the secant
-      // through the last two iterates (Aitken's extrapolation), at most 8 steps' worth.
-      if (k > 0 && st.real == rp && g * gp > 0.0f && fabs_(g) < 0.875f * fabs_(gp)) step = g * (s - sp) / (gp - g);
-#endif
-      sn = s + min(max(step, -0.5f), 0.5f);
-    }
-    sn = min(max(sn, 0.0f), 1.0f);
-    if (sn == s) break;
-    sp = s;
-    gp = g;
-    rp = st.real;
-    s = sn;
-  }
-  return rt;
-}
-
-// Robust chain (side -1: entry, +1: exit). The local primitive is the ball at C(s)
-// (the swept sphere itself) rather than the paper's cylinder: the ray (z axis) meets it
-// at X = (0, 0, C_z + side w), w = sqrt(r^2 - |C_xy|^2), and the residual is the
-// paper's, the hit's offset from the normal plane at C(s):
-//   R(s) = (X - C(s)) . C'(s) = -q1 + side w C'_z,   q1 = C_xy . C'_xy.
-// A root is the phantom fixed point (X on the circle of s, on the envelope). Newton
-// uses the exact R' (C'' included), which at the root is the paper's slope -|C'|^2 up to
-// the curvature term, while the cylinder's crossing, for a ray running nearly along the
-// curve, moves by r / sin(angle) per unit of tilt and sends the paper's step astray.
-// Where the ray misses the ball (phantom), Newton on |C_xy|^2 finds the closest
-// approach. On an s-interval where the ray is within r, R > 0 at its left end and
-// R < 0 at its right end, so a real point with R > 0 and any later point with R < 0 or
-// outside the interval bracket a root: then Illinois regula falsi, or bisection.
-FN CurveRoot curve_chain_ball(CurveFrame f, float s0, float side, float tol) {
-  CurveRoot rt;
-  rt.found = 0;
-  rt.z = 0.0f;
-  rt.s = s0;
-  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
-  float s = s0;
-  float r = f.r;
-  float lo = -1.0f; // bracket: R > 0 (or phantom) at lo, R < 0 (or phantom) at hi
-  float hi = 2.0f;
-  float rlo = 0.0f; // R there, 0 for a phantom end
-  float rhi = 0.0f;
-  int last = 0;     // which end moved last (+1 lo, -1 hi), for Illinois
-  for (int k = 0; k < MASQ_CURVE_ITERS; ++k) {
-    CurvePoint e = curve_eval(f, s);
-    vec3 c0 = e.p;
-    vec3 cd = e.d;
-    vec3 c2 = e.dd;
-    float d2 = dot(cd, cd);
-    float dxy = cd.x * cd.x + cd.y * cd.y;
-    float q1 = c0.x * cd.x + c0.y * cd.y;        // |C_xy|^2' / 2
-    float q2 = dxy + c0.x * c2.x + c0.y * c2.y; // |C_xy|^2'' / 2
-    float rho = sqrt(c0.x * c0.x + c0.y * c0.y);
-    float w2 = (r - rho) * (r + rho);
-    float ds;
-    int real = w2 >= 0.0f ? 1 : 0;
-    if (real != 0) {
-      float w = sqrt(w2);
-      float rr = side * w * cd.z - q1;
-      float res = fabs_(rr) / sqrt(d2);
-#ifdef MASQ_CURVE_DEBUG
-      if (g_curve_debug) printf("  ball side %g k %d s %.9g real w/r %.4g res/r %.4g z %.6g [%g %g]\n", side, k, s, w / r, res / r, c0.z + side * w, lo, hi);
-#endif
-      if (res <= tol) {
-        rt.found = 1;
-        rt.z = c0.z + side * w;
-        rt.s = s;
-        rt.nrm = VEC3(-c0.x, -c0.y, side * w) - (rr / d2) * cd;
-        break;
-      }
-      if (rr > 0.0f) {
-        if (s > lo) {
-          lo = s;
-          rlo = rr;
-          if (last == 1) rhi = 0.5f * rhi;
-          last = 1;
-        }
-      } else if (s < hi) {
-        hi = s;
-        rhi = rr;
-        if (last == -1) rlo = 0.5f * rlo;
-        last = -1;
-      }
-      float dr = side * (w * c2.z - (q1 / w) * cd.z) - q2; // R'
-      ds = dr < 0.0f ? -rr / dr : rr / d2;
-    } else {
-#ifdef MASQ_CURVE_DEBUG
-      if (g_curve_debug) printf("  ball side %g k %d s %.9g phantom rho/r %.4g [%g %g]\n", side, k, s, rho / r, lo, hi);
-#endif
-      // A phantom point beyond a real end closes the bracket on that end's side.
-      if (lo >= 0.0f && s > lo && s < hi) {
-        hi = s;
-        rhi = 0.0f;
-        last = -1;
-      } else if (hi <= 1.0f && s < hi && s > lo) {
-        lo = s;
-        rlo = 0.0f;
-        last = 1;
-      }
-      ds = q2 > 0.0f ? -q1 / q2 : (q1 > 0.0f ? -0.125f : 0.125f); // closest approach
-      if (!(lo >= 0.0f && hi <= 1.0f) && fabs_(ds) * sqrt(d2) <= tol) break; // converged: a miss
-    }
-    float sn = s + min(max(ds, -0.5f), 0.5f);
-    if (lo >= 0.0f && hi <= 1.0f) { // bracketed
-      if (rlo != 0.0f && rhi != 0.0f) sn = (lo * rhi - hi * rlo) / (rhi - rlo);
-      if (!(sn > lo && sn < hi) || (k & 3) == 3) sn = 0.5f * (lo + hi);
-    }
-    sn = min(max(sn, 0.0f), 1.0f);
-    if (!(sn != s)) break; // stuck at an end (or NaN)
-    s = sn;
-  }
-  return rt;
-}
-
-// Third start of the robust chains: the sample (of MASQ_CURVE_SEEDS + 1) where the
-// curve passes closest to the ray line (smallest |C_xy(s)|). The line meets the solid
-// iff min_s |C_xy(s)| <= r, so the crossings are near there, wherever the ends'
-// tangents point (from an end, a bent curve can send the iteration the wrong way).
-FN float curve_seed(CurveFrame f) {
-  vec3 a1 = 3.0f * (f.b1 - f.b0);
-  vec3 a2 = 3.0f * ((f.b2 - f.b1) - (f.b1 - f.b0));
-  vec3 a3 = (f.b3 - f.b0) + 3.0f * (f.b1 - f.b2);
-  float h = 1.0f / (MASQ_CURVE_SEEDS * 1.0f);
-  float qm = inf_();
-  float sm = 0.0f;
-  float fj = 0.0f; // sample index as a float (no casts in the dialect)
-  for (int j = 0; j <= MASQ_CURVE_SEEDS; ++j) {
-    float s = fj * h;
-    fj += 1.0f;
-    float x = f.b0.x + s * (a1.x + s * (a2.x + s * a3.x));
-    float y = f.b0.y + s * (a1.y + s * (a2.y + s * a3.y));
-    float q = x * x + y * y;
-    if (q < qm) {
-      qm = q;
-      sm = s;
-    }
-  }
-  return sm;
-}
-
 // The paper's chain: steps clamped to 0.5; on a sign change regula falsi between the
-// last two iterates, bisection every 4th iteration; stops when s leaves [0,1].
+// last two iterates, bisection every 4th iteration; stops when s leaves [0,1]. (Stops
+// also when it converges on a miss, which the paper lets run to the limit: same result.)
 FN CurveRoot curve_chain_fast(CurveFrame f, float s0, float side) {
   CurveRoot rt;
   rt.found = 0;
@@ -385,12 +208,264 @@ FN CurveRoot curve_chain_fast(CurveFrame f, float s0, float side) {
   return rt;
 }
 
+// ---------------------------------------------------------------- robust mode
+
+// The solid is the union of the balls B(C(s), r). In the ray frame the ray meets the
+// ball at s iff q(s) = |C_xy(s)|^2 <= r^2, at z = C_z -+ w, w = sqrt(r^2 - q); the
+// solid's entry is the least of the entries, its exit the greatest of the exits. With
+// q1 = C_xy . C'_xy (= q'/2), the paper's residual -- the offset of the hit X from the
+// plane through C(s) perpendicular to C'(s) -- is, for this primitive,
+//   R(s) = (X - C(s)) . C'(s) = -q1 + side w C'_z        (side -1 entry, +1 exit)
+// and its roots are the phantom fixed points (X on the circle of s: on the envelope).
+// The paper intersects the cylinder about the tangent line instead: exact for a
+// straight tube, but for a ray running nearly along a bent curve its crossing lies
+// r / sin(angle) away and moves by as much per unit of tilt, so its steps go astray
+// (measured with the cylinder throughout: 3% of near-parallel rays wrong at 8
+// iterations, 1% at 16, with the same starts). The ball's
+// residual brackets instead: on an s-interval where the ray is within r, R's roots are
+// those of P = q1^2 - w^2 C'_z^2 (a polynomial: no square root), P < 0 between the two
+// fixed points (e.g. at the closest approach, q1 = 0) and P = q1^2 >= 0 at the ends of
+// the interval, where the ray just touches the ball.
+
+STRUCT_BEGIN(CurveBall)
+  vec3 c0;  // C(s), C'(s), C''(s) in the ray frame
+  vec3 cd;
+  vec3 c2;
+  float w2; // r^2 - q: the ray meets the ball iff w2 >= 0
+  float q1; // C_xy . C'_xy
+  float q2; // |C'_xy|^2 + C_xy . C''_xy (= q''/2)
+  float pp; // P = q1^2 - w2 C'_z^2
+  float dp; // P'
+STRUCT_END(CurveBall)
+
+FN CurveBall curve_ball(CurveFrame f, float s) {
+  CurvePoint e = curve_eval(f, s);
+  CurveBall b;
+  b.c0 = e.p;
+  b.cd = e.d;
+  b.c2 = e.dd;
+  float rho = sqrt(e.p.x * e.p.x + e.p.y * e.p.y);
+  b.w2 = (f.r - rho) * (f.r + rho);
+  b.q1 = e.p.x * e.d.x + e.p.y * e.d.y;
+  b.q2 = e.d.x * e.d.x + e.d.y * e.d.y + e.p.x * e.dd.x + e.p.y * e.dd.y;
+  b.pp = b.q1 * b.q1 - b.w2 * e.d.z * e.d.z;
+  b.dp = 2.0f * (b.q1 * (b.q2 + e.d.z * e.d.z) - b.w2 * e.d.z * e.dd.z);
+  return b;
+}
+
+// Phase 1, the phantom steps: Newton on q' = 0 (the closest approach of C(s) to the
+// ray, with C'' in the slope) from s0 until the ray is within r of C(s) between the two
+// fixed points (w2 >= 0, P <= 0). found = 0: the closest approach misses the ball (to
+// within tol along the curve) or lies beyond an end (the end ball covers that).
+FN CurveRoot curve_approach(CurveFrame f, float s0, float tol, float maxstep) {
+  CurveRoot rt;
+  rt.found = 0;
+  rt.z = 0.0f;
+  rt.s = s0;
+  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
+  float s = s0;
+  for (int k = 0; k < MASQ_CURVE_ITERS; ++k) {
+    CurveBall b = curve_ball(f, s);
+    float ds = b.q2 > 0.0f ? -b.q1 / b.q2 : (b.q1 > 0.0f ? -0.125f : 0.125f);
+    int conv = b.q2 > 0.0f && fabs_(ds) * length(b.cd) <= tol ? 1 : 0;
+    if (b.w2 >= 0.0f && (b.pp <= 0.0f || conv != 0)) {
+      rt.found = 1;
+      rt.s = s;
+      break;
+    }
+    if (conv != 0) break; // the closest approach misses
+    float sn = min(max(s + min(max(ds, -maxstep), maxstep), 0.0f), 1.0f);
+    if (!(sn != s)) break; // stuck at an end (or NaN)
+    s = sn;
+  }
+  return rt;
+}
+
+// Phase 2: from sa (w2 >= 0, P <= 0) towards the fixed point of this side, which lies
+// between sa and where the ray leaves the ball interval (P >= 0 there). Steps are
+// predicted by the paper's cylinder step (exact for a straight tube). Until a point
+// with P >= 0 brackets the fixed point, a prediction that does not point outwards is
+// replaced by steps that double, starting where the quadratic model of q reaches r^2;
+// inside the bracket: the prediction, else Newton on P, else Illinois regula falsi,
+// and bisection every 4th step. Accepts a crossing within tol of the normal plane
+// (|R| / |C'| <= tol); found = 0 if the fixed point lies beyond an end (end ball).
+FN CurveRoot curve_crossing(CurveFrame f, float sa, float side, float tol) {
+  CurveRoot rt;
+  rt.found = 0;
+  rt.z = 0.0f;
+  rt.s = sa;
+  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
+  float a = sa; // P <= 0
+  float pa = 0.0f;
+  float b = sa; // P >= 0 once have_b
+  float pb = 0.0f;
+  int have_b = 0;
+  int last = 0;
+  float dir = 0.0f;
+  float reach = 0.0f; // outward search step before a bracket exists (doubles)
+  float s = sa;
+  for (int k = 0; k < MASQ_CURVE_ITERS; ++k) {
+    CurveBall c = curve_ball(f, s);
+    float cn = length(c.cd);
+    if (c.w2 >= 0.0f) {
+      float w = sqrt(c.w2);
+      float rr = side * w * c.cd.z - c.q1;
+      if (fabs_(rr) <= tol * cn) {
+        rt.found = 1;
+        rt.s = min(max(s + rr / (cn * cn), 0.0f), 1.0f); // the paper's update: s of X's circle
+        rt.z = c.c0.z + side * w;
+        rt.nrm = VEC3(-c.c0.x, -c.c0.y, side * w) - (rr / (cn * cn)) * c.cd;
+        break;
+      }
+      if (k == 0) dir = rr > 0.0f ? 1.0f : -1.0f;
+    }
+    if (k == 0 && !(c.w2 >= 0.0f)) break; // (not a phase-1 point)
+    if (k == 0 || c.pp < 0.0f) {
+      a = s;
+      pa = c.pp;
+      if (last == 1) pb = 0.5f * pb;
+      last = 1;
+    } else {
+      b = s;
+      pb = c.pp;
+      have_b = 1;
+      if (last == -1) pa = 0.5f * pa;
+      last = -1;
+    }
+    // Predictor: the paper's step, from the cylinder about the tangent line (exact for
+    // a straight tube; the bracket catches it where it is not).
+    float aa = c.cd.x * c.cd.x + c.cd.y * c.cd.y;
+    float sn = s;
+    if (aa > 1e-14f * cn * cn) {
+      float cxd = c.c0.x * c.cd.y - c.c0.y * c.cd.x;
+      float h = fabs_(cxd) / sqrt(aa);
+      float hw = sqrt(max((f.r - h) * (f.r + h), 0.0f) / aa) * cn;
+      float zeta = side * hw - c.cd.z * c.q1 / aa;
+      sn = s + min(max((zeta * c.cd.z - c.q1) / (cn * cn), -0.5f), 0.5f);
+    }
+    if (have_b == 0) {
+      // Outwards until P >= 0: the predictor if it points out, else (or if it stalls)
+      // steps that double, starting where the quadratic model of q reaches r^2.
+      if ((dir > 0.0f && s >= 1.0f) || (dir < 0.0f && s <= 0.0f)) break; // beyond an end
+      if (reach == 0.0f) {
+        float qq = dir * c.q1;
+        float w2 = max(c.w2, 0.0f);
+        float disc = qq * qq + c.q2 * w2;
+        float den = qq + sqrt(max(disc, 0.0f));
+        reach = den > 0.0f && disc >= 0.0f ? w2 / den : 0.0625f;
+        reach = min(max(reach, 1e-6f), 0.0625f);
+      } else {
+        reach = min(2.0f * reach, 0.5f);
+      }
+      if (!((sn - s) * dir > 0.0f)) sn = s + dir * reach;
+    } else {
+      float lo = min(a, b);
+      float hi = max(a, b);
+      if (!(sn > lo && sn < hi)) sn = c.dp != 0.0f ? s - c.pp / c.dp : s; // Newton on P
+      if (!(sn > lo && sn < hi)) sn = (a * pb - b * pa) / (pb - pa);        // Illinois
+      if (!(sn > lo && sn < hi) || (k & 3) == 3) sn = 0.5f * (a + b);
+    }
+    sn = min(max(sn, 0.0f), 1.0f);
+    if (!(sn != s)) break;
+    s = sn;
+  }
+  return rt;
+}
+
+// Starts of the robust chains: the two most promising local minima of q(s) =
+// |C_xy(s)|^2, the squared distance of C(s) from the ray line (the line meets the solid
+// iff min q <= r^2). q and q' are sampled at MASQ_CURVE_SEEDS + 1 points; an interval
+// where q' goes from - to + holds a minimum (estimated by the secant of q' and the
+// parabola through it); an end where q rises inwards is one. A bent curve seen along
+// its length can come near the ray more than once, and each end's tangent can point
+// away from the nearer approach, so neither the global sample minimum nor the ends
+// alone suffice (measured on rays nearly parallel to the curve).
+STRUCT_BEGIN(CurveSeeds)
+  float s1; // the lowest estimated minimum
+  float s2; // the second (-1: none)
+STRUCT_END(CurveSeeds)
+
+FN CurveSeeds curve_seeds(CurveFrame f) {
+  vec3 a1 = 3.0f * (f.b1 - f.b0);
+  vec3 a2 = 3.0f * ((f.b2 - f.b1) - (f.b1 - f.b0));
+  vec3 a3 = (f.b3 - f.b0) + 3.0f * (f.b1 - f.b2);
+  float h = 1.0f / (MASQ_CURVE_SEEDS * 1.0f);
+  float m1 = inf_();
+  float m2 = inf_();
+  CurveSeeds sd;
+  sd.s1 = -1.0f;
+  sd.s2 = -1.0f;
+  float qp = 0.0f; // q and q'/2 at the previous sample
+  float gp = 0.0f;
+  float fj = 0.0f; // sample index as a float (no casts in the dialect)
+  for (int j = 0; j <= MASQ_CURVE_SEEDS; ++j) {
+    float s = fj * h;
+    fj += 1.0f;
+    float x = f.b0.x + s * (a1.x + s * (a2.x + s * a3.x));
+    float y = f.b0.y + s * (a1.y + s * (a2.y + s * a3.y));
+    float dx = a1.x + s * (2.0f * a2.x + 3.0f * s * a3.x);
+    float dy = a1.y + s * (2.0f * a2.y + 3.0f * s * a3.y);
+    float q = x * x + y * y;
+    float g = x * dx + y * dy;
+    float cs = -1.0f; // candidate minimum in [s - h, s] (or at an end)
+    float cq = inf_();
+    if (j == 0 && g >= 0.0f) {
+      cs = 0.0f;
+      cq = q;
+    }
+    if (j > 0 && gp < 0.0f && g >= 0.0f) {
+      float u = gp / (gp - g); // secant root of q' in the interval, in [0, 1]
+      cs = s - h + u * h;
+      cq = qp + gp * u * h; // parabola: q(a) + q'(a) x / 2
+    }
+    if (j == MASQ_CURVE_SEEDS && g <= 0.0f && q < cq) {
+      cs = 1.0f;
+      cq = q;
+    }
+    if (cs >= 0.0f) {
+      if (cq < m1) {
+        m2 = m1;
+        sd.s2 = sd.s1;
+        m1 = cq;
+        sd.s1 = cs;
+      } else if (cq < m2) {
+        m2 = cq;
+        sd.s2 = cs;
+      }
+    }
+    qp = q;
+    gp = g;
+  }
+  if (sd.s1 < 0.0f) sd.s1 = 0.5f; // (NaN input)
+  return sd;
+}
+
+// ---------------------------------------------------------------- both modes
+
 // a*b - c*e to within 1.5 ulp (Kahan's algorithm with fma).
 FN float curve_dop(float a, float b, float c, float e) {
   MASQ_CURVE_EXACT float w = c * e;
   MASQ_CURVE_EXACT float err = MASQ_CURVE_FMA(-c, e, w);
   MASQ_CURVE_EXACT float fa = MASQ_CURVE_FMA(a, b, -w);
   return fa + err;
+}
+
+// dot(a, b) computed as if in twice the precision, then rounded (Ogita, Rump and
+// Oishi's Dot2: error-free products by fma, sums by TwoSum).
+FN float curve_dot_acc(vec3 a, vec3 b) {
+  MASQ_CURVE_EXACT float p = a.x * b.x;
+  MASQ_CURVE_EXACT float cmp = MASQ_CURVE_FMA(a.x, b.x, -p);
+  MASQ_CURVE_EXACT float h = a.y * b.y;
+  MASQ_CURVE_EXACT float hq = MASQ_CURVE_FMA(a.y, b.y, -h);
+  MASQ_CURVE_EXACT float x = p + h;
+  MASQ_CURVE_EXACT float zz = x - p;
+  cmp += ((p - (x - zz)) + (h - zz)) + hq;
+  MASQ_CURVE_EXACT float g = a.z * b.z;
+  MASQ_CURVE_EXACT float gq = MASQ_CURVE_FMA(a.z, b.z, -g);
+  MASQ_CURVE_EXACT float y = x + g;
+  MASQ_CURVE_EXACT float zy = y - x;
+  cmp += ((x - (y - zy)) + (g - zy)) + gq;
+  return y + cmp;
 }
 
 FN vec3 curve_cross_acc(vec3 a, vec3 b) {
@@ -439,13 +514,15 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
     MASQ_CURVE_EXACT vec3 ol = (o - av) - (cen + bv);
     vec3 mom = curve_cross_acc(oc, d) + cross(ol, d);
     pp = cross(d, mom) / dd;
-    ts = -(dot(oc, d) + dot(ol, d)) / dd;
+    ts = -(curve_dot_acc(oc, d) + dot(ol, d)) / dd; // t of the shifted origin, to ~1 ulp
   } else {
     ts = -dot(oc, d) / dd;
     pp = oc + ts * d;
   }
   if (!(dot(pp, pp) <= rb2)) return prim_miss(); // misses the bounding ball (or NaN)
-  float tlo = robust != 0 ? max(tmin, self_eps_t(r, oc, dd)) : tmin;
+  // Self window (prim_hit.h); span: the control polygon's length.
+  float span = length(p1 - p0) + length(p2 - p1) + length(p3 - p2);
+  float tlo = robust != 0 ? max(tmin, self_eps_t_span(r, oc, span, dd)) : tmin;
   // Ray-centric frame: z along d (Duff et al.'s orthonormal basis), origin at pp.
   float dl = sqrt(dd);
   vec3 ez = d / dl;
@@ -477,21 +554,18 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
   // Exit chains only when the origin (at tlo) may be inside the solid.
   float zlo = (tlo - ts) * dl;
   int maybe_inside = dot(pp, pp) + zlo * zlo <= rb2 ? 1 : 0;
-#ifdef MASQ_CURVE_DEBUG
-  if (g_curve_debug) printf(" robust %d ts %g dl %g zlo %g inside %d r %g b0 %g %g %g b3 %g %g %g\n", robust, ts, dl, zlo, maybe_inside, r, f.b0.x, f.b0.y, f.b0.z, f.b3.x, f.b3.y, f.b3.z);
-#endif
   if (sc > 0.0f && robust != 0) {
-    float sd = curve_seed(f);
-    for (int k = 0; k < 6; ++k) {
-      if (k >= 3 && maybe_inside == 0) break;
-      float s0 = k % 3 == 0 ? sd : (k % 3 == 1 ? 0.0f : 1.0f);
-      float side = k < 3 ? -1.0f : 1.0f;
-#if BALL
-      CurveRoot rt = curve_chain_ball(f, s0, side, MASQ_CURVE_TOL * r);
-#else
-      CurveRoot rt = curve_chain(f, s0, side, MASQ_CURVE_TOL * r);
-#endif
-      if (rt.found != 0) best = curve_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
+    CurveSeeds sd = curve_seeds(f);
+    for (int k = 0; k < 4; ++k) {
+      float s0 = k == 0 ? sd.s1 : (k == 1 ? sd.s2 : (k == 2 ? 0.0f : 1.0f));
+      if (s0 < 0.0f) continue;
+      CurveRoot ap = curve_approach(f, s0, MASQ_CURVE_TOL * r, k < 2 ? 1.0f / (MASQ_CURVE_SEEDS * 1.0f) : 0.5f);
+      if (ap.found == 0) continue;
+      for (int e = 0; e < 2; ++e) {
+        if (e == 1 && maybe_inside == 0) break;
+        CurveRoot rt = curve_crossing(f, ap.s, e == 0 ? -1.0f : 1.0f, MASQ_CURVE_TOL_CROSS * r);
+        if (rt.found != 0) best = curve_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
+      }
     }
   }
   if (sc > 0.0f && robust == 0) {

@@ -82,7 +82,7 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
   vec3 ba = V3(rc.b) - a;
   vec3 oa = o - a;
   vec3 oc = oa - 0.5f * ba;
-  float tlo = max(tmin, self_eps_t(rmax, oc, dd));
+  float tlo = max(tmin, self_eps_t_span(rmax, oc, length(ba), dd));
   float len = length(ba);
   if (!(len > fabs_(ra - rb))) {
     // One sphere contains the other (or zero length): the bigger sphere.

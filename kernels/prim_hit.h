@@ -17,13 +17,16 @@ STRUCT_END(PrimHit)
 // point, tmin = 0) must not report the surface it starts on; fp32 cannot tell such a
 // crossing from a genuine one within the rounding error of the origin relative to the
 // primitive. So every robust intersector ignores crossings closer than
-//   t_self = (2^-10 * r + 32u * |o - c|) / |d|
-// (r: the primitive's radius, c: its centre; both terms scale with the primitive,
-// not with the distance to the world origin). The oracle applies the same rule.
+//   t_self = (2^-10 * r + 32u * (|o - c| + span)) / |d|
+// (r: the primitive's radius, c: its centre, span: its length (capsule, cone: |b - a|;
+// curve: the control polygon's length; sphere, triangle: 0), since the intersectors'
+// own rounding grows with both; every term scales with the primitive, not with the
+// distance to the world origin). The oracle applies the same rule.
 #define MASQ_SELF_REL 9.765625e-4f
-FN float self_eps_t(float r, vec3 oc, float dd) {
-  return (MASQ_SELF_REL * r + 32.0f * MASQ_U * length(oc)) / sqrt(dd);
+FN float self_eps_t_span(float r, vec3 oc, float span, float dd) {
+  return (MASQ_SELF_REL * r + 32.0f * MASQ_U * (length(oc) + span)) / sqrt(dd);
 }
+FN float self_eps_t(float r, vec3 oc, float dd) { return self_eps_t_span(r, oc, 0.0f, dd); }
 
 FN PrimHit prim_miss() {
   PrimHit h;

@@ -46,8 +46,8 @@ bool valid(const PrimRay& r) {
          r.tmin <= r.tmax && r.tmin < kInf;
 }
 
-ld window_lo(const PrimRay& ray, ld r, Vld centre) {
-  return std::max(ray.tmin, self_window_t(r, ray.o - centre, dot(ray.d, ray.d)));
+ld window_lo(const PrimRay& ray, ld r, Vld centre, ld span = 0) {
+  return std::max(ray.tmin, self_window_t(r, ray.o - centre, dot(ray.d, ray.d), span));
 }
 
 // A boundary crossing: ray parameter, outward normal (any length), axial/curve parameter.
@@ -81,10 +81,10 @@ struct Hull {
   }
 };
 
-void select_hull(const Hull& h, const PrimRay& ray, ld r, Vld centre, PrimResult& res) {
+void select_hull(const Hull& h, const PrimRay& ray, ld r, Vld centre, ld span, PrimResult& res) {
   if (!h.any) return;
   Bound b[2] = {h.in, h.out};
-  select(b, 2, window_lo(ray, r, centre), ray.tmax, res);
+  select(b, 2, window_lo(ray, r, centre, span), ray.tmax, res);
 }
 
 // Real roots of A x^2 + 2 B x + C = 0 (any A), without cancellation between -B and the
@@ -397,9 +397,9 @@ struct SInterval {
 
 } // namespace
 
-ld self_window_t(ld radius, Vld o_minus_centre, ld dd) {
+ld self_window_t(ld radius, Vld o_minus_centre, ld dd, ld span) {
   const ld rel = 1.0L / 1024, u = 1.0L / 16777216;
-  return (rel * std::max<ld>(radius, 0) + 32 * u * len(o_minus_centre)) / std::sqrt(dd);
+  return (rel * std::max<ld>(radius, 0) + 32 * u * (len(o_minus_centre) + span)) / std::sqrt(dd);
 }
 
 // Clearance first: it is the exact gap between the ray segment and the solid, so a
@@ -415,7 +415,7 @@ PrimResult oracle_sphere(const SpherePrim& p, const PrimRay& ray) {
   auto [gap, t] = linear_core_gap(c, r, c, r, ray);
   res.clearance = std::fabs(gap) / r;
   res.t_near = t;
-  if (!gap_clear(gap, r)) select_hull(sphere_hull(c, r, ray.o, ray.d, 0), ray, r, c, res);
+  if (!gap_clear(gap, r)) select_hull(sphere_hull(c, r, ray.o, ray.d, 0), ray, r, c, 0, res);
   return res;
 }
 
@@ -427,7 +427,7 @@ PrimResult oracle_capsule(const CapsulePrim& p, const PrimRay& ray) {
   auto [gap, t] = linear_core_gap(a, r, b, r, ray);
   res.clearance = std::fabs(gap) / r;
   res.t_near = t;
-  if (!gap_clear(gap, r)) select_hull(capsule_hull(a, b, r, ray), ray, r, 0.5L * (a + b), res);
+  if (!gap_clear(gap, r)) select_hull(capsule_hull(a, b, r, ray), ray, r, 0.5L * (a + b), len(b - a), res);
   return res;
 }
 
@@ -440,7 +440,7 @@ PrimResult oracle_round_cone(const RoundConePrim& p, const PrimRay& ray) {
   auto [gap, t] = linear_core_gap(a, ra, b, rb, ray);
   res.clearance = std::fabs(gap) / rmax;
   res.t_near = t;
-  if (!gap_clear(gap, rmax)) select_hull(cone_hull(a, ra, b, rb, ray), ray, rmax, 0.5L * (a + b), res);
+  if (!gap_clear(gap, rmax)) select_hull(cone_hull(a, ra, b, rb, ray), ray, rmax, 0.5L * (a + b), len(b - a), res);
   return res;
 }
 
@@ -572,7 +572,7 @@ PrimResult oracle_curve(const CurvePrim& p, const PrimRay& ray) {
     bounds[nb++] = {cur.t_in, normal_at(cur.t_in, cur.s_in), cur.s_in};
     bounds[nb++] = {cur.t_out, normal_at(cur.t_out, cur.s_out), cur.s_out};
   }
-  select(bounds, nb, window_lo(ray, r, centre), ray.tmax, res);
+  select(bounds, nb, window_lo(ray, r, centre, len(P[1] - P[0]) + len(P[2] - P[1]) + len(P[3] - P[2])), ray.tmax, res);
 
   // Clearance: min over s of distance(C(s), ray segment). Where the nearest segment point
   // is interior it is |W(s)| at a stationary point (or an end) with T(s) in [tmin, tmax];

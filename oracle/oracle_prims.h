@@ -4,7 +4,7 @@
 //  - The primitive is a closed solid; a hit is a crossing of its boundary at ray
 //    parameter t (point o + t d; d need not be unit length). The nearest crossing with
 //    t in [max(tmin, t_self), tmax] is reported, so a ray starting inside reports its
-//    exit. t_self = self_window_t(r, o - centre, dot(d, d)).
+//    exit. t_self = self_window_t(r, o - centre, dot(d, d), span).
 //  - centre: capsule/cone: midpoint of a and b; sphere: center; curve: mean of the four
 //    control points; triangle: v0 (and r = 0). r: the radius (cone: max(ra, rb)).
 //  - Radius 0 (negative radii count as 0): no surface, never hit. Zero-length capsule =
@@ -50,7 +50,8 @@ PrimResult oracle_curve(const CurvePrim& p, const PrimRay& ray);
 PrimResult oracle_triangle(const glm::vec3& v0, const glm::vec3& v1, const glm::vec3& v2, const PrimRay& ray);
 
 // The self-intersection window every intersector applies:
-//   t_self = (2^-10 * radius + 32 * 2^-24 * |o - centre|) / sqrt(dd),  dd = dot(d, d).
-ld self_window_t(ld radius, Vld o_minus_centre, ld dd);
+//   t_self = (2^-10 * radius + 32 * 2^-24 * (|o - centre| + span)) / sqrt(dd),  dd = dot(d, d);
+//   span: capsule and cone |b - a|, curve the control polygon's length, else 0.
+ld self_window_t(ld radius, Vld o_minus_centre, ld dd, ld span = 0);
 
 } // namespace masq::oracle

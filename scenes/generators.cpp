@@ -128,7 +128,10 @@ Geometry make_random_curves(int count, float min_radius, float max_radius, doubl
   for (int i = 0; i < count; ++i) {
     glm::dvec3 a(pos(rng), pos(rng), pos(rng));
     glm::dvec3 dir = glm::normalize(glm::dvec3(gauss(rng), gauss(rng), gauss(rng)));
-    double l = len(rng);
+    double radius = rad(rng);
+    // Hair-like: at least 20 radii long (the phantom tube assumes a radius of
+    // curvature well above r).
+    double l = std::max(len(rng), 20.0 * radius);
     glm::dvec3 bend = glm::dvec3(gauss(rng), gauss(rng), gauss(rng)) * (0.15 * l);
     CurvePrim c{};
     for (int k = 0; k < 4; ++k) {
@@ -136,7 +139,7 @@ Geometry make_random_curves(int count, float min_radius, float max_radius, doubl
       glm::dvec3 p = a + (s * l) * dir + (k == 1 || k == 2 ? 1.0 : 0.0) * bend * (k == 1 ? 1.0 : -0.5);
       c.p[std::size_t(k)] = glm::vec3(p);
     }
-    c.radius = float(rad(rng));
+    c.radius = float(radius);
     g.curves.push_back(c);
   }
   return g;

@@ -34,7 +34,7 @@ Geometry make_random_mesh(int triangles, double extent, std::uint64_t seed); // 
 // end ball containing the other.
 Geometry make_random_cones(int count, float min_radius, float max_radius, double extent, std::uint64_t seed);
 Geometry make_random_spheres(int count, float min_radius, float max_radius, double extent, std::uint64_t seed);
-// Hair-like cubic Bezier curves: gently bent, length up to extent/2.
+// Hair-like cubic Bezier curves: gently bent, length up to extent/2 and at least 20 radii.
 Geometry make_random_curves(int count, float min_radius, float max_radius, double extent, std::uint64_t seed);
 
 // One geometry of `type` (capsule, round cone, sphere or curve), for tests and the

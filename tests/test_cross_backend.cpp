@@ -10,7 +10,10 @@
 //  - kSeparation = 1e-4: where the oracle's two nearest hits on different primitives are
 //    closer than this (relative), either primitive is an acceptable answer.
 //  - kRelT = 1e-4: t within 1e-4 relative (fp32 leaves ~1e-6 here; grazing hits amplify).
-//  - Normals within 1e-2 (cosine > 0.99995 ~ 0.6 degrees) where the hit is unambiguous.
+//  - Normals within 1e-2 (cosine > 0.99995 ~ 0.6 degrees) where the hit is unambiguous;
+//    curves within 3e-2 (1.7 degrees): the phantom intersector accepts a crossing once
+//    its residual is below 2^-7 r, which tilts the normal by up to ~0.45 degrees before
+//    a non-uniformly scaled instance transform stretches it.
 #include "bvh/build_accel.h"
 #include "host/backend.h"
 #include "oracle/oracle.h"
@@ -30,6 +33,7 @@ constexpr long double kClearance = 1e-3;
 constexpr long double kSeparation = 1e-4;
 constexpr double kRelT = 1e-4;
 constexpr double kNormal = 1e-2;
+constexpr double kCurveNormal = 3e-2;
 
 struct Tally {
   int compared = 0, ambiguous = 0, hits = 0;
@@ -37,7 +41,7 @@ struct Tally {
   std::string first_failure;
 };
 
-Tally compare(const std::vector<kernel::Ray>& rays, const std::vector<oracle::OracleHit>& truth,
+Tally compare(const Scene& scene, const std::vector<kernel::Ray>& rays, const std::vector<oracle::OracleHit>& truth,
               const std::vector<kernel::Hit>& hits) {
   Tally t;
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -70,7 +74,8 @@ Tally compare(const std::vector<kernel::Ray>& rays, const std::vector<oracle::Or
     if (std::abs(double(o.t) - h.t) > kRelT * double(o.t)) fail(t.wrong_t, "t differs");
     if (separated) {
       double c = o.normal.x * h.normal[0] + o.normal.y * h.normal[1] + o.normal.z * h.normal[2];
-      if (1.0 - c > kNormal * kNormal / 2) fail(t.wrong_normal, "normal differs");
+      double tol = scene.geometries[std::size_t(o.geom)].type == PrimType::Curve ? kCurveNormal : kNormal;
+      if (1.0 - c > tol * tol / 2) fail(t.wrong_normal, "normal differs");
     }
   }
   return t;
@@ -98,7 +103,7 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
       be->set_scene(build_accel(scene, m, opt));
       std::vector<kernel::Hit> hits(rays.size());
       be->trace(rays, hits, {});
-      Tally t = compare(rays, truth, hits);
+      Tally t = compare(scene, rays, truth, hits);
       EXPECT_GT(t.hits, 0);
       EXPECT_LT(t.ambiguous, int(rays.size() / 8)) << "too few rays compared";
       if (opt.mode == Mode::Robust) {

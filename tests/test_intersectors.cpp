@@ -567,7 +567,7 @@ TEST(Intersectors, SelfWindowAndInsideRays) {
             Vld dl = to_ld(d_out);
             ld dn = dotl(dl, s.n), dd = dotl(dl, dl);
             ld tcross = -dotl(to_ld(of) - s.p, s.n) / dn;
-            ld tself = masq::oracle::self_window_t(rmax(g), to_ld(of) - g.c, dd);
+            ld tself = masq::oracle::self_window_t(rmax(g), to_ld(of) - g.c, dd, g.len);
             ld e_t = 4 * kU * (lenl(to_ld(of) - g.c) + g.len + rmax(g)) / std::fabs(dn);
             outward.add(tcross, tself, e_t, run_kernel(p, false, of, d_out).hit,
                         run_oracle(p, ld_ray(of, d_out)).hit);
