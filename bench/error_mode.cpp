@@ -31,9 +31,9 @@ void say(const BenchOptions& opt, const std::string& line) {
 std::vector<ErrorVariant> default_error_variants() {
   std::vector<ErrorVariant> v;
   for (Mode m : {Mode::Robust, Mode::Fast})
-    for (int k : {1, 2, 4, 8}) v.push_back({fmt::format("cubic {} it12 x{}", mode_name(m), k), m, 12, k, 0});
-  for (int it : {2, 4, 8, 24}) v.push_back({fmt::format("cubic robust it{} x1", it), Mode::Robust, it, 1, 0});
-  for (int n : {1, 2, 4, 8, 16}) v.push_back({fmt::format("linear x{} robust", n), Mode::Robust, 12, 1, n});
+    for (int k : {1, 2, 4, 8}) v.push_back({fmt::format("cubic {} it24 x{}", mode_name(m), k), m, 24, k, 0});
+  for (int it : {2, 4, 8, 12}) v.push_back({fmt::format("cubic robust it{} x1", it), Mode::Robust, it, 1, 0});
+  for (int n : {1, 2, 4, 8, 16}) v.push_back({fmt::format("linear x{} robust", n), Mode::Robust, 24, 1, n});
   return v;
 }
 

@@ -13,9 +13,9 @@
 namespace masq {
 
 struct ErrorVariant {
-  std::string name;    // e.g. "cubic robust it12 x1", "linear x8"
+  std::string name;    // e.g. "cubic robust it24 x1", "linear x8"
   Mode mode = Mode::Robust;
-  int curve_iters = 12;
+  int curve_iters = 24;
   int subdivisions = 1; // cubic pieces per curve
   int segments = 0;     // > 0: curves replaced by this many capsules each
 };

@@ -17,7 +17,7 @@ struct AccelOptions {
   SahOptions sah;
   CurveObb curve_obb = CurveObb::Tight; // masq: how curve OBBs are oriented
   Mode mode = Mode::Robust;             // kernel intersectors and box test
-  int curve_iters = 12;                 // phantom iteration limit (1..64)
+  int curve_iters = 24;                 // phantom iteration limit (1..64; 24: see docs/robustness.md)
 };
 
 PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt = {});

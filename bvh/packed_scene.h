@@ -32,7 +32,7 @@ struct KernelFeatures {
   bool spheres = false;
   bool curves = false;
   Mode mode = Mode::Robust;
-  int curve_iters = 12;
+  int curve_iters = 24;
   bool operator==(const KernelFeatures&) const = default;
 };
 

@@ -14,7 +14,7 @@ struct SceneOptions {
   bool orthographic = false;
   std::string mode = "robust";
   std::string curve_obb = "tight";
-  int curve_iters = 12;
+  int curve_iters = 24;
 };
 void add_scene_options(CLI::App& cmd, SceneOptions& opt);
 Scene make_scene(const SceneOptions& opt);

@@ -51,7 +51,7 @@
 // GLSL: a specialization constant of that name comes from variants.h.
 #if !defined(MASQ_LANG_GLSL)
 #ifndef MASQ_CURVE_ITERS
-#define MASQ_CURVE_ITERS 12
+#define MASQ_CURVE_ITERS 24
 #endif
 #endif
 

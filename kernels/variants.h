@@ -15,7 +15,7 @@ layout(constant_id = 4) const bool MASQ_HAVE_CONES = true;
 layout(constant_id = 5) const bool MASQ_HAVE_SPHERES = true;
 layout(constant_id = 6) const bool MASQ_HAVE_CURVES = true;
 layout(constant_id = 7) const bool MASQ_ROBUST = true;
-layout(constant_id = 8) const int MASQ_CURVE_ITERS = 12;
+layout(constant_id = 8) const int MASQ_CURVE_ITERS = 24;
 #else
 #ifndef MASQ_STATS
 #define MASQ_STATS 0
@@ -45,11 +45,11 @@ layout(constant_id = 8) const int MASQ_CURVE_ITERS = 12;
 #ifndef MASQ_CURVE_ITERS
 #if defined(MASQ_LANG_CPP)
 namespace masq::kernel {
-inline thread_local int curve_iters_runtime = 12;
+inline thread_local int curve_iters_runtime = 24;
 }
 #define MASQ_CURVE_ITERS (::masq::kernel::curve_iters_runtime)
 #else
-#define MASQ_CURVE_ITERS 12
+#define MASQ_CURVE_ITERS 24
 #endif
 #endif
 #endif

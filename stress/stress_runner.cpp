@@ -62,7 +62,11 @@ Conditioning ambiguous_rays(const Cell& cell, const oracle::Oracle& oracle,
     for (int k = 0; k < 36 && !amb[i]; ++k) {
       kernel::Ray p = r;
       const double step = delta / double(1 << (2 * (k / 6)));
-      p.org[(k % 6) / 2] = float(double(p.org[(k % 6) / 2]) + (k % 2 ? step : -step));
+      // At least one ulp: far from the world origin a step below the coordinate's
+      // spacing would round back to the same ray.
+      float& c = p.org[(k % 6) / 2];
+      const float moved = float(double(c) + (k % 2 ? step : -step));
+      c = moved != c ? moved : std::nextafter(c, k % 2 ? INFINITY : -INFINITY);
       oracle::OracleHit h = oracle.trace(p);
       amb[i] = h.prim != truth[i].prim;
       if (h.prim >= 0 && truth[i].prim >= 0)
