@@ -1,7 +1,7 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Plot `masq bench --error --json F` as run time against error (one panel per metric).
 
-usage: python3 scripts/plot_error.py error.json error.png
+usage: /usr/bin/python3 scripts/plot_error.py error.json error.png  (Debian python3-matplotlib)
 """
 import json
 import sys
