@@ -21,17 +21,6 @@ KERNEL_NS_BEGIN
 // rounding cannot open a gap between them (the surfaces agree there to second order).
 #define MASQ_CAPSULE_SEAM 1e-6f
 
-FN PrimHit capsule_take(PrimHit best, float t, float tmin, vec3 n, float u) {
-  if (t >= tmin && t <= best.t) {
-    best.hit = 1;
-    best.t = t;
-    best.normal = n;
-    best.u = u;
-    best.v = 0.0f;
-  }
-  return best;
-}
-
 FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax) {
   PrimHit res = prim_miss();
   res.t = tmax;
@@ -69,7 +58,7 @@ FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax
         for (int k = 0; k < 2; ++k) {
           float s = k == 0 ? s0 - q : s0 + q;
           float z = pa + s * da;
-          if (fabs_(z) <= h + seam) res = capsule_take(res, ts + s, tlo, pr + s * dr, min(max((z + h) / len, 0.0f), 1.0f));
+          if (fabs_(z) <= h + seam) res = prim_take(res, ts + s, tlo, pr + s * dr, min(max((z + h) / len, 0.0f), 1.0f));
         }
       }
     }
@@ -88,7 +77,7 @@ FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax
         float s = k == 0 ? s0 - q : s0 + q;
         float z = pa + s * da;
         if (h == 0.0f || side * z >= h - seam)
-          res = capsule_take(res, ts + s, tlo, pc + s * d, e == 0 ? 0.0f : 1.0f);
+          res = prim_take(res, ts + s, tlo, pc + s * d, e == 0 ? 0.0f : 1.0f);
       }
     }
   }

@@ -15,17 +15,6 @@
 
 KERNEL_NS_BEGIN
 
-FN PrimHit capsule_fast_take(PrimHit best, float t, float tmin, vec3 n, float u) {
-  if (t >= tmin && t <= best.t) {
-    best.hit = 1;
-    best.t = t;
-    best.normal = n;
-    best.u = u;
-    best.v = 0.0f;
-  }
-  return best;
-}
-
 FN PrimHit intersect_capsule_fast(Capsule cap, vec3 ro, vec3 rd, float tmin, float tmax) {
   PrimHit res = prim_miss();
   res.t = tmax;
@@ -53,7 +42,7 @@ FN PrimHit intersect_capsule_fast(Capsule cap, vec3 ro, vec3 rd, float tmin, flo
     for (int k = 0; k < 2; ++k) {
       float t = (k == 0 ? -b - sh : -b + sh) / a;
       float y = baoa + t * bard;
-      if (y > 0.0f && y < baba) res = capsule_fast_take(res, t, tmin, oa + t * rd - ba * (y / baba), y / baba);
+      if (y > 0.0f && y < baba) res = prim_take(res, t, tmin, oa + t * rd - ba * (y / baba), y / baba);
     }
     // caps
     for (int e = 0; e < 2; ++e) {
@@ -66,7 +55,7 @@ FN PrimHit intersect_capsule_fast(Capsule cap, vec3 ro, vec3 rd, float tmin, flo
         for (int k = 0; k < 2; ++k) {
           float t = (k == 0 ? -cb - sch : -cb + sch) / dd;
           float y = baoa + t * bard;
-          if (e == 0 ? y <= 0.0f : y >= baba) res = capsule_fast_take(res, t, tmin, oc + t * rd, e == 0 ? 0.0f : 1.0f);
+          if (e == 0 ? y <= 0.0f : y >= baba) res = prim_take(res, t, tmin, oc + t * rd, e == 0 ? 0.0f : 1.0f);
         }
       }
     }

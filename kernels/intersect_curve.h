@@ -472,17 +472,6 @@ FN vec3 curve_cross_acc(vec3 a, vec3 b) {
   return VEC3(curve_dop(a.y, b.z, a.z, b.y), curve_dop(a.z, b.x, a.x, b.z), curve_dop(a.x, b.y, a.y, b.x));
 }
 
-FN PrimHit curve_take(PrimHit best, float t, float tlo, vec3 nrm, float u) {
-  if (t >= tlo && t <= best.t) {
-    best.hit = 1;
-    best.t = t;
-    best.normal = nrm;
-    best.u = u;
-    best.v = 0.0f;
-  }
-  return best;
-}
-
 FN vec3 curve_to_frame(vec3 w, vec3 ex, vec3 ey, vec3 ez) { return VEC3(dot(w, ex), dot(w, ey), dot(w, ez)); }
 
 // robust != 0: intersect_curve; 0: intersect_curve_fast (see the top of this file).
@@ -564,7 +553,7 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
       for (int e = 0; e < 2; ++e) {
         if (e == 1 && maybe_inside == 0) break;
         CurveRoot rt = curve_crossing(f, ap.s, e == 0 ? -1.0f : 1.0f, MASQ_CURVE_TOL_CROSS * r);
-        if (rt.found != 0) best = curve_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
+        if (rt.found != 0) best = prim_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
       }
     }
   }
@@ -574,7 +563,7 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
       float s0 = (k & 1) == 0 ? 0.0f : 1.0f;
       float side = k < 2 ? -1.0f : 1.0f;
       CurveRoot rt = curve_chain_fast(f, s0, side);
-      if (rt.found != 0) best = curve_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
+      if (rt.found != 0) best = prim_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
     }
   }
   // End balls, outer hemispheres (with an overlap of the tube tolerance at the seam).
@@ -589,7 +578,7 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
       for (int k = 0; k < 2; ++k) {
         float z = k == 0 ? bc.z - q : bc.z + q;
         vec3 w = VEC3(-bc.x, -bc.y, z - bc.z);
-        if (dot(w, ta) >= seam) best = curve_take(best, ts + z / dl, tlo, w, e == 0 ? 0.0f : 1.0f);
+        if (dot(w, ta) >= seam) best = prim_take(best, ts + z / dl, tlo, w, e == 0 ? 0.0f : 1.0f);
       }
     }
   }

@@ -245,7 +245,7 @@ FN PrimHit intersect_round_cone_fast(RoundCone rc, vec3 ro, vec3 rd, float tmin,
     float t = (j == 0 ? -sh - k1 : sh - k1) / k2;
     float y = m1 - ra * rr + t * m2;
     if (y > 0.0f && y < d2)
-      res = capsule_take(res, t, tmin, d2 * (oa + t * rd) - ba * y, cone_u(y + ra * rr, m0));
+      res = prim_take(res, t, tmin, d2 * (oa + t * rd) - ba * y, cone_u(y + ra * rr, m0));
   }
   // caps
   float h1 = m3 * m3 - dd * (m5 - ra * ra);
@@ -259,7 +259,7 @@ FN PrimHit intersect_round_cone_fast(RoundCone rc, vec3 ro, vec3 rd, float tmin,
         float t = (j == 0 ? -bc - shc : -bc + shc) / dd;
         float y = m1 - ra * rr + t * m2;
         if (e == 0 ? y <= 0.0f : y >= d2)
-          res = capsule_take(res, t, tmin, (e == 0 ? oa : ob) + t * rd, cone_u(y + ra * rr, m0));
+          res = prim_take(res, t, tmin, (e == 0 ? oa : ob) + t * rd, cone_u(y + ra * rr, m0));
       }
     }
   }

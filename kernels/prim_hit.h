@@ -37,5 +37,18 @@ FN PrimHit prim_miss() {
   h.v = 0.0f;
   return h;
 }
+// A crossing at t (normal n, axial/curve parameter u) becomes the result if it lies in
+// [tmin, best.t]: the intersectors search nearest-first within the current best.
+FN PrimHit prim_take(PrimHit best, float t, float tmin, vec3 n, float u) {
+  if (t >= tmin && t <= best.t) {
+    best.hit = 1;
+    best.t = t;
+    best.normal = n;
+    best.u = u;
+    best.v = 0.0f;
+  }
+  return best;
+}
+
 KERNEL_NS_END
 #endif
