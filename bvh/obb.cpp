@@ -149,17 +149,20 @@ MasqueradeBox masquerade_box(const Geometry& g, std::size_t prim, const Affine3&
 
   MasqueradeBox out;
   // Round to fp32, then shrink the map until the stored matrix provably maps the
-  // primitive inside [-1,1]^3 (rounding can push it out by a few ulps).
+  // primitive inside [-1,1]^3. Rounding can push it out by a few ulps of the map's
+  // largest entry, and re-rounding after a shrink errs again by as much (for a thin
+  // primitive far from the origin the translation is ~|c|/r unit boxes), so each retry
+  // shrinks by twice the previous excess.
   double shrink = 1.0;
-  for (int attempt = 0; attempt < 8; ++attempt) {
+  for (int attempt = 0;; ++attempt) {
     Affine3 scaled = world_to_unit;
     scaled.linear *= shrink;
     scaled.translation *= shrink;
     out.world_to_unit = to_mat3x4f(scaled);
     double e = unit_extent(h, xf, out.world_to_unit);
     if (e <= 1.0) break;
-    shrink *= (1.0 - 4.0 * 5.96e-8) / e;
-    if (attempt == 7) throw Error("obb: could not fit a conservative fp32 masquerade transform");
+    if (attempt == 24 || !std::isfinite(e)) throw Error("obb: could not fit a conservative fp32 masquerade transform");
+    shrink *= (1.0 - 4.0 * 5.96e-8) / (1.0 + double(1 << attempt) * (e - 1.0));
   }
   out.unit_to_world = to_mat3x4f(inverse(from_mat3x4f(out.world_to_unit)));
   Aabb exact = hull_world_box(h, xf);

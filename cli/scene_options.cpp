@@ -1,9 +1,24 @@
 #include "cli/scene_options.h"
 #include "scenes/curve_tools.h"
+#include "scenes/loaders/load_any.h"
+#include <cstdio>
 
 namespace masq::cli {
 
 void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
+  cmd.add_option("--scene", opt.scene,
+                 "Embedded scene: bundle (the masquerade paper's), hair (on a head), fur (on a body), streamlines (ABC flow)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"bundle", "hair", "fur", "streamlines"}));
+  cmd.add_option("--file", opt.file,
+                 "Scene file instead of --scene: .tfx (TressFX 3/4), .hair, .swc, .trk, .tck, .ply, .nff (strands use --prim "
+                 "capsule or cone)");
+  cmd.add_option("--file-radius", opt.file_radius, "Strand radius where the file has none (0: the loader's default)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--strands", opt.strands, "hair, fur, streamlines: number of strands")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000000));
   cmd.add_option("--count", opt.bundle.count, "Strands in the default bundle scene")->capture_default_str()->check(CLI::PositiveNumber);
   cmd.add_option("--radius", opt.bundle.radius, "Strand radius")->capture_default_str()->check(CLI::PositiveNumber);
   cmd.add_option("--tilt", opt.bundle.tilt_deg, "Bundle tilt in degrees (X-Y plane)")->capture_default_str();
@@ -25,8 +40,36 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
 }
 
 Scene make_scene(const SceneOptions& opt) {
+  PrimType prim = parse_prim_type(opt.prim);
+  if (!opt.file.empty()) {
+    LoadOptions lo;
+    lo.radius = opt.file_radius;
+    lo.strand_type = prim == PrimType::RoundCone ? PrimType::RoundCone : PrimType::Capsule;
+    lo.warn = [](const std::string& w) { std::fprintf(stderr, "masq: warning: %s\n", w.c_str()); };
+    return load_scene_file(opt.file, lo);
+  }
+  if (opt.scene == "hair" || opt.scene == "fur") {
+    HairParams hp;
+    hp.strands = opt.strands;
+    hp.surface = opt.scene == "fur" ? HairSurface::Body : HairSurface::Head;
+    if (opt.scene == "fur") {
+      hp.points = 4;
+      hp.length = 0.15;
+      hp.gravity = 0.1;
+    }
+    hp.type = prim == PrimType::Sphere ? PrimType::Curve : prim;
+    hp.seed = opt.bundle.seed;
+    return subdivide_curves(make_hair_scene(hp), opt.subdivisions);
+  }
+  if (opt.scene == "streamlines") {
+    StreamlineParams sp;
+    sp.lines = opt.strands;
+    sp.type = prim == PrimType::Sphere ? PrimType::RoundCone : prim;
+    sp.seed = opt.bundle.seed;
+    return subdivide_curves(make_streamline_scene(sp), opt.subdivisions);
+  }
   BundleParams bp = opt.bundle;
-  bp.prim = parse_prim_type(opt.prim);
+  bp.prim = prim;
   Scene s = subdivide_curves(make_default_scene(bp), opt.subdivisions);
   if (opt.orthographic) {
     s.camera.eye = {0.0, 0.0, -5.0};

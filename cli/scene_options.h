@@ -3,11 +3,16 @@
 #pragma once
 #include "bvh/build_accel.h"
 #include "scenes/generators.h"
+#include "scenes/strand_generators.h"
 #include <CLI/CLI.hpp>
 #include <string>
 
 namespace masq::cli {
 struct SceneOptions {
+  std::string scene = "bundle"; // bundle, hair, fur, streamlines
+  std::string file;             // a scene file (overrides --scene)
+  float file_radius = 0.0f;     // strands without radii in the file (0: the loader's default)
+  int strands = 10000;          // hair, fur, streamlines: strand count
   BundleParams bundle;
   std::string prim = "capsule";
   int subdivisions = 1; // curves: pre-subdivision into k pieces

@@ -1,5 +1,6 @@
 #include "scenes/camera.h"
 #include "scenes/error.h"
+#include <algorithm>
 #include <cmath>
 
 namespace masq {
@@ -41,6 +42,40 @@ std::vector<kernel::Ray> make_camera_rays(const Camera& cam, int width, int heig
     }
   }
   return rays;
+}
+
+void frame_scene(Scene& scene) {
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  auto grow = [&](const Affine3& xf, const glm::vec3& p, double r) {
+    glm::dvec3 w = xf.apply_point(glm::dvec3(p));
+    double s = r * std::max({glm::length(xf.linear[0]), glm::length(xf.linear[1]), glm::length(xf.linear[2])});
+    lo = glm::min(lo, w - s);
+    hi = glm::max(hi, w + s);
+  };
+  for (const Instance& inst : scene.instances) {
+    const Geometry& g = scene.geometries.at(inst.geometry);
+    const Affine3& xf = inst.object_to_world;
+    for (const glm::uvec3& t : g.triangles)
+      for (int k = 0; k < 3; ++k) grow(xf, g.vertices.at(t[k]), 0.0);
+    for (const CapsulePrim& c : g.capsules) {
+      grow(xf, c.a, c.radius);
+      grow(xf, c.b, c.radius);
+    }
+    for (const RoundConePrim& c : g.cones) {
+      grow(xf, c.a, c.ra);
+      grow(xf, c.b, c.rb);
+    }
+    for (const SpherePrim& s : g.spheres) grow(xf, s.center, s.radius);
+    for (const CurvePrim& c : g.curves)
+      for (const glm::vec3& p : c.p) grow(xf, p, c.radius);
+  }
+  if (!(lo.x <= hi.x)) return; // nothing to frame
+  glm::dvec3 centre = 0.5 * (lo + hi);
+  double size = std::max(glm::length(hi - lo), 1e-30);
+  scene.camera = Camera{};
+  scene.camera.target = centre;
+  scene.camera.eye = centre + glm::dvec3(0.0, 0.2 * size, -1.4 * size);
+  scene.camera.fov_y_deg = 40.0;
 }
 
 } // namespace masq

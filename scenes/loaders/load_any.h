@@ -1,0 +1,12 @@
+// Load a scene file by its extension: .tfx (TressFX 3/4), .hair (Cem Yuksel), .swc,
+// .trk (TrackVis), .tck (MRtrix), .ply, .nff (SPD). Throws masq::Error naming the file
+// for an unknown extension or bad content.
+#pragma once
+#include "scenes/loaders/loader.h"
+#include <string>
+#include <vector>
+
+namespace masq {
+Scene load_scene_file(const std::string& path, const LoadOptions& opt = {});
+const std::vector<std::string>& scene_file_extensions(); // ".tfx", ".hair", ...
+} // namespace masq

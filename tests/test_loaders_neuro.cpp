@@ -1,0 +1,400 @@
+// SWC, TrackVis .trk and MRtrix .tck loaders: real files from MASQ_DATA_DIR, a .tck
+// round trip through a test writer, and one handmade broken input per error class.
+#include "scenes/error.h"
+#include "scenes/loaders/load_swc.h"
+#include "scenes/loaders/load_tracks.h"
+#include <gtest/gtest.h>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+using namespace masq;
+
+namespace {
+
+std::string data_dir() { return MASQ_DATA_DIR; }
+
+std::vector<std::byte> bytes_of(const std::string& s) {
+  std::vector<std::byte> b(s.size());
+  std::memcpy(b.data(), s.data(), s.size());
+  return b;
+}
+
+// Expects masq::Error whose message contains every fragment.
+template <class F>
+void expect_error(F&& f, std::initializer_list<const char*> fragments) {
+  try {
+    f();
+    ADD_FAILURE() << "no masq::Error thrown";
+  } catch (const Error& e) {
+    std::string msg = e.what();
+    for (const char* frag : fragments) EXPECT_NE(msg.find(frag), std::string::npos) << "message: " << msg << "\nmissing: " << frag;
+  }
+}
+
+struct WarnLog {
+  std::vector<std::string> lines;
+  LoadOptions opts(PrimType t = PrimType::Capsule, float radius = 0.0f) {
+    LoadOptions o;
+    o.strand_type = t;
+    o.radius = radius;
+    o.warn = [this](const std::string& s) { lines.push_back(s); };
+    return o;
+  }
+};
+
+// ------------------------------------------------------------------------- SWC
+
+TEST(Swc, RealNeurons) {
+  const std::string dir = data_dir() + "/neurons";
+  if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << "no neuron data at " << dir << " (set MASQ_DEFAULT_DATA_DIR)";
+  const char* files[] = {"C031097B-I4.CNG.swc", "C040600B3.CNG.swc", "C080400A3.CNG.swc", "C220498B-I4.CNG.swc"};
+  std::size_t warned_files = 0;
+  for (const char* f : files) {
+    const std::string path = dir + "/" + f;
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "missing " << path;
+    WarnLog log;
+    Scene s = load_swc(path, log.opts());
+    ASSERT_EQ(s.geometries.size(), 1u);
+    ASSERT_EQ(s.instances.size(), 1u);
+    const Geometry& g = s.geometries[0];
+    EXPECT_EQ(g.type, PrimType::RoundCone) << f;
+    // Each file has one root (the soma), so segments = samples - 1, samples in [4911, 5543].
+    EXPECT_GE(g.cones.size() + 1, 4911u) << f;
+    EXPECT_LE(g.cones.size() + 1, 5543u) << f;
+    for (const RoundConePrim& c : g.cones) {
+      ASSERT_GE(c.ra, 0.0f) << f;
+      ASSERT_GE(c.rb, 0.0f) << f;
+    }
+    EXPECT_NO_THROW(validate_scene(s)) << f;
+    if (!log.lines.empty()) {
+      ++warned_files;
+      EXPECT_NE(log.lines[0].find("negative radius"), std::string::npos) << log.lines[0];
+    }
+  }
+  // Exact counts (samples - roots), as counted independently from the files.
+  {
+    Scene a = load_swc(dir + "/C040600B3.CNG.swc");
+    EXPECT_EQ(a.geometries[0].cones.size(), 5542u);
+    Scene b = load_swc(dir + "/C220498B-I4.CNG.swc");
+    EXPECT_EQ(b.geometries[0].cones.size(), 4910u);
+    Scene c = load_swc(dir + "/C080400A3.CNG.swc");
+    EXPECT_EQ(c.geometries[0].cones.size(), 5242u);
+    WarnLog log;
+    Scene d = load_swc(dir + "/C031097B-I4.CNG.swc", log.opts());
+    EXPECT_EQ(d.geometries[0].cones.size(), 5419u);
+    ASSERT_EQ(log.lines.size(), 1u);
+    EXPECT_NE(log.lines[0].find("negative radius"), std::string::npos);
+  }
+  EXPECT_EQ(warned_files, 1u) << "exactly one real file has negative radii";
+}
+
+TEST(Swc, GapsRootsForwardParentsComments) {
+  const std::string text =
+      "# comment\n"
+      "\n"
+      "10 1 0 0 0 2.0 -1   # soma\r\n"
+      "12 3 1 0 0 0.5 10\n"
+      "30 3 3 0 0 0.25 20\n"  // parent listed later
+      "20 3 2 0 0 0.5 12\n"
+      "100 1 9 9 9 1.0 -1\n"  // second root
+      "101 3 9 9 10 0.3 100 extra columns ignored\n"
+      "200 1 5 5 5 1.0 -1\n"; // isolated root: nothing
+  Scene s = load_swc(bytes_of(text), "mem.swc");
+  const Geometry& g = s.geometries[0];
+  ASSERT_EQ(g.type, PrimType::RoundCone);
+  ASSERT_EQ(g.cones.size(), 4u);
+  // 12 -> 10
+  EXPECT_EQ(g.cones[0].a, glm::vec3(0, 0, 0));
+  EXPECT_FLOAT_EQ(g.cones[0].ra, 2.0f);
+  EXPECT_EQ(g.cones[0].b, glm::vec3(1, 0, 0));
+  EXPECT_FLOAT_EQ(g.cones[0].rb, 0.5f);
+  // 30 -> 20 (forward reference)
+  EXPECT_EQ(g.cones[1].a, glm::vec3(2, 0, 0));
+  EXPECT_FLOAT_EQ(g.cones[1].rb, 0.25f);
+  // Radius scale.
+  LoadOptions o;
+  o.radius = 2.0f;
+  Scene t = load_swc(bytes_of(text), "mem.swc", o);
+  EXPECT_FLOAT_EQ(t.geometries[0].cones[0].ra, 4.0f);
+}
+
+TEST(Swc, NegativeRadiusRepairedWithWarning) {
+  WarnLog log;
+  Scene s = load_swc(bytes_of("1 1 0 0 0 1 -1\n2 3 1 0 0 -0.275 1\n"), "neg.swc", log.opts());
+  ASSERT_EQ(s.geometries[0].cones.size(), 1u);
+  EXPECT_FLOAT_EQ(s.geometries[0].cones[0].rb, 0.275f);
+  ASSERT_EQ(log.lines.size(), 1u);
+  EXPECT_NE(log.lines[0].find("neg.swc"), std::string::npos);
+  EXPECT_NE(log.lines[0].find("line 2"), std::string::npos);
+}
+
+TEST(Swc, BadInputs) {
+  auto load = [](const std::string& text) { return [text] { load_swc(bytes_of(text), "bad.swc"); }; };
+  expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5\n"), {"bad.swc:2:", "7 fields"});          // malformed: too few
+  expect_error(load("1 1 0 0 0 1 -1\n2 3 1 zero 0 0.5 1\n"), {"bad.swc:2:", "not a number"}); // non-numeric
+  expect_error(load("1 1 0 0 0 1 -1\nx 3 1 0 0 0.5 1\n"), {"bad.swc:2:", "id"});               // non-numeric id
+  expect_error(load("1 1 0 0 0 1 -1\n2 3 1 nan 0 0.5 1\n"), {"bad.swc:2:", "not finite"});     // NaN
+  expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 inf 1\n"), {"bad.swc:2:", "not finite"});       // Inf
+  expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 1e400 1\n"), {"bad.swc:2:", "not finite"});     // overflow
+  expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5 1\n3 3 2 0 0 0.5 7\n"), {"bad.swc:3:", "parent 7"}); // bad parent
+  expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5 1\n2 3 2 0 0 0.5 1\n"), {"bad.swc:3:", "duplicate id 2", "line 2"});
+  expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5 2\n"), {"bad.swc:2:", "own parent"});
+  expect_error(load("# nothing\n"), {"bad.swc", "no segments"});
+  expect_error(load("1 1 0 0 0 1 -1\n"), {"bad.swc", "no segments"});
+  expect_error(load(std::string("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5 1\n\0\1\2", 33)), {"bad.swc:3:"}); // binary junk
+  expect_error([] { load_swc(std::string("/nonexistent/x.swc")); }, {"/nonexistent/x.swc", "cannot open"});
+}
+
+// ------------------------------------------------------------------------- TrackVis
+
+class TrkWriter {
+ public:
+  explicit TrkWriter(std::int16_t n_scalars = 0, std::int16_t n_properties = 0) : b_(1000, std::byte{0}) {
+    std::memcpy(b_.data(), "TRACK", 6);
+    put<std::int16_t>(36, n_scalars);
+    put<std::int16_t>(238, n_properties);
+    put<std::int32_t>(992, 2);
+    put<std::int32_t>(996, 1000);
+    ns_ = n_scalars;
+    np_ = n_properties;
+  }
+  template <class T>
+  void put(std::size_t off, T v) { std::memcpy(b_.data() + off, &v, sizeof v); }
+  template <class T>
+  void append(T v) {
+    std::size_t o = b_.size();
+    b_.resize(o + sizeof v);
+    std::memcpy(b_.data() + o, &v, sizeof v);
+  }
+  void streamline(const std::vector<glm::vec3>& pts) {
+    append<std::int32_t>(static_cast<std::int32_t>(pts.size()));
+    for (const glm::vec3& p : pts) {
+      append(p.x); append(p.y); append(p.z);
+      for (int s = 0; s < ns_; ++s) append(7.0f);
+    }
+    for (int s = 0; s < np_; ++s) append(9.0f);
+    ++count_;
+  }
+  std::vector<std::byte> bytes(bool write_count = true) {
+    if (write_count) put<std::int32_t>(988, count_);
+    return b_;
+  }
+  std::vector<std::byte> b_;
+  int ns_, np_, count_ = 0;
+};
+
+TEST(Trk, RealTracks300) {
+  const std::string path = data_dir() + "/tracts/dipy_tracks300.trk";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no tract data at " << path << " (set MASQ_DEFAULT_DATA_DIR)";
+  WarnLog log;
+  Scene s = load_trk(path, log.opts());
+  const Geometry& g = s.geometries[0];
+  EXPECT_EQ(g.type, PrimType::Capsule);
+  EXPECT_EQ(g.capsules.size(), 14276u); // 14,576 points - 300 streamlines
+  ASSERT_FALSE(g.capsules.empty());
+  EXPECT_FLOAT_EQ(g.capsules[0].radius, kDefaultTrackRadius);
+  ASSERT_EQ(log.lines.size(), 1u); // the default-radius warning
+  EXPECT_NE(log.lines[0].find("radius"), std::string::npos);
+  EXPECT_NO_THROW(validate_scene(s));
+
+  WarnLog log2;
+  Scene c = load_trk(path, log2.opts(PrimType::RoundCone, 0.25f));
+  EXPECT_EQ(c.geometries[0].type, PrimType::RoundCone);
+  EXPECT_EQ(c.geometries[0].cones.size(), 14276u);
+  EXPECT_FLOAT_EQ(c.geometries[0].cones[0].ra, 0.25f);
+  EXPECT_TRUE(log2.lines.empty());
+
+  // The streamline and point counts, read independently of the loader.
+  std::vector<std::byte> bytes = read_file_bytes(path);
+  std::size_t off = 1000, n = 0, points = 0;
+  while (off + 4 <= bytes.size()) {
+    std::int32_t m;
+    std::memcpy(&m, bytes.data() + off, 4);
+    off += 4 + 12 * static_cast<std::size_t>(m);
+    points += static_cast<std::size_t>(m);
+    ++n;
+  }
+  EXPECT_EQ(n, 300u);
+  EXPECT_EQ(points, 14576u);
+  EXPECT_EQ(points - n, g.capsules.size());
+}
+
+TEST(Trk, ScalarsPropertiesAndUnknownCount) {
+  TrkWriter w(2, 1);
+  w.streamline({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}});
+  w.streamline({{5, 5, 5}});
+  w.streamline({{2, 2, 2}, {3, 3, 3}});
+  for (bool with_count : {true, false}) {
+    Scene s = load_trk(w.bytes(with_count), "mem.trk", LoadOptions{1.0f, PrimType::Capsule, {}});
+    const Geometry& g = s.geometries[0];
+    ASSERT_EQ(g.capsules.size(), 3u);
+    EXPECT_EQ(g.capsules[1].b, glm::vec3(1, 1, 0));
+    EXPECT_EQ(g.capsules[2].a, glm::vec3(2, 2, 2));
+    EXPECT_EQ(g.capsules[2].b, glm::vec3(3, 3, 3));
+  }
+  expect_error([] { load_trk(TrkWriter().bytes(), "e.trk", LoadOptions{1.0f, PrimType::Sphere, {}}); },
+               {"e.trk", "capsules or round cones"});
+}
+
+TEST(Trk, BadInputs) {
+  TrkWriter w;
+  w.streamline({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}});
+  const std::vector<std::byte> good = w.bytes();
+  ASSERT_NO_THROW(load_trk(good, "good.trk"));
+  auto load = [](std::vector<std::byte> b) { return [b] { load_trk(b, "bad.trk"); }; };
+
+  // Truncated header / body.
+  expect_error(load(std::vector<std::byte>(good.begin(), good.begin() + 500)), {"bad.trk", "offset 0", "header"});
+  expect_error(load(std::vector<std::byte>(good.begin(), good.end() - 5)), {"bad.trk", "offset 1004", "truncated"});
+  // Wrong magic.
+  { auto b = good; b[0] = std::byte{'X'}; expect_error(load(b), {"bad.trk", "offset 0", "TRACK"}); }
+  // Bad hdr_size, version.
+  { TrkWriter x; x.put<std::int32_t>(996, 999); expect_error(load(x.bytes()), {"bad.trk", "offset 996", "hdr_size"}); }
+  { TrkWriter x; x.put<std::int32_t>(992, 77); expect_error(load(x.bytes()), {"bad.trk", "offset 992", "version"}); }
+  // n_count exceeding the file.
+  { auto b = good; std::int32_t n = 5; std::memcpy(b.data() + 988, &n, 4);
+    expect_error(load(b), {"bad.trk", "offset 1040", "1 of n_count 5"}); }
+  { auto b = good; std::int32_t n = -1; std::memcpy(b.data() + 988, &n, 4);
+    expect_error(load(b), {"bad.trk", "offset 988", "negative n_count"}); }
+  // Point count exceeding the bytes left (huge: must fail before any allocation).
+  { auto b = good; std::int32_t m = 0x7fffffff; std::memcpy(b.data() + 1000, &m, 4);
+    expect_error(load(b), {"bad.trk", "offset 1004", "need"}); }
+  { auto b = good; std::int32_t m = -3; std::memcpy(b.data() + 1000, &m, 4);
+    expect_error(load(b), {"bad.trk", "offset 1000", "negative point count"}); }
+  // NaN coordinate.
+  { auto b = good; float nan = std::numeric_limits<float>::quiet_NaN(); std::memcpy(b.data() + 1004 + 12 + 4, &nan, 4);
+    expect_error(load(b), {"bad.trk", "offset 1016", "point 1", "not finite"}); }
+  // Negative n_scalars.
+  { TrkWriter x; x.put<std::int16_t>(36, -2); expect_error(load(x.bytes()), {"bad.trk", "offset 36", "n_scalars"}); }
+  expect_error([] { load_trk(std::string("/nonexistent/x.trk")); }, {"/nonexistent/x.trk", "cannot open"});
+}
+
+// ------------------------------------------------------------------------- MRtrix
+
+template <class T>
+void append_value(std::vector<std::byte>& b, T v, bool big) {
+  unsigned char raw[sizeof(T)];
+  std::memcpy(raw, &v, sizeof v);
+  if (big)
+    for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(raw[i], raw[sizeof(T) - 1 - i]);
+  for (unsigned char c : raw) b.push_back(static_cast<std::byte>(c));
+}
+
+// Writes a .tck the way MRtrix does: header, padding to the data offset, xyz triplets,
+// a NaN triplet after each streamline, an Inf triplet at the end.
+std::vector<std::byte> write_tck(const std::vector<std::vector<glm::vec3>>& tracks, const std::string& datatype = "Float32LE",
+                                 bool terminate = true, std::size_t offset = 0) {
+  std::string head = "mrtrix tracks\ntimestamp: 1.0\ndatatype: " + datatype + "\ncount: " + std::to_string(tracks.size()) + "\n";
+  const std::size_t off = offset ? offset : head.size() + std::string("file: . 1000\nEND\n").size() + 3;
+  head += "file: . " + std::to_string(off) + "\nEND\n";
+  std::vector<std::byte> b = bytes_of(head);
+  b.resize(off, std::byte{0});
+  const bool big = datatype.ends_with("BE");
+  const bool f64 = datatype.starts_with("Float64");
+  auto put = [&](double x, double y, double z) {
+    for (double v : {x, y, z}) {
+      if (f64) append_value<double>(b, v, big);
+      else append_value<float>(b, static_cast<float>(v), big);
+    }
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  for (const auto& t : tracks) {
+    for (const glm::vec3& p : t) put(p.x, p.y, p.z);
+    put(nan, nan, nan);
+  }
+  if (terminate) put(inf, inf, inf);
+  return b;
+}
+
+const std::vector<std::vector<glm::vec3>> kTracks = {
+    {{0, 0, 0}, {1, 0, 0}, {1, 2, 0}, {1, 2, 3}},
+    {{-5.5f, 4.25f, 1e3f}, {-5.0f, 4.0f, 999.0f}},
+    {{7, 7, 7}}, // one point: no segment
+    {{0.1f, 0.2f, 0.3f}, {0.4f, 0.5f, 0.6f}, {0.7f, 0.8f, 0.9f}},
+};
+
+TEST(Tck, RoundTripAllDatatypes) {
+  for (const char* dt : {"Float32LE", "Float32BE", "Float64LE", "Float64BE"}) {
+    WarnLog log;
+    Scene s = load_tck(write_tck(kTracks, dt), "rt.tck", log.opts(PrimType::RoundCone, 0.5f));
+    const Geometry& g = s.geometries[0];
+    ASSERT_EQ(g.type, PrimType::RoundCone) << dt;
+    ASSERT_EQ(g.cones.size(), 3u + 1u + 0u + 2u) << dt;
+    std::size_t k = 0;
+    for (const auto& t : kTracks)
+      for (std::size_t i = 1; i < t.size(); ++i, ++k) {
+        EXPECT_EQ(g.cones[k].a, t[i - 1]) << dt << " segment " << k;
+        EXPECT_EQ(g.cones[k].b, t[i]) << dt << " segment " << k;
+        EXPECT_FLOAT_EQ(g.cones[k].ra, 0.5f);
+        EXPECT_FLOAT_EQ(g.cones[k].rb, 0.5f);
+      }
+    EXPECT_TRUE(log.lines.empty()) << dt << ": " << (log.lines.empty() ? "" : log.lines[0]);
+    EXPECT_NO_THROW(validate_scene(s));
+  }
+  // File path variant and capsules.
+  const std::filesystem::path p = std::filesystem::temp_directory_path() / "masq_test_loaders_neuro.tck";
+  {
+    std::vector<std::byte> b = write_tck(kTracks);
+    FILE* f = std::fopen(p.string().c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fwrite(b.data(), 1, b.size(), f), b.size());
+    std::fclose(f);
+  }
+  WarnLog log;
+  Scene s = load_tck(p.string(), log.opts());
+  std::filesystem::remove(p);
+  EXPECT_EQ(s.geometries[0].capsules.size(), 6u);
+  EXPECT_FLOAT_EQ(s.geometries[0].capsules[0].radius, kDefaultTrackRadius);
+  EXPECT_EQ(log.lines.size(), 1u); // default radius
+}
+
+TEST(Tck, MissingTerminatorWarns) {
+  WarnLog log;
+  Scene s = load_tck(write_tck(kTracks, "Float32LE", false), "noend.tck", log.opts(PrimType::Capsule, 1.0f));
+  EXPECT_EQ(s.geometries[0].capsules.size(), 6u);
+  ASSERT_EQ(log.lines.size(), 1u);
+  EXPECT_NE(log.lines[0].find("Inf terminator"), std::string::npos);
+}
+
+TEST(Tck, BadInputs) {
+  const std::vector<std::byte> good = write_tck(kTracks);
+  ASSERT_NO_THROW(load_tck(good, "good.tck"));
+  auto load = [](std::vector<std::byte> b) { return [b] { load_tck(b, "bad.tck"); }; };
+  auto text = [](const std::string& s) { return bytes_of(s); };
+
+  // Wrong magic.
+  { auto b = good; b[0] = std::byte{'X'}; expect_error(load(b), {"bad.tck", "offset 0", "mrtrix tracks"}); }
+  // Header without END (truncated header).
+  expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nfile: . 60\n")), {"bad.tck", "END"});
+  // Unsupported datatype, malformed header line, bad file key.
+  expect_error(load(text("mrtrix tracks\ndatatype: Int16LE\nfile: . 60\nEND\n")), {"bad.tck:2:", "datatype"});
+  expect_error(load(text("mrtrix tracks\ndatatype Float32LE\nEND\n")), {"bad.tck:2:", "key: value"});
+  expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nfile: other.dat 0\nEND\n")), {"bad.tck:3:", "file: ."});
+  expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nfile: . x\nEND\n")), {"bad.tck:3:", "offset"});
+  expect_error(load(text("mrtrix tracks\nfile: . 40\nEND\n")), {"bad.tck", "datatype"});
+  expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nEND\n")), {"bad.tck", "file: ."});
+  // Data offset beyond the file / inside the header.
+  expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nfile: . 99999\nEND\n")), {"bad.tck", "offset 99999", "beyond"});
+  expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nfile: . 3\nEND\n")), {"bad.tck", "inside the header"});
+  // Truncated mid-triplet.
+  {
+    auto b = write_tck(kTracks, "Float32LE", false);
+    b.resize(b.size() - 5);
+    expect_error(load(b), {"bad.tck", "offset", "truncated"});
+  }
+  // Partial NaN triplet.
+  {
+    auto b = write_tck({{{0, 0, 0}, {1, std::numeric_limits<float>::quiet_NaN(), 0}}});
+    const std::size_t data_off = b.size() - 4 * 12; // 2 points, NaN triplet, Inf triplet
+    expect_error(load(b), {"bad.tck", ("offset " + std::to_string(data_off + 12)).c_str(), "not finite"});
+  }
+  expect_error([] { load_tck(std::string("/nonexistent/x.tck")); }, {"/nonexistent/x.tck", "cannot open"});
+}
+
+} // namespace
