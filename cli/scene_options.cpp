@@ -11,8 +11,8 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->capture_default_str()
       ->check(CLI::IsMember({"bundle", "hair", "fur", "streamlines"}));
   cmd.add_option("--file", opt.file,
-                 "Scene file instead of --scene: .tfx (TressFX 3/4), .hair, .swc, .trk, .tck, .ply, .nff (strands use --prim "
-                 "capsule or cone)");
+                 "Scene file instead of --scene: .tfx (TressFX 3/4), .hair, .swc, .trk, .tck, .ply, .obj, .nff, .json (scene "
+                 "description); strands use --prim capsule or cone");
   cmd.add_option("--file-radius", opt.file_radius, "Strand radius where the file has none (0: the loader's default)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

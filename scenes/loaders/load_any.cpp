@@ -1,7 +1,9 @@
 #include "scenes/loaders/load_any.h"
 #include "scenes/camera.h"
 #include "scenes/error.h"
+#include "scenes/loaders/load_description.h"
 #include "scenes/loaders/load_hair.h"
+#include "scenes/loaders/load_obj.h"
 #include "scenes/loaders/load_nff.h"
 #include "scenes/loaders/load_ply.h"
 #include "scenes/loaders/load_swc.h"
@@ -14,7 +16,7 @@
 namespace masq {
 
 const std::vector<std::string>& scene_file_extensions() {
-  static const std::vector<std::string> e = {".tfx", ".hair", ".swc", ".trk", ".tck", ".ply", ".nff"};
+  static const std::vector<std::string> e = {".tfx", ".hair", ".swc", ".trk", ".tck", ".ply", ".obj", ".nff", ".json"};
   return e;
 }
 
@@ -32,6 +34,8 @@ Scene load_scene_file(const std::string& path, const LoadOptions& opt) {
   if (ext == ".trk") return framed(load_trk(path, opt));
   if (ext == ".tck") return framed(load_tck(path, opt));
   if (ext == ".ply") return framed(load_ply(path, opt));
+  if (ext == ".obj") return framed(load_obj(path, opt));
+  if (ext == ".json") return load_description(path);
   if (ext == ".nff") return load_nff(path, opt);
   std::string known;
   for (const std::string& e : scene_file_extensions()) known += (known.empty() ? "" : ", ") + e;

@@ -1,5 +1,6 @@
 // Load a scene file by its extension: .tfx (TressFX 3/4), .hair (Cem Yuksel), .swc,
-// .trk (TrackVis), .tck (MRtrix), .ply, .nff (SPD). Throws masq::Error naming the file
+// .trk (TrackVis), .tck (MRtrix), .ply, .obj, .nff (SPD), .json (a scene description,
+// scenes/loaders/load_description.h). Throws masq::Error naming the file
 // for an unknown extension or bad content.
 #pragma once
 #include "scenes/loaders/loader.h"
