@@ -68,10 +68,14 @@ int bench(BenchCli& c) {
     for (const std::string& m : c.methods) c.bench.methods.push_back(parse_method(m));
   }
   if (!c.quiet) c.bench.progress = [](const std::string& line) { fmt::print(stderr, "\r\033[K  {}", line); };
-  fmt::print("scene '{}': {} primitives ({} {} strands r={} tilt {} deg + ground plane), {} mode, {}x{} primary rays, "
-             "{} warm-up + {} timed traces, median (min-max) of device time\n",
-             scene.name, scene.primitive_count(), c.scene.bundle.count, c.scene.prim, c.scene.bundle.radius,
-             c.scene.bundle.tilt_deg, c.scene.mode, c.bench.width, c.bench.height, c.bench.warmup, c.bench.repetitions);
+  const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
+  fmt::print("scene '{}': {} primitives{}, {} mode, {}x{} primary rays, {} warm-up + {} timed traces, median (min-max) "
+             "of device time\n",
+             scene.name, scene.primitive_count(),
+             bundle ? fmt::format(" ({} {} strands r={} tilt {} deg + ground plane)", c.scene.bundle.count, c.scene.prim,
+                                  c.scene.bundle.radius, c.scene.bundle.tilt_deg)
+                    : std::string(),
+             c.scene.mode, c.bench.width, c.bench.height, c.bench.warmup, c.bench.repetitions);
   std::vector<BenchRow> rows = run_bench(scene, c.bench);
   if (!c.quiet) fmt::print(stderr, "\r\033[K");
   fmt::print("{}\n{}", bench_table(rows), bench_ratios(rows));
