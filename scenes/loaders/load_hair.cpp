@@ -1,4 +1,5 @@
 #include "scenes/loaders/load_hair.h"
+#include "scenes/camera.h"
 #include "scenes/error.h"
 #include <cmath>
 #include <cstdint>
@@ -21,15 +22,6 @@ std::string num(double v) {
 }
 
 bool finite3(const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
-
-void frame(Camera& cam, const glm::dvec3& lo, const glm::dvec3& hi) {
-  glm::dvec3 c = 0.5 * (lo + hi);
-  double d = glm::length(hi - lo);
-  if (!(d > 0.0) || !std::isfinite(d)) d = 1.0;
-  cam.target = c;
-  cam.eye = c - glm::dvec3(0.0, 0.0, 1.2 * d / std::tan(glm::radians(cam.fov_y_deg) * 0.5));
-  cam.up = {0.0, 1.0, 0.0};
-}
 
 bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 bool same_bits(const glm::vec3& a, const glm::vec3& b) {
@@ -190,7 +182,7 @@ Scene load_hair(std::span<const std::byte> data, const std::string& name, const 
     i += n;
   }
   Scene sc = scene_of(std::move(g), name);
-  frame(sc.camera, lo, hi);
+  frame_scene(sc);
   return sc;
 }
 

@@ -1,4 +1,5 @@
 #include "scenes/loaders/load_tressfx.h"
+#include "scenes/camera.h"
 #include "scenes/error.h"
 #include <cmath>
 #include <cstdint>
@@ -20,16 +21,6 @@ std::string num(double v) {
 }
 
 bool finite3(const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
-
-// Aims the camera at the bounding box of the points, from -z.
-void frame(Camera& cam, const glm::dvec3& lo, const glm::dvec3& hi) {
-  glm::dvec3 c = 0.5 * (lo + hi);
-  double d = glm::length(hi - lo);
-  if (!(d > 0.0) || !std::isfinite(d)) d = 1.0;
-  cam.target = c;
-  cam.eye = c - glm::dvec3(0.0, 0.0, 1.2 * d / std::tan(glm::radians(cam.fov_y_deg) * 0.5));
-  cam.up = {0.0, 1.0, 0.0};
-}
 
 } // namespace
 
@@ -138,7 +129,7 @@ Scene load_tressfx(std::span<const std::byte> data, const std::string& name, con
     }
   }
   Scene sc = scene_of(std::move(g), name);
-  frame(sc.camera, lo, hi);
+  frame_scene(sc);
   return sc;
 }
 
