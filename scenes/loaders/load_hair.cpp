@@ -14,15 +14,6 @@ namespace {
 constexpr std::size_t kHeader = 128;
 constexpr std::uint32_t kSegments = 1, kPoints = 2, kThickness = 4, kTransparency = 8, kColor = 16;
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(9);
-  s << v;
-  return s.str();
-}
-
-bool finite3(const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
-
 bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 bool same_bits(const glm::vec3& a, const glm::vec3& b) {
   return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
@@ -48,8 +39,7 @@ Scene load_hair(const std::string& path, const LoadOptions& opt) {
 }
 
 Scene load_hair(std::span<const std::byte> data, const std::string& name, const LoadOptions& opt) {
-  if (opt.strand_type != PrimType::Capsule && opt.strand_type != PrimType::RoundCone)
-    throw Error(name + ": strand_type must be capsule or round cone, not " + prim_type_name(opt.strand_type));
+  require_strand_type(opt, name);
   ByteReader r(data, name);
   char magic[4];
   r.read(0, magic, 4, ".hair header (magic)");
@@ -114,8 +104,8 @@ Scene load_hair(std::span<const std::byte> data, const std::string& name, const 
       for (std::uint64_t k = 0; k < n; ++k, ++i) {
         if (!finite3(pts[i]))
           r.fail(pts_off + i * 12, "strand " + std::to_string(s) + " point " + std::to_string(k) +
-                                       ": non-finite coordinate (" + num(pts[i].x) + ", " + num(pts[i].y) +
-                                       ", " + num(pts[i].z) + ")");
+                                       ": non-finite coordinate (" + format_number(pts[i].x) + ", " + format_number(pts[i].y) +
+                                       ", " + format_number(pts[i].z) + ")");
         lo = glm::min(lo, glm::dvec3(pts[i]));
         hi = glm::max(hi, glm::dvec3(pts[i]));
       }
@@ -131,11 +121,11 @@ Scene load_hair(std::span<const std::byte> data, const std::string& name, const 
         float t = rad[i];
         if (!std::isfinite(t))
           r.fail(thick_off + i * 4, "strand " + std::to_string(s) + " point " + std::to_string(k) +
-                                        ": thickness is " + num(t));
+                                        ": thickness is " + format_number(t));
         if (t < 0.0f) {
           if (negative == 0 && opt.warn)
             opt.warn(name + ": offset " + std::to_string(thick_off + i * 4) + ": strand " + std::to_string(s) +
-                     " point " + std::to_string(k) + ": negative thickness " + num(t) + " made positive");
+                     " point " + std::to_string(k) + ": negative thickness " + format_number(t) + " made positive");
           ++negative;
           t = -t;
         }
@@ -149,7 +139,7 @@ Scene load_hair(std::span<const std::byte> data, const std::string& name, const 
     float radius;
     if (std::isfinite(t) && t != 0.0f) {
       if (t < 0.0f) {
-        if (opt.warn) opt.warn(name + ": offset 20: negative default thickness " + num(t) + " made positive");
+        if (opt.warn) opt.warn(name + ": offset 20: negative default thickness " + format_number(t) + " made positive");
         t = -t;
       }
       radius = t * 0.5f;
@@ -159,8 +149,8 @@ Scene load_hair(std::span<const std::byte> data, const std::string& name, const 
       double diag = glm::length(hi - lo);
       radius = diag > 0.0 ? float(1e-3 * diag) : 1e-3f;
       if (opt.warn)
-        opt.warn(name + ": no thickness in the file (default thickness " + num(default_thickness) +
-                 "); using radius " + num(radius) + " (1e-3 x bounding-box diagonal " + num(diag) +
+        opt.warn(name + ": no thickness in the file (default thickness " + format_number(default_thickness) +
+                 "); using radius " + format_number(radius) + " (1e-3 x bounding-box diagonal " + format_number(diag) +
                  "); set LoadOptions::radius to choose one");
     }
     std::fill(rad.begin(), rad.end(), radius);

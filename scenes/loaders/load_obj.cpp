@@ -71,8 +71,7 @@ Scene load_obj(const std::string& path, const LoadOptions& opt) {
 }
 
 Scene load_obj(std::span<const std::byte> data, const std::string& name, const LoadOptions& opt) {
-  if (opt.strand_type != PrimType::Capsule && opt.strand_type != PrimType::RoundCone)
-    throw Error(name + ": strands can be capsules or round cones, not " + prim_type_name(opt.strand_type));
+  require_strand_type(opt, name);
   const std::string text(reinterpret_cast<const char*>(data.data()), data.size());
   check_vertex_lines(text, name);
 

@@ -391,8 +391,7 @@ Scene load_ply(std::span<const std::byte> data, const std::string& name, const L
       float diag = glm::length(hi - lo);
       radius = diag > 0.0f ? 0.002f * diag : 1e-3f;
     }
-    if (opt.strand_type != PrimType::Capsule && opt.strand_type != PrimType::RoundCone)
-      throw Error(name + ": strands can be capsules or round cones, not " + prim_type_name(opt.strand_type));
+    require_strand_type(opt, name);
     Geometry g;
     g.type = opt.strand_type;
     for (const glm::uvec2& ed : edges) {

@@ -14,8 +14,7 @@ namespace {
 class StrandBuilder {
  public:
   StrandBuilder(const std::string& name, const LoadOptions& opt) {
-    if (opt.strand_type != PrimType::Capsule && opt.strand_type != PrimType::RoundCone)
-      throw Error(name + ": streamlines load as capsules or round cones, not " + prim_type_name(opt.strand_type));
+    require_strand_type(opt, name);
     g_.type = opt.strand_type;
     radius_ = opt.radius;
     if (!(radius_ > 0.0f)) {
@@ -40,8 +39,6 @@ class StrandBuilder {
   Geometry g_;
   float radius_ = kDefaultTrackRadius;
 };
-
-bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // ---------------------------------------------------------------- TrackVis .trk
 

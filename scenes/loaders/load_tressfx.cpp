@@ -13,15 +13,6 @@ namespace {
 constexpr std::size_t kHeaderV3 = 296;
 constexpr std::size_t kHeaderV4 = 160;
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(9);
-  s << v;
-  return s.str();
-}
-
-bool finite3(const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
-
 } // namespace
 
 Scene load_tressfx(const std::string& path, const LoadOptions& opt) {
@@ -30,14 +21,13 @@ Scene load_tressfx(const std::string& path, const LoadOptions& opt) {
 }
 
 Scene load_tressfx(std::span<const std::byte> data, const std::string& name, const LoadOptions& opt) {
-  if (opt.strand_type != PrimType::Capsule && opt.strand_type != PrimType::RoundCone)
-    throw Error(name + ": strand_type must be capsule or round cone, not " + prim_type_name(opt.strand_type));
+  require_strand_type(opt, name);
   ByteReader r(data, name);
   const float version = r.get<float>(0, "TressFX header (version)");
   int major = 0;
   if (version >= 3.0f && version < 4.0f) major = 3;
   else if (version >= 4.0f && version < 5.0f) major = 4;
-  else r.fail(0, "unsupported TressFX version " + num(version) + " (expected 3.x or 4.x; not a .tfx file?)");
+  else r.fail(0, "unsupported TressFX version " + format_number(version) + " (expected 3.x or 4.x; not a .tfx file?)");
   const std::size_t header = major == 3 ? kHeaderV3 : kHeaderV4;
   r.require(0, header, 1, major == 3 ? "TressFX 3 header" : "TressFX 4 header");
 
@@ -75,11 +65,11 @@ Scene load_tressfx(std::span<const std::byte> data, const std::string& name, con
     for (std::uint32_t s = 0; s < strands; ++s) {
       float t = thickness[s];
       if (!std::isfinite(t))
-        r.fail(thick_off + std::size_t(s) * 4, "strand " + std::to_string(s) + ": thickness is " + num(t));
+        r.fail(thick_off + std::size_t(s) * 4, "strand " + std::to_string(s) + ": thickness is " + format_number(t));
       if (t < 0.0f) {
         if (negative == 0 && opt.warn)
           opt.warn(name + ": offset " + std::to_string(thick_off + std::size_t(s) * 4) + ": strand " +
-                   std::to_string(s) + ": negative thickness " + num(t) + " made positive");
+                   std::to_string(s) + ": negative thickness " + format_number(t) + " made positive");
         ++negative;
         thickness[s] = -t;
       }
@@ -97,7 +87,7 @@ Scene load_tressfx(std::span<const std::byte> data, const std::string& name, con
     glm::vec3 p(xyz[0], xyz[1], xyz[2]);
     if (!finite3(p))
       r.fail(off, "strand " + std::to_string(i / vps) + " vertex " + std::to_string(i % vps) +
-                      ": non-finite coordinate (" + num(p.x) + ", " + num(p.y) + ", " + num(p.z) + ")");
+                      ": non-finite coordinate (" + format_number(p.x) + ", " + format_number(p.y) + ", " + format_number(p.z) + ")");
     pts[i] = p;
     lo = glm::min(lo, glm::dvec3(p));
     hi = glm::max(hi, glm::dvec3(p));
@@ -108,8 +98,8 @@ Scene load_tressfx(std::span<const std::byte> data, const std::string& name, con
     double diag = glm::length(hi - lo);
     base = diag > 0.0 ? float(1e-3 * diag) : 1e-3f;
     if (opt.warn)
-      opt.warn(name + ": TressFX has no absolute hair width; using radius " + num(base) +
-               " (1e-3 x bounding-box diagonal " + num(diag) + "); set LoadOptions::radius to choose one");
+      opt.warn(name + ": TressFX has no absolute hair width; using radius " + format_number(base) +
+               " (1e-3 x bounding-box diagonal " + format_number(diag) + "); set LoadOptions::radius to choose one");
   }
 
   Geometry g;
@@ -120,8 +110,8 @@ Scene load_tressfx(std::span<const std::byte> data, const std::string& name, con
   for (std::uint32_t s = 0; s < strands; ++s) {
     const float rad = thickness.empty() ? base : thickness[s] * base;
     if (!std::isfinite(rad))
-      r.fail(thick_off + std::size_t(s) * 4, "strand " + std::to_string(s) + ": thickness " + num(thickness[s]) +
-                                                 " x radius " + num(base) + " overflows");
+      r.fail(thick_off + std::size_t(s) * 4, "strand " + std::to_string(s) + ": thickness " + format_number(thickness[s]) +
+                                                 " x radius " + format_number(base) + " overflows");
     const glm::vec3* p = pts.data() + std::size_t(s) * vps;
     for (std::uint32_t v = 0; v + 1 < vps; ++v) {
       if (g.type == PrimType::Capsule) g.capsules.push_back({p[v], p[v + 1], rad});

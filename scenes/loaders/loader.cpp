@@ -1,6 +1,8 @@
 #include "scenes/loaders/loader.h"
 #include "scenes/error.h"
 #include <cerrno>
+#include <cmath>
+#include <sstream>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -34,6 +36,20 @@ void ByteReader::require(std::size_t offset, std::size_t count, std::size_t elem
 void ByteReader::read(std::size_t offset, void* dst, std::size_t n, const char* what) const {
   require(offset, n, 1, what);
   std::memcpy(dst, data_.data() + offset, n);
+}
+
+void require_strand_type(const LoadOptions& opt, const std::string& source) {
+  if (opt.strand_type != PrimType::Capsule && opt.strand_type != PrimType::RoundCone)
+    throw Error(source + ": strands can be capsules or round cones, not " + prim_type_name(opt.strand_type));
+}
+
+bool finite3(const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
 }
 
 Scene scene_of(Geometry g, const std::string& name) {

@@ -52,6 +52,12 @@ class ByteReader {
   std::string source_;
 };
 
+// Throws "<source>: strands can be capsules or round cones, not <type>" unless
+// opt.strand_type is one of the two.
+void require_strand_type(const LoadOptions& opt, const std::string& source);
+bool finite3(const glm::vec3& p);
+std::string format_number(double v); // 9 significant digits, for messages
+
 // One scene holding `g` once, named after the source.
 Scene scene_of(Geometry g, const std::string& name);
 
