@@ -5,69 +5,93 @@ namespace masq {
 
 namespace {
 std::string per_ray(double v) { return v < 0 ? "n/a" : fmt::format("{:.2f}", v); }
+bool has_counters(const BenchRow& r) { return r.tlas_nodes >= 0 && r.blas_nodes >= 0 && r.transforms >= 0; }
 } // namespace
 
-std::string bench_table(const std::vector<BenchRow>& rows) {
-  std::string out = fmt::format("{:<9} {:<5} {:>9} {:>17} {:>7} {:>7} {:>7} {:>7} {:>6} {:>9} {:>7} {:>8} {:>8}\n",
-                                "backend", "meth", "Mrays/s", "(min-max)", "tlas/r", "blas/r", "xf/r",
-                                "isect/r", "hit%", "accel MiB", "B/prim", "dev MiB", "build ms");
-  for (const BenchRow& r : rows) {
-    if (!r.unavailable.empty()) {
-      out += fmt::format("{:<9} {:<5} unavailable: {}\n", r.backend, method_name(r.method), r.unavailable);
-      continue;
-    }
-    out += fmt::format("{:<9} {:<5} {:>9.3f} {:>17} {:>7} {:>7} {:>7} {:>7} {:>6.1f} {:>9.3f} {:>7.1f} {:>8.3f} {:>8.1f}\n",
-                       r.backend, method_name(r.method), r.mrays_per_s(),
-                       fmt::format("({:.3f}-{:.3f})", r.rays / r.max_s * 1e-6, r.rays / r.min_s * 1e-6),
-                       per_ray(r.tlas_nodes), per_ray(r.blas_nodes), per_ray(r.transforms), per_ray(r.isect_calls),
-                       100.0 * r.hit_fraction, r.accel_bytes / 1048576.0,
-                       double(r.accel_bytes) / double(std::max<std::size_t>(1, r.primitives)),
-                       r.device_bytes / 1048576.0, (r.build_s + r.scene_s) * 1e3);
-  }
-  return out;
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set) {
+  for (const BenchRow& r : rows)
+    if (r.backend == backend && r.method == m && r.ray_set == set && r.unavailable.empty()) return &r;
+  return nullptr;
 }
 
-std::string bench_ratios(const std::vector<BenchRow>& rows) {
-  std::string out;
+Table bench_table(const std::vector<BenchRow>& rows) {
+  Table t;
+  t.header = {"backend", "method", "rays",   "Mrays/s", "(min-max)", "tlas/r", "blas/r",   "xf/r",
+              "isect/r", "hit%",   "accel MiB", "B/prim", "dev MiB", "build ms", "compile ms"};
+  t.left_columns = 3;
+  for (const BenchRow& r : rows) {
+    if (!r.unavailable.empty()) {
+      t.add({r.backend, method_name(r.method), ray_set_name(r.ray_set), "unavailable: " + r.unavailable});
+      continue;
+    }
+    t.add({r.backend, method_name(r.method), ray_set_name(r.ray_set), fmt::format("{:.3f}", r.mrays_per_s()),
+           fmt::format("({:.3f}-{:.3f})", r.rays / r.max_s * 1e-6, r.rays / r.min_s * 1e-6), per_ray(r.tlas_nodes),
+           per_ray(r.blas_nodes), per_ray(r.transforms), per_ray(r.isect_calls), fmt::format("{:.1f}", 100.0 * r.hit_fraction),
+           fmt::format("{:.3f}", r.accel_bytes / 1048576.0),
+           fmt::format("{:.1f}", double(r.accel_bytes) / double(std::max<std::size_t>(1, r.primitives))),
+           fmt::format("{:.3f}", r.device_bytes / 1048576.0), fmt::format("{:.1f}", (r.build_s + r.scene_s) * 1e3),
+           fmt::format("{:.1f}", r.compile_s * 1e3)});
+  }
+  t.notes = {"per ray: tlas/blas = wide-node visits, xf = instance transforms, isect = intersector calls (rayquery: the "
+             "driver's traversal is not observable, n/a); hit% for shadow rays is the occluded fraction",
+             "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, frames); dev MiB: what the backend "
+             "holds on the device (rayquery: the driver's acceleration structures plus primitives); build ms: host "
+             "build + upload/driver build; compile ms: kernel/pipeline compile on first use of the variant (0: cached)"};
+  return t;
+}
+
+Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) {
+  Table t;
+  t.header = {"backend", "rays", "speedup", "isect calls ref/masq", "accel memory masq/ref", "OBB/AABB area",
+              "RT model speedup"};
+  t.left_columns = 2;
   for (const BenchRow& m : rows) {
     if (m.method != Method::Masq || !m.unavailable.empty()) continue;
-    for (const BenchRow& r : rows) {
-      if (r.backend != m.backend || r.method != Method::Ref || !r.unavailable.empty()) continue;
-      out += fmt::format("{:<9} masq vs ref: speedup {:.2f}x, intersector calls {:.2f}x fewer ({:.2f} vs {:.2f} per ray), "
-                         "acceleration memory {:.2f}x, OBB/AABB surface area {:.3f}\n",
-                         m.backend, m.mrays_per_s() / r.mrays_per_s(), r.isect_calls / m.isect_calls, m.isect_calls,
-                         r.isect_calls, double(m.accel_bytes) / double(r.accel_bytes),
-                         m.build.aabb_area > 0 ? m.build.obb_area / m.build.aabb_area : 0.0);
-    }
+    const BenchRow* r = find_row(rows, m.backend, Method::Ref, m.ray_set);
+    if (!r) continue;
+    t.add({m.backend, ray_set_name(m.ray_set), fmt::format("{:.2f}x", m.mrays_per_s() / r->mrays_per_s()),
+           fmt::format("{:.2f}x ({:.2f} vs {:.2f})", r->isect_calls / m.isect_calls, r->isect_calls, m.isect_calls),
+           fmt::format("{:.2f}x", double(m.accel_bytes) / double(r->accel_bytes)),
+           m.build.aabb_area > 0 ? fmt::format("{:.3f}", m.build.obb_area / m.build.aabb_area) : "-",
+           has_counters(m) && has_counters(*r) ? fmt::format("{:.2f}x", rt_predicted_speedup(*r, m, model)) : "n/a"});
   }
-  return out;
+  t.notes = {fmt::format("RT model speedup: what RT hardware would gain if node visits and transforms cost 1 each in "
+                         "fixed function and an intersector call costs {:g} in software (bench/rt_cost_model.h)",
+                         model.isect)};
+  return t;
+}
+
+nlohmann::json bench_row_json(const BenchRow& r) {
+  nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"rays", ray_set_name(r.ray_set)},
+                      {"device", r.device}};
+  e["bytes"] = {{"acceleration", r.accel_bytes}, {"primitives", r.prim_bytes}, {"device", r.device_bytes}};
+  e["primitives"] = r.primitives;
+  e["build"] = {{"tlas_sah", r.build.sah_cost}, {"blas_sah", r.build.blas_sah_cost},
+                {"tlas_nodes", r.build.tlas_nodes}, {"blas_nodes", r.build.blas_nodes},
+                {"instances", r.build.instances}, {"max_depth", r.build.max_depth},
+                {"obb_area", r.build.obb_area},   {"aabb_area", r.build.aabb_area}};
+  if (!r.unavailable.empty()) {
+    e["unavailable"] = r.unavailable;
+    return e;
+  }
+  e["ray_count"] = r.rays;
+  e["trace_seconds"] = {{"median", r.median_s}, {"min", r.min_s}, {"max", r.max_s}};
+  e["mrays_per_s"] = r.mrays_per_s();
+  e["per_ray"] = {{"tlas_nodes", r.tlas_nodes}, {"blas_nodes", r.blas_nodes}, {"transforms", r.transforms},
+                  {"isect_calls", r.isect_calls}};
+  e["hit_fraction"] = r.hit_fraction;
+  e["seconds"] = {{"host_build", r.build_s}, {"upload_and_driver_build", r.scene_s}, {"compile", r.compile_s}};
+  return e;
 }
 
 nlohmann::json bench_json(const Scene& scene, const BenchOptions& opt, const std::vector<BenchRow>& rows) {
   nlohmann::json j;
   j["scene"] = {{"name", scene.name}, {"primitives", scene.primitive_count()}};
-  j["rays"] = {{"width", opt.width}, {"height", opt.height}, {"kind", "primary"}};
+  j["camera_rays"] = {{"width", opt.width}, {"height", opt.height}};
   j["warmup"] = opt.warmup;
   j["repetitions"] = opt.repetitions;
-  for (const BenchRow& r : rows) {
-    nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"device", r.device}};
-    if (!r.unavailable.empty()) {
-      e["unavailable"] = r.unavailable;
-    } else {
-      e["trace_seconds"] = {{"median", r.median_s}, {"min", r.min_s}, {"max", r.max_s}};
-      e["mrays_per_s"] = r.mrays_per_s();
-      e["per_ray"] = {{"tlas_nodes", r.tlas_nodes}, {"blas_nodes", r.blas_nodes}, {"transforms", r.transforms},
-                      {"isect_calls", r.isect_calls}};
-      e["hit_fraction"] = r.hit_fraction;
-      e["seconds"] = {{"host_build", r.build_s}, {"upload_and_driver_build", r.scene_s}, {"compile", r.compile_s}};
-      e["bytes"] = {{"acceleration", r.accel_bytes}, {"primitives", r.prim_bytes}, {"device", r.device_bytes}};
-      e["build"] = {{"tlas_sah", r.build.sah_cost}, {"blas_sah", r.build.blas_sah_cost},
-                    {"tlas_nodes", r.build.tlas_nodes}, {"blas_nodes", r.build.blas_nodes},
-                    {"instances", r.build.instances}, {"max_depth", r.build.max_depth},
-                    {"obb_area", r.build.obb_area},   {"aabb_area", r.build.aabb_area}};
-    }
-    j["results"].push_back(e);
-  }
+  j["results"] = nlohmann::json::array();
+  for (const BenchRow& r : rows) j["results"].push_back(bench_row_json(r));
   return j;
 }
 

@@ -1,11 +1,18 @@
 // Terminal table, JSON and the masq/ref ratios for a bench run.
 #pragma once
 #include "bench/bench_runner.h"
+#include "bench/rt_cost_model.h"
+#include "bench/table.h"
 #include <nlohmann/json.hpp>
 #include <string>
 
 namespace masq {
-std::string bench_table(const std::vector<BenchRow>& rows);
-std::string bench_ratios(const std::vector<BenchRow>& rows); // per backend: masq vs ref
+Table bench_table(const std::vector<BenchRow>& rows);
+// Per backend and ray set: masq vs ref (speedup, intersector calls, memory, OBB/AABB
+// area, and the RT cost model's predicted speedup).
+Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model = {});
+nlohmann::json bench_row_json(const BenchRow& row);
 nlohmann::json bench_json(const Scene& scene, const BenchOptions& opt, const std::vector<BenchRow>& rows);
+// The ref and masq rows of one backend and ray set (nullptr when missing or unavailable).
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set);
 } // namespace masq

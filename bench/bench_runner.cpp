@@ -1,8 +1,9 @@
 #include "bench/bench_runner.h"
 #include "bvh/build_accel.h"
 #include "scenes/camera.h"
+#include "scenes/error.h"
 #include <algorithm>
-#include <map>
+#include <fmt/format.h>
 
 namespace masq {
 
@@ -21,7 +22,7 @@ void fill_counters(BenchRow& row, const std::vector<kernel::RayStats>& stats, co
     c += s.isect_calls;
   }
   for (const kernel::Hit& hit : hits) h += hit.prim >= 0;
-  double n = double(stats.size());
+  double n = double(std::max<std::size_t>(1, stats.size()));
   row.tlas_nodes = t / n;
   row.blas_nodes = b / n;
   row.transforms = x / n;
@@ -29,70 +30,135 @@ void fill_counters(BenchRow& row, const std::vector<kernel::RayStats>& stats, co
   row.hit_fraction = h / n;
 }
 
+// The scene is already uploaded: counters first (stats variant), then warm-up and timed
+// traces of the counter-free variant.
+void measure_one(BenchRow& row, Backend& be, std::span<const kernel::Ray> rays, const BenchOptions& opt) {
+  const std::string tag = fmt::format("{} {} {}", row.backend, method_name(row.method), ray_set_name(row.ray_set));
+  std::vector<kernel::Hit> hits(rays.size());
+  std::vector<kernel::RayStats> stats(rays.size());
+  say(opt, tag + ": counters");
+  be.trace(rays, hits, stats);
+  fill_counters(row, stats, hits);
+  if (opt.keep_per_ray) {
+    row.hits = hits;
+    row.stats = std::move(stats);
+  }
+  std::vector<double> times;
+  for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
+    be.trace(rays, hits, {});
+    if (i == 0) row.compile_s = be.timing().compile_seconds;
+    if (i >= opt.warmup) times.push_back(be.timing().trace_seconds);
+    say(opt, fmt::format("{}: trace {}/{}", tag, i + 1, opt.warmup + opt.repetitions));
+  }
+  std::sort(times.begin(), times.end());
+  row.median_s = times[times.size() / 2];
+  row.min_s = times.front();
+  row.max_s = times.back();
+  row.device_bytes = be.device_bytes();
+}
+
+std::vector<kernel::Hit> primary_hits(const std::map<Method, PackedScene>& built, std::span<const kernel::Ray> rays,
+                                      const BenchOptions& opt, BackendPool& pool) {
+  const PackedScene& ps = built.count(Method::Ref) ? built.at(Method::Ref) : built.begin()->second;
+  std::string why;
+  for (const std::string& name : opt.backends) {
+    Backend* be = pool.get(name);
+    if (!be) continue;
+    try {
+      be->set_scene(ps);
+      std::vector<kernel::Hit> hits(rays.size());
+      be->trace(rays, hits, {});
+      return hits;
+    } catch (const std::exception& e) {
+      why += std::string(why.empty() ? "" : "; ") + e.what();
+    }
+  }
+  throw Error("bench: no backend could trace the primary rays for the secondary ray sets" +
+              (why.empty() ? std::string() : ": " + why));
+}
+
 } // namespace
 
-std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt) {
-  std::vector<kernel::Ray> rays = make_camera_rays(scene.camera, opt.width, opt.height);
+std::map<Method, PackedScene> build_methods(const Scene& scene, const BenchOptions& opt) {
   std::map<Method, PackedScene> built;
   for (Method m : opt.methods) {
     say(opt, std::string("building ") + method_name(m));
     built[m] = build_accel(scene, m, opt.accel);
   }
+  return built;
+}
+
+std::vector<RayBatch> make_ray_batches(const Scene& scene, const std::map<Method, PackedScene>& built,
+                                       const BenchOptions& opt, BackendPool& pool) {
+  std::vector<kernel::Ray> primary = make_camera_rays(scene.camera, opt.width, opt.height);
+  std::vector<kernel::Hit> hits;
+  std::vector<RayBatch> batches;
+  for (RaySet set : opt.ray_sets) {
+    if (set == RaySet::Primary) {
+      batches.push_back({set, primary});
+      continue;
+    }
+    if (hits.empty()) hits = primary_hits(built, primary, opt, pool);
+    batches.push_back({set, make_secondary_rays(set, scene.camera, primary, hits)});
+  }
+  return batches;
+}
+
+std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::size_t primitives,
+                              const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool) {
   std::vector<BenchRow> rows;
   for (const std::string& name : opt.backends) {
-    std::unique_ptr<Backend> be;
-    std::string why;
-    try {
-      be = make_backend(name);
-    } catch (const std::exception& e) {
-      why = e.what();
-    }
+    Backend* be = pool.get(name);
     for (Method m : opt.methods) {
-      BenchRow row;
-      row.backend = name;
-      row.method = m;
-      row.rays = double(rays.size());
-      row.primitives = scene.primitive_count();
-      const PackedScene& ps = built[m];
-      row.build = ps.stats;
-      row.build_s = ps.stats.build_seconds;
-      row.accel_bytes = ps.acceleration_bytes();
-      row.prim_bytes = ps.primitive_bytes();
-      if (!be) {
-        row.unavailable = why;
-        rows.push_back(row);
-        continue;
-      }
-      try {
-        say(opt, name + " " + method_name(m) + ": upload");
-        row.device = be->device_name();
-        be->set_scene(ps);
-        row.scene_s = be->timing().scene_seconds;
-        std::vector<kernel::Hit> hits(rays.size());
-        std::vector<kernel::RayStats> stats(rays.size());
-        say(opt, name + " " + method_name(m) + ": counters");
-        be->trace(rays, hits, stats);
-        fill_counters(row, stats, hits);
-        std::vector<double> times;
-        for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
-          be->trace(rays, hits, {});
-          if (i == 0) row.compile_s = be->timing().compile_seconds;
-          if (i >= opt.warmup) times.push_back(be->timing().trace_seconds);
-          say(opt, name + " " + method_name(m) + ": trace " + std::to_string(i + 1) + "/" +
-                       std::to_string(opt.warmup + opt.repetitions));
+      const PackedScene& ps = built.at(m);
+      std::string failed; // upload failure: every set of this backend and method
+      bool uploaded = false;
+      for (const RayBatch& batch : batches) {
+        BenchRow row;
+        row.backend = name;
+        row.method = m;
+        row.ray_set = batch.set;
+        row.rays = double(batch.rays.size());
+        row.primitives = primitives;
+        row.build = ps.stats;
+        row.build_s = ps.stats.build_seconds;
+        row.accel_bytes = ps.acceleration_bytes();
+        row.prim_bytes = ps.primitive_bytes();
+        if (!be) {
+          row.unavailable = pool.why(name);
+        } else if (batch.rays.empty()) {
+          row.unavailable = "no rays in this set (no primary hits)";
+        } else {
+          try {
+            if (!uploaded && failed.empty()) {
+              say(opt, fmt::format("{} {}: upload", name, method_name(m)));
+              be->set_scene(ps);
+              uploaded = true;
+            }
+            if (!failed.empty()) throw Error(failed);
+            row.device = be->device_name();
+            row.scene_s = be->timing().scene_seconds;
+            measure_one(row, *be, batch.rays, opt);
+          } catch (const std::exception& e) {
+            row.unavailable = e.what();
+            if (!uploaded) failed = e.what();
+          }
         }
-        std::sort(times.begin(), times.end());
-        row.median_s = times[times.size() / 2];
-        row.min_s = times.front();
-        row.max_s = times.back();
-        row.device_bytes = be->device_bytes();
-      } catch (const std::exception& e) {
-        row.unavailable = e.what();
+        rows.push_back(std::move(row));
       }
-      rows.push_back(row);
     }
   }
   return rows;
+}
+
+std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool) {
+  std::map<Method, PackedScene> built = build_methods(scene, opt);
+  return measure(built, scene.primitive_count(), make_ray_batches(scene, built, opt, pool), opt, pool);
+}
+
+std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt) {
+  BackendPool pool;
+  return run_bench(scene, opt, pool);
 }
 
 } // namespace masq

@@ -1,11 +1,17 @@
 // Measures one scene through every backend x method with the same rays: device time
-// after warm-up, median and min-max over repetitions, counters per ray, memory.
+// after warm-up, median and min-max over repetitions, counters per ray, memory. Each
+// ray set (primary, shadow, diffuse) is measured separately with the same rays on
+// every backend and method.
 #pragma once
+#include "bench/backend_pool.h"
+#include "bench/ray_sets.h"
 #include "bvh/build_accel.h"
 #include "bvh/packed_scene.h"
 #include "host/backend.h"
 #include "scenes/scene.h"
 #include <functional>
+#include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -14,11 +20,13 @@ namespace masq {
 struct BenchOptions {
   std::vector<std::string> backends = backend_names();
   std::vector<Method> methods = {Method::Ref, Method::Masq};
+  std::vector<RaySet> ray_sets = {RaySet::Primary, RaySet::Shadow, RaySet::Diffuse};
   int width = 512;
   int height = 512;
   int warmup = 1;
   int repetitions = 5;
-  AccelOptions accel; // mode, curve OBB, phantom iterations
+  bool keep_per_ray = false; // keep every row's hits and counters (heatmaps, agreement)
+  AccelOptions accel;        // mode, curve OBB, phantom iterations
   std::function<void(const std::string&)> progress; // one line per step, may be empty
 };
 
@@ -26,6 +34,7 @@ struct BenchRow {
   std::string backend;
   std::string device;
   Method method = Method::Ref;
+  RaySet ray_set = RaySet::Primary;
   std::string unavailable; // non-empty: the backend could not run (why)
   double rays = 0;
   double median_s = 0, min_s = 0, max_s = 0;
@@ -36,9 +45,31 @@ struct BenchRow {
   std::size_t accel_bytes = 0, prim_bytes = 0, device_bytes = 0;
   std::size_t primitives = 0;
   BuildStats build;
+  std::vector<kernel::Hit> hits;        // keep_per_ray only
+  std::vector<kernel::RayStats> stats;  // keep_per_ray only
   double mrays_per_s() const { return median_s > 0 ? rays / median_s * 1e-6 : 0; }
 };
 
+// The scene built once per method (host BVH build time is in each PackedScene's stats).
+std::map<Method, PackedScene> build_methods(const Scene& scene, const BenchOptions& opt);
+
+struct RayBatch {
+  RaySet set = RaySet::Primary;
+  std::vector<kernel::Ray> rays;
+};
+
+// Camera rays of opt.width x opt.height and the secondary sets of opt.ray_sets, derived
+// from the primary hits on the first backend of `opt` that runs (ref method when built).
+std::vector<RayBatch> make_ray_batches(const Scene& scene, const std::map<Method, PackedScene>& built,
+                                       const BenchOptions& opt, BackendPool& pool);
+
+// Every batch through every backend x method of `opt` (the scene is uploaded once per
+// backend and method); backends come from `pool`. Rows: backend, then method, then set.
+std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::size_t primitives,
+                              const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool);
+
+// Everything: build, camera rays of opt.width x opt.height, each ray set of opt.
+std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool);
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt);
 
 } // namespace masq

@@ -26,6 +26,69 @@ void say(const BenchOptions& opt, const std::string& line) {
   if (opt.progress) opt.progress(line);
 }
 
+// Builds the variant's scene, times it and compares every ray with the oracle.
+void measure_variant(ErrorRow& row, Backend& be, const Scene& scene, const std::vector<kernel::Ray>& rays,
+                     const std::vector<oracle::OracleHit>& truth, double r, const BenchOptions& opt) {
+  const ErrorVariant& v = row.variant;
+  Scene s = v.segments > 0 ? curves_to_segments(scene, v.segments, PrimType::Capsule)
+                           : subdivide_curves(scene, v.subdivisions);
+  AccelOptions ao = opt.accel;
+  ao.mode = v.mode;
+  ao.curve_iters = v.curve_iters;
+  say(opt, row.backend + " " + v.name);
+  be.set_scene(build_accel(s, Method::Masq, ao));
+  std::vector<kernel::Hit> hits(rays.size());
+  std::vector<double> times;
+  for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
+    be.trace(rays, hits, {});
+    if (i >= opt.warmup) times.push_back(be.timing().trace_seconds);
+  }
+  std::sort(times.begin(), times.end());
+  row.median_s = times[times.size() / 2];
+  row.min_s = times.front();
+  row.max_s = times.back();
+  double sum_dt = 0, n_dt = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const oracle::OracleHit& o = truth[i];
+    if (double(o.clearance) < kAmbiguous) {
+      row.ambiguous++;
+      continue;
+    }
+    row.compared++;
+    bool kh = hits[i].prim >= 0, oh = o.prim >= 0;
+    if (kh != oh) {
+      row.disagree++;
+      continue;
+    }
+    if (!kh) continue;
+    const float* d = rays[i].dir;
+    double dl = std::sqrt(double(d[0]) * d[0] + double(d[1]) * d[1] + double(d[2]) * d[2]);
+    double dt = std::fabs(double(hits[i].t) - double(o.t)) * dl / r;
+    if (dt > 1.0) {
+      row.disagree++; // a different surface
+      continue;
+    }
+    row.max_dt = std::max(row.max_dt, dt);
+    sum_dt += dt;
+    n_dt += 1;
+  }
+  row.mean_dt = n_dt > 0 ? sum_dt / n_dt : 0;
+}
+
+// Pareto front per backend in (median time, disagreement rate, mean |dt|/r).
+void mark_pareto(std::vector<ErrorRow>& rows) {
+  for (ErrorRow& a : rows) {
+    if (!a.unavailable.empty()) continue;
+    a.pareto = true;
+    for (const ErrorRow& b : rows) {
+      if (&a == &b || b.backend != a.backend || !b.unavailable.empty()) continue;
+      bool no_worse = b.median_s <= a.median_s && b.rate() <= a.rate() && b.mean_dt <= a.mean_dt;
+      bool better = b.median_s < a.median_s || b.rate() < a.rate() || b.mean_dt < a.mean_dt;
+      if (no_worse && better) a.pareto = false;
+    }
+  }
+}
+
 } // namespace
 
 std::vector<ErrorVariant> default_error_variants() {
@@ -38,7 +101,7 @@ std::vector<ErrorVariant> default_error_variants() {
 }
 
 std::vector<ErrorRow> run_error_bench(const Scene& scene, const std::vector<ErrorVariant>& variants,
-                                      const BenchOptions& opt) {
+                                      const BenchOptions& opt, BackendPool& pool) {
   const double r = curve_radius(scene);
   std::vector<kernel::Ray> rays = make_camera_rays(scene.camera, opt.width, opt.height);
   say(opt, fmt::format("oracle: {} rays x {} primitives (exact cubics, long double)", rays.size(),
@@ -46,96 +109,45 @@ std::vector<ErrorRow> run_error_bench(const Scene& scene, const std::vector<Erro
   std::vector<oracle::OracleHit> truth = oracle::Oracle(scene).trace_all(rays);
   std::vector<ErrorRow> rows;
   for (const std::string& name : opt.backends) {
-    std::unique_ptr<Backend> be;
-    std::string why;
-    try {
-      be = make_backend(name);
-    } catch (const std::exception& e) {
-      why = e.what();
-    }
+    Backend* be = pool.get(name);
     for (const ErrorVariant& v : variants) {
       ErrorRow row;
       row.backend = name;
       row.variant = v;
       row.rays = double(rays.size());
       if (!be) {
-        row.unavailable = why;
-        rows.push_back(row);
-        continue;
-      }
-      Scene s = v.segments > 0 ? curves_to_segments(scene, v.segments, PrimType::Capsule)
-                               : subdivide_curves(scene, v.subdivisions);
-      AccelOptions ao = opt.accel;
-      ao.mode = v.mode;
-      ao.curve_iters = v.curve_iters;
-      say(opt, name + " " + v.name);
-      be->set_scene(build_accel(s, Method::Masq, ao));
-      std::vector<kernel::Hit> hits(rays.size());
-      std::vector<double> times;
-      for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
-        be->trace(rays, hits, {});
-        if (i >= opt.warmup) times.push_back(be->timing().trace_seconds);
-      }
-      std::sort(times.begin(), times.end());
-      row.median_s = times[times.size() / 2];
-      row.min_s = times.front();
-      row.max_s = times.back();
-      double sum_dt = 0, n_dt = 0;
-      for (std::size_t i = 0; i < rays.size(); ++i) {
-        const oracle::OracleHit& o = truth[i];
-        if (double(o.clearance) < kAmbiguous) {
-          row.ambiguous++;
-          continue;
+        row.unavailable = pool.why(name);
+      } else {
+        try {
+          measure_variant(row, *be, scene, rays, truth, r, opt);
+        } catch (const std::exception& e) {
+          row.unavailable = e.what();
         }
-        row.compared++;
-        bool kh = hits[i].prim >= 0, oh = o.prim >= 0;
-        if (kh != oh) {
-          row.disagree++;
-          continue;
-        }
-        if (!kh) continue;
-        const float* d = rays[i].dir;
-        double dl = std::sqrt(double(d[0]) * d[0] + double(d[1]) * d[1] + double(d[2]) * d[2]);
-        double dt = std::fabs(double(hits[i].t) - double(o.t)) * dl / r;
-        if (dt > 1.0) {
-          row.disagree++; // a different surface
-          continue;
-        }
-        row.max_dt = std::max(row.max_dt, dt);
-        sum_dt += dt;
-        n_dt += 1;
       }
-      row.mean_dt = n_dt > 0 ? sum_dt / n_dt : 0;
       rows.push_back(row);
     }
   }
-  // Pareto front per backend in (median time, disagreement rate, mean |dt|/r).
-  for (ErrorRow& a : rows) {
-    if (!a.unavailable.empty()) continue;
-    a.pareto = true;
-    for (const ErrorRow& b : rows) {
-      if (&a == &b || b.backend != a.backend || !b.unavailable.empty()) continue;
-      bool no_worse = b.median_s <= a.median_s && b.rate() <= a.rate() && b.mean_dt <= a.mean_dt;
-      bool better = b.median_s < a.median_s || b.rate() < a.rate() || b.mean_dt < a.mean_dt;
-      if (no_worse && better) a.pareto = false;
-    }
-  }
+  mark_pareto(rows);
   return rows;
 }
 
-std::string error_table(const std::vector<ErrorRow>& rows) {
-  std::string out = fmt::format("{:<9} {:<22} {:>8} {:>20} {:>9} {:>10} {:>10} {:>6}\n", "backend", "variant",
-                                "Mrays/s", "ms median (min-max)", "disagree", "mean|dt|/r", "max|dt|/r", "pareto");
+Table error_table(const std::vector<ErrorRow>& rows) {
+  Table t;
+  t.header = {"backend", "variant", "Mrays/s", "ms median (min-max)", "disagree", "mean|dt|/r", "max|dt|/r", "pareto"};
+  t.left_columns = 2;
   for (const ErrorRow& r : rows) {
     if (!r.unavailable.empty()) {
-      out += fmt::format("{:<9} {:<22} unavailable: {}\n", r.backend, r.variant.name, r.unavailable);
+      t.add({r.backend, r.variant.name, "unavailable: " + r.unavailable});
       continue;
     }
-    out += fmt::format("{:<9} {:<22} {:>8.3f} {:>7.1f} ({:.1f}-{:.1f}) {:>9.2e} {:>10.2e} {:>10.2e} {:>6}\n",
-                       r.backend, r.variant.name, r.mrays_per_s(), r.median_s * 1e3, r.min_s * 1e3, r.max_s * 1e3,
-                       r.rate(), r.mean_dt, r.max_dt, r.pareto ? "*" : "");
+    t.add({r.backend, r.variant.name, fmt::format("{:.3f}", r.mrays_per_s()),
+           fmt::format("{:.1f} ({:.1f}-{:.1f})", r.median_s * 1e3, r.min_s * 1e3, r.max_s * 1e3), fmt::format("{:.2e}", r.rate()),
+           fmt::format("{:.2e}", r.mean_dt), fmt::format("{:.2e}", r.max_dt), r.pareto ? "*" : ""});
   }
-  return out;
+  t.notes = {"cubic <mode> it<N> x<k>: phantom curves, N iterations, each cubic pre-split into k; linear xN: each curve as N "
+             "capsules",
+             "pareto *: no other variant on that backend is at once faster, fewer disagreements and smaller mean |dt|/r"};
+  return t;
 }
 
 nlohmann::json error_json(const std::vector<ErrorRow>& rows) {

@@ -5,6 +5,7 @@
 // Pareto front (no other variant both faster and more accurate) is marked.
 #pragma once
 #include "bench/bench_runner.h"
+#include "bench/table.h"
 #include "scenes/scene.h"
 #include <nlohmann/json.hpp>
 #include <string>
@@ -35,8 +36,8 @@ struct ErrorRow {
 std::vector<ErrorVariant> default_error_variants();
 // scene: must hold curves (the reference surface); rays: e.g. camera rays.
 std::vector<ErrorRow> run_error_bench(const Scene& scene, const std::vector<ErrorVariant>& variants,
-                                      const BenchOptions& opt);
-std::string error_table(const std::vector<ErrorRow>& rows);
+                                      const BenchOptions& opt, BackendPool& pool);
+Table error_table(const std::vector<ErrorRow>& rows);
 nlohmann::json error_json(const std::vector<ErrorRow>& rows);
 
 } // namespace masq

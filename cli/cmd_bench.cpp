@@ -1,12 +1,19 @@
 // masq bench: one scene through every backend x method with the same rays.
 #include "bench/bench_report.h"
 #include "bench/error_mode.h"
+#include "bench/results_doc.h"
+#include "bench/suite.h"
 #include "cli/commands.h"
 #include "cli/scene_options.h"
 #include "scenes/error.h"
 #include <fmt/format.h>
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <unistd.h>
 
 namespace masq::cli {
 
@@ -16,9 +23,15 @@ struct BenchCli {
   std::vector<std::string> backends;
   std::vector<std::string> methods;
   BenchOptions bench;
+  std::vector<std::string> ray_sets;
   std::string json_path;
   bool quiet = false;
   bool error_mode = false;
+  std::vector<std::string> suites;
+  bool quick = false;
+  std::string out_dir = "bench/results";
+  std::string data_dir;
+  std::string command_line;
   CLI::Option* count_opt = nullptr;
   CLI::Option* width_opt = nullptr;
   CLI::Option* height_opt = nullptr;
@@ -26,6 +39,26 @@ struct BenchCli {
 };
 
 // --error: run time against error on a curve scene (bench/error_mode.h).
+// One-line progress on stderr, only on a terminal (a log file gets no carriage returns).
+std::function<void(const std::string&)> progress_line(bool quiet) {
+  if (quiet || !isatty(2)) return {};
+  auto t0 = std::chrono::steady_clock::now();
+  return [t0](const std::string& line) {
+    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    fmt::print(stderr, "\r\033[K  [{:4.0f} s] {}", s, line.substr(0, 110));
+  };
+}
+
+void clear_progress(bool quiet) {
+  if (!quiet && isatty(2)) fmt::print(stderr, "\r\033[K");
+}
+
+std::string ray_sets_text(const std::vector<RaySet>& sets) {
+  std::string out;
+  for (RaySet s : sets) out += std::string(out.empty() ? "" : ", ") + ray_set_name(s);
+  return out;
+}
+
 int bench_error(BenchCli& c) {
   // Smaller defaults than a speed run: every ray is also traced by the brute-force
   // long-double oracle.
@@ -37,18 +70,16 @@ int bench_error(BenchCli& c) {
   Scene scene = make_scene(c.scene);
   c.bench.accel = accel_options(c.scene);
   if (!c.backends.empty()) c.bench.backends = c.backends;
-  if (!c.quiet) c.bench.progress = [](const std::string& line) { fmt::print(stderr, "\r\033[K  {}", line); };
+  c.bench.progress = progress_line(c.quiet);
   fmt::print("run time against error: {} curves r={} tilt {} deg, {}x{} primary rays, masq method, {} warm-up + {} "
              "timed traces; error against the long-double oracle of the exact cubics (rays with clearance < 1e-3 "
              "counted as ambiguous)\n",
              c.scene.bundle.count, c.scene.bundle.radius, c.scene.bundle.tilt_deg, c.bench.width, c.bench.height,
              c.bench.warmup, c.bench.repetitions);
-  std::vector<ErrorRow> rows = run_error_bench(scene, default_error_variants(), c.bench);
-  if (!c.quiet) fmt::print(stderr, "\r\033[K");
-  fmt::print("{}", error_table(rows));
-  fmt::print("cubic <mode> it<N> x<k>: phantom curves, N iterations, each cubic pre-split into k; linear xN: each "
-             "curve as N capsules.\npareto *: no other variant on that backend is at once faster, fewer disagreements "
-             "and smaller mean |dt|/r\n");
+  BackendPool pool;
+  std::vector<ErrorRow> rows = run_error_bench(scene, default_error_variants(), c.bench, pool);
+  clear_progress(c.quiet);
+  fmt::print("{}", error_table(rows).text());
   if (!c.json_path.empty()) {
     std::ofstream f(c.json_path);
     if (!f) throw Error("bench: cannot write '" + c.json_path + "'");
@@ -58,7 +89,34 @@ int bench_error(BenchCli& c) {
   return 0;
 }
 
+// --suite: the papers' tables and figures, the results document and its raw figures.
+int bench_suites(BenchCli& c) {
+  std::vector<std::string> names = c.suites;
+  if (std::find(names.begin(), names.end(), "all") != names.end()) names = suite_names();
+  SuiteContext ctx;
+  ctx.config.quick = c.quick;
+  ctx.config.out_dir = c.out_dir;
+  ctx.config.mode = parse_mode(c.scene.mode);
+  if (!c.backends.empty()) ctx.config.backends = c.backends;
+  ctx.config.data_dir = !c.data_dir.empty() ? c.data_dir : std::getenv("MASQ_DATA") ? std::getenv("MASQ_DATA") : MASQ_DATA_DIR;
+  ctx.config.progress = progress_line(c.quiet);
+  auto t0 = std::chrono::steady_clock::now();
+  nlohmann::json machine = machine_description(ctx.pool, ctx.config.backends);
+  std::vector<SuiteResult> results = run_suites(ctx, names);
+  clear_progress(c.quiet);
+  for (const SuiteResult& r : results) {
+    fmt::print("== {} ({}, {:.0f} s)\n", r.title, r.name, r.seconds);
+    for (const Table& t : r.tables) fmt::print("{}\n", t.text());
+  }
+  ResultsRun run{c.command_line, c.quick, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
+  write_results(c.out_dir, results, machine, run);
+  fmt::print("wrote {0}/RESULTS.md and {0}/results.json in {1:.0f} s (plots: /usr/bin/python3 scripts/plot_results.py {0})\n",
+             c.out_dir, run.seconds);
+  return 0;
+}
+
 int bench(BenchCli& c) {
+  if (!c.suites.empty()) return bench_suites(c);
   if (c.error_mode) return bench_error(c);
   Scene scene = make_scene(c.scene);
   c.bench.accel = accel_options(c.scene);
@@ -67,22 +125,23 @@ int bench(BenchCli& c) {
     c.bench.methods.clear();
     for (const std::string& m : c.methods) c.bench.methods.push_back(parse_method(m));
   }
-  if (!c.quiet) c.bench.progress = [](const std::string& line) { fmt::print(stderr, "\r\033[K  {}", line); };
+  if (!c.ray_sets.empty()) {
+    c.bench.ray_sets.clear();
+    for (const std::string& r : c.ray_sets) c.bench.ray_sets.push_back(parse_ray_set(r));
+  }
+  c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
-  fmt::print("scene '{}': {} primitives{}, {} mode, {}x{} primary rays, {} warm-up + {} timed traces, median (min-max) "
+  fmt::print("scene '{}': {} primitives{}, {} mode, {}x{} camera rays and the {} sets derived from them, {} warm-up + {} timed traces, median (min-max) "
              "of device time\n",
              scene.name, scene.primitive_count(),
              bundle ? fmt::format(" ({} {} strands r={} tilt {} deg + ground plane)", c.scene.bundle.count, c.scene.prim,
                                   c.scene.bundle.radius, c.scene.bundle.tilt_deg)
                     : std::string(),
-             c.scene.mode, c.bench.width, c.bench.height, c.bench.warmup, c.bench.repetitions);
+             c.scene.mode, c.bench.width, c.bench.height, ray_sets_text(c.bench.ray_sets), c.bench.warmup,
+             c.bench.repetitions);
   std::vector<BenchRow> rows = run_bench(scene, c.bench);
-  if (!c.quiet) fmt::print(stderr, "\r\033[K");
-  fmt::print("{}\n{}", bench_table(rows), bench_ratios(rows));
-  fmt::print("per ray: tlas/blas = wide-node visits, xf = instance transforms, isect = intersector calls "
-             "(rayquery: the driver's traversal is not observable, n/a);\n"
-             "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, frames); dev MiB: what the backend holds "
-             "on the device (rayquery: the driver's acceleration structures plus primitives); build ms: host build + upload/driver build\n");
+  clear_progress(c.quiet);
+  fmt::print("{}\n{}", bench_table(rows).text(), bench_ratios(rows).text());
   if (!c.json_path.empty()) {
     std::ofstream f(c.json_path);
     if (!f) throw Error("bench: cannot write '" + c.json_path + "'");
@@ -109,9 +168,28 @@ Action add_bench(CLI::App& app) {
   c->height_opt = cmd->add_option("--height", c->bench.height, "Rows of rays")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--warmup", c->bench.warmup, "Untimed traces first")->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option("--reps", c->bench.repetitions, "Timed traces")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--rays", c->ray_sets, "Ray sets: primary (camera), shadow (hits to a light), diffuse (bounces from hits)")
+      ->check(CLI::IsMember({"primary", "shadow", "diffuse"}));
   cmd->add_option("--json", c->json_path, "Also write every raw figure as JSON");
+  cmd->add_option("--suite", c->suites, "Reproduce the papers' tables: fig3 table1 table2 fig9 fig10 error peers, or all; "
+                                        "writes OUT/RESULTS.md and OUT/results.json")
+      ->check(CLI::IsMember({"fig3", "table1", "table2", "fig9", "fig10", "error", "peers", "all"}));
+  cmd->add_flag("--quick", c->quick, "Suites: the small variant (< 3 minutes on 2 cores)");
+  cmd->add_option("--out", c->out_dir, "Suites: output directory of RESULTS.md, results.json and images")->capture_default_str();
+  cmd->add_option("--data", c->data_dir, "Suites: directory of the shared scenes (default: $MASQ_DATA or " MASQ_DATA_DIR ")");
   cmd->add_flag("--quiet", c->quiet, "No progress display");
-  return [c] { return bench(*c); };
+  cmd->footer("Examples:\n"
+              "  masq bench                                   default bundle, every backend x method x ray set\n"
+              "  masq bench --file bear.tfx --prim curve --subdiv 4 --backend cpu --rays primary\n"
+              "  masq bench --error --json error.json         run time against error of the curve variants\n"
+              "  masq bench --suite all --quick               the papers' tables in < 3 minutes -> bench/results/\n"
+              "  bash scripts/results.sh                      the full results document with plots");
+  return [c] {
+    c->command_line = "masq bench";
+    for (const std::string& s : c->suites) c->command_line += " --suite " + s;
+    if (c->quick) c->command_line += " --quick";
+    return bench(*c);
+  };
 }
 
 } // namespace masq::cli

@@ -1,7 +1,7 @@
 // masq render: a shaded image and a heatmap of intersector calls per pixel.
 #include "bvh/build_accel.h"
 #include "cli/commands.h"
-#include "cli/image_writer.h"
+#include "bench/image_writer.h"
 #include "cli/scene_options.h"
 #include "host/backend.h"
 #include "scenes/camera.h"
@@ -22,14 +22,6 @@ struct RenderOptions {
   std::string out = "masq";
   std::string ext = "png";
 };
-
-// Heat colour ramp: black -> blue -> red -> yellow -> white.
-void heat(float x, float* rgb) {
-  x = std::clamp(x, 0.0f, 1.0f);
-  rgb[0] = std::clamp(3.0f * x - 1.0f, 0.0f, 1.0f);
-  rgb[1] = std::clamp(3.0f * x - 2.0f, 0.0f, 1.0f);
-  rgb[2] = std::clamp(x < 0.33f ? 3.0f * x : 2.0f - 3.0f * x, 0.0f, 1.0f) + std::clamp(3.0f * x - 2.0f, 0.0f, 1.0f);
-}
 
 int render(const RenderOptions& o) {
   Scene scene = make_scene(o.scene);
@@ -55,7 +47,7 @@ int render(const RenderOptions& o) {
       glm::vec3 albedo = hits[i].geom == 0 ? glm::vec3(0.85f, 0.6f, 0.3f) : glm::vec3(0.6f, 0.65f, 0.7f);
       for (int k = 0; k < 3; ++k) px[k] = std::pow(albedo[k] * lambert, 1.0f / 2.2f);
     }
-    heat(float(stats[i].isect_calls) / float(max_calls), &heatmap[3 * i]);
+    heat_color(float(stats[i].isect_calls) / float(max_calls), &heatmap[3 * i]);
   }
   std::string shaded_path = o.out + "_shaded." + o.ext, heat_path = o.out + "_heat." + o.ext;
   write_rgb(shaded_path, o.width, o.height, shaded);

@@ -12,7 +12,7 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->check(CLI::IsMember({"bundle", "hair", "fur", "streamlines"}));
   cmd.add_option("--file", opt.file,
                  "Scene file instead of --scene: .tfx (TressFX 3/4), .hair, .swc, .trk, .tck, .ply, .obj, .nff, .json (scene "
-                 "description); strands use --prim capsule or cone");
+                 "description); strands use --prim capsule, cone or curve (Catmull-Rom through the points)");
   cmd.add_option("--file-radius", opt.file_radius, "Strand radius where the file has none (0: the loader's default)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
@@ -44,9 +44,13 @@ Scene make_scene(const SceneOptions& opt) {
   if (!opt.file.empty()) {
     LoadOptions lo;
     lo.radius = opt.file_radius;
-    lo.strand_type = prim == PrimType::RoundCone ? PrimType::RoundCone : PrimType::Capsule;
+    // Curves: the strands are loaded as round cones (keeping per-point radii) and
+    // turned into Catmull-Rom cubics through the same points.
+    lo.strand_type = prim == PrimType::RoundCone || prim == PrimType::Curve ? PrimType::RoundCone : PrimType::Capsule;
     lo.warn = [](const std::string& w) { std::fprintf(stderr, "masq: warning: %s\n", w.c_str()); };
-    return load_scene_file(opt.file, lo);
+    Scene s = load_scene_file(opt.file, lo);
+    if (prim == PrimType::Curve) s = subdivide_curves(segments_to_curves(s), opt.subdivisions);
+    return s;
   }
   if (opt.scene == "hair" || opt.scene == "fur") {
     HairParams hp;

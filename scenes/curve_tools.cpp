@@ -1,5 +1,6 @@
 #include "scenes/curve_tools.h"
 #include "scenes/error.h"
+#include "scenes/strand_generators.h"
 #include <string>
 
 namespace masq {
@@ -69,6 +70,45 @@ Scene curves_to_segments(const Scene& scene, int n, PrimType type) {
     g = std::move(seg);
   }
   out.name = scene.name + " (curves as " + std::to_string(n) + " " + prim_type_name(type) + "s)";
+  return out;
+}
+
+namespace {
+
+// Chains consecutive segments sharing an end point into strands.
+template <class Seg, class EndA, class EndB>
+std::vector<Strand> chain_segments(const std::vector<Seg>& segs, EndA end_a, EndB end_b) {
+  std::vector<Strand> strands;
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    auto [a, ra] = end_a(segs[i]);
+    auto [b, rb] = end_b(segs[i]);
+    bool continues = i > 0 && end_b(segs[i - 1]).first == a;
+    if (!continues) strands.push_back({{glm::dvec3(a)}, {double(ra)}});
+    strands.back().points.push_back(glm::dvec3(b));
+    strands.back().radii.push_back(double(rb));
+  }
+  return strands;
+}
+
+} // namespace
+
+Scene segments_to_curves(const Scene& scene) {
+  Scene out = scene;
+  for (Geometry& g : out.geometries) {
+    std::vector<Strand> strands;
+    if (g.type == PrimType::Capsule)
+      strands = chain_segments(
+          g.capsules, [](const CapsulePrim& c) { return std::pair(c.a, c.radius); },
+          [](const CapsulePrim& c) { return std::pair(c.b, c.radius); });
+    else if (g.type == PrimType::RoundCone)
+      strands = chain_segments(
+          g.cones, [](const RoundConePrim& c) { return std::pair(c.a, c.ra); },
+          [](const RoundConePrim& c) { return std::pair(c.b, c.rb); });
+    else
+      continue;
+    g = strands_to_geometry(strands, PrimType::Curve);
+  }
+  out.name = scene.name + " (as curves)";
   return out;
 }
 

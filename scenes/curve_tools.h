@@ -18,3 +18,12 @@ Scene curves_to_segments(const Scene& scene, int n, PrimType type);
 glm::dvec3 bezier_point(const CurvePrim& c, double s);
 
 } // namespace masq
+
+namespace masq {
+// The reverse for loaded strand models: every capsule or round-cone geometry whose
+// segments chain into polylines (segment i ends where segment i+1 starts, in order, as
+// the strand loaders write them) becomes Catmull-Rom cubic curves through the same
+// points, one curve per segment (strands_to_geometry's Curve form). Other geometries
+// are kept as they are.
+Scene segments_to_curves(const Scene& scene);
+} // namespace masq

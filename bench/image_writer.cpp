@@ -1,8 +1,9 @@
-#include "cli/image_writer.h"
+#include "bench/image_writer.h"
 #include "scenes/error.h"
 #include <OpenImageIO/imageio.h>
+#include <algorithm>
 
-namespace masq::cli {
+namespace masq {
 
 void write_rgb(const std::string& path, int width, int height, const std::vector<float>& rgb) {
   auto out = OIIO::ImageOutput::create(path);
@@ -12,4 +13,11 @@ void write_rgb(const std::string& path, int width, int height, const std::vector
     throw Error("image: writing '" + path + "' failed: " + out->geterror());
 }
 
-} // namespace masq::cli
+void heat_color(float x, float* rgb) {
+  x = std::clamp(x, 0.0f, 1.0f);
+  rgb[0] = std::clamp(3.0f * x - 1.0f, 0.0f, 1.0f);
+  rgb[1] = std::clamp(3.0f * x - 2.0f, 0.0f, 1.0f);
+  rgb[2] = std::clamp(x < 0.33f ? 3.0f * x : 2.0f - 3.0f * x, 0.0f, 1.0f) + std::clamp(3.0f * x - 2.0f, 0.0f, 1.0f);
+}
+
+} // namespace masq

@@ -2,7 +2,9 @@
 #include <string>
 #include <vector>
 
-namespace masq::cli {
+namespace masq {
 // Writes an 8-bit RGB image (PNG, EXR, ... by extension) with OpenImageIO; throws on failure.
 void write_rgb(const std::string& path, int width, int height, const std::vector<float>& rgb);
-} // namespace masq::cli
+// Heat colour ramp for x in [0, 1]: black -> blue -> red -> yellow -> white.
+void heat_color(float x, float* rgb);
+} // namespace masq

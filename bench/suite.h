@@ -1,0 +1,78 @@
+// The bench suites that reproduce the source papers' tables and figures (fig3, table1,
+// table2, fig9, fig10, error) and measure masq against its peers (peers). Every suite
+// returns tables (terminal and Markdown), its raw figures as JSON and the images it
+// wrote; bench/results_doc.h assembles them into the results document.
+#pragma once
+#include "bench/backend_pool.h"
+#include "bench/bench_runner.h"
+#include "bench/rt_cost_model.h"
+#include "bench/table.h"
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace masq {
+
+struct SuiteConfig {
+  bool quick = false;                 // the < 3 minute variant: fewer cells, scenes and rays
+  std::string data_dir;               // ../shared/data (hair, meshes, ...)
+  std::string out_dir;                // images are written here ("" : none)
+  std::vector<std::string> backends = backend_names();
+  Mode mode = Mode::Robust;
+  std::function<void(const std::string&)> progress; // may be empty
+};
+
+struct SuiteImage {
+  std::string file;    // relative to out_dir
+  std::string caption;
+};
+
+struct SuiteResult {
+  std::string name;        // "fig3"
+  std::string title;       // a heading
+  std::string method;      // how it was measured, one paragraph
+  std::vector<Table> tables;
+  std::vector<SuiteImage> images;
+  nlohmann::json data;     // every raw figure
+  double seconds = 0;
+};
+
+// One table1 scene x intersector, measured on every backend x method x ray set.
+struct HairCase {
+  std::string scene;    // "bear fur (TressFX 3)"
+  std::string variant;  // "capsule", "link", "phantom x4"
+  std::size_t primitives = 0;
+  std::vector<BenchRow> rows;
+};
+
+// Shared by the suites of one run: backends opened once, the RT cost model (its
+// intersector price calibrated by fig3 when fig3 runs first), and the hair measurements
+// that table1, table2, fig9 and fig10 all read.
+struct SuiteContext {
+  SuiteConfig config;
+  BackendPool pool;
+  RtCostModel rt_model;
+  bool rt_model_calibrated = false;
+  std::vector<HairCase> hair;       // filled by collect_hair_measurements
+  bool hair_timed = false;          // hair holds timings (table1), not only counters
+  void say(const std::string& line) const {
+    if (config.progress) config.progress(line);
+  }
+  BenchOptions bench_options(int width, int height) const; // quick/full repetitions
+};
+
+const std::vector<std::string>& suite_names(); // fig3 table1 table2 fig9 fig10 error peers
+// Runs the named suites in a fixed order (fig3 first: it calibrates the RT model).
+std::vector<SuiteResult> run_suites(SuiteContext& ctx, const std::vector<std::string>& names);
+
+SuiteResult run_fig3(SuiteContext& ctx);
+void collect_hair_measurements(SuiteContext& ctx, bool timed); // table1's scenes x intersectors
+SuiteResult table1_result(const SuiteContext& ctx);
+SuiteResult table2_result(const SuiteContext& ctx);
+SuiteResult fig9_result(const SuiteContext& ctx);
+SuiteResult fig10_result(SuiteContext& ctx);
+SuiteResult run_error_suite(SuiteContext& ctx);
+SuiteResult run_peers(SuiteContext& ctx);
+
+} // namespace masq

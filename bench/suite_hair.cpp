@@ -1,0 +1,256 @@
+// table1, table2, fig9, fig10: hair and fur scenes (the shared TressFX models and
+// generated hair) x intersectors (capsule, link = round cone, phantom cubic curves with
+// 1/2/4/8 pre-subdivisions), measured once and read by all four views.
+#include "bench/bench_report.h"
+#include "bench/heatmap.h"
+#include "bench/suite.h"
+#include "scenes/curve_tools.h"
+#include "scenes/error.h"
+#include "scenes/loaders/load_any.h"
+#include "scenes/strand_generators.h"
+#include <chrono>
+#include <filesystem>
+#include <fmt/format.h>
+
+namespace masq {
+
+namespace {
+
+struct HairScene {
+  std::string label;
+  std::string file; // under data_dir; empty: generated
+  HairSurface surface = HairSurface::Head;
+  int strands = 0;
+};
+
+std::vector<HairScene> hair_scenes(bool quick) {
+  std::vector<HairScene> s = {{"bear fur (TressFX 3)", "hair/tressfx3_bear.tfx"}};
+  if (quick) return s;
+  s.push_back({"Ratboy mohawk (TressFX 4)", "hair/tressfx4_Ratboy_mohawk.tfx"});
+  s.push_back({"TestHair1 (TressFX 3)", "hair/tressfx3_TestHair1.tfx"});
+  s.push_back({"generated hair 10k strands", "", HairSurface::Head, 10000});
+  s.push_back({"generated fur 40k strands", "", HairSurface::Body, 40000});
+  return s;
+}
+
+struct Variant {
+  std::string name;
+  PrimType type;
+  int subdivisions;
+};
+
+std::vector<Variant> variants(bool quick) {
+  std::vector<Variant> v = {{"capsule", PrimType::Capsule, 1}, {"link", PrimType::RoundCone, 1}};
+  for (int k : quick ? std::vector<int>{1, 8} : std::vector<int>{1, 2, 4, 8})
+    v.push_back({fmt::format("phantom x{}", k), PrimType::Curve, k});
+  return v;
+}
+
+Scene make_case(const SuiteConfig& cfg, const HairScene& hs, const Variant& v) {
+  if (hs.file.empty()) {
+    HairParams hp;
+    hp.strands = hs.strands;
+    hp.surface = hs.surface;
+    if (hs.surface == HairSurface::Body) {
+      hp.points = 4;
+      hp.length = 0.15;
+      hp.gravity = 0.1;
+    }
+    hp.type = v.type;
+    return subdivide_curves(make_hair_scene(hp), v.subdivisions);
+  }
+  LoadOptions lo;
+  lo.strand_type = v.type == PrimType::Capsule ? PrimType::Capsule : PrimType::RoundCone;
+  Scene s = load_scene_file((std::filesystem::path(cfg.data_dir) / hs.file).string(), lo);
+  if (v.type == PrimType::Curve) s = subdivide_curves(segments_to_curves(s), v.subdivisions);
+  return s;
+}
+
+const BenchRow* counter_row(const HairCase& c, Method m, RaySet set) {
+  for (const BenchRow& r : c.rows)
+    if (r.method == m && r.ray_set == set && r.unavailable.empty() && r.tlas_nodes >= 0) return &r;
+  return nullptr;
+}
+
+const BenchRow* any_row(const HairCase& c, Method m) {
+  for (const BenchRow& r : c.rows)
+    if (r.method == m) return &r;
+  return nullptr;
+}
+
+std::string mib(std::size_t b) { return fmt::format("{:.2f}", b / 1048576.0); }
+
+} // namespace
+
+void collect_hair_measurements(SuiteContext& ctx, bool timed) {
+  const bool quick = ctx.config.quick;
+  const int w = quick ? 96 : 256, h = quick ? 72 : 192;
+  BenchOptions opt = ctx.bench_options(w, h);
+  if (!timed) {
+    // Only counters and memory (table2, fig9, fig10 without table1): the cpu backend.
+    opt.backends = {"cpu"};
+    opt.ray_sets = {RaySet::Primary};
+    opt.warmup = 0;
+    opt.repetitions = 1;
+  }
+  ctx.hair.clear();
+  ctx.hair_timed = timed;
+  std::vector<HairScene> scenes = hair_scenes(quick);
+  std::vector<Variant> vars = variants(quick);
+  int step = 0;
+  const int steps = int(scenes.size() * vars.size());
+  for (const HairScene& hs : scenes) {
+    for (const Variant& v : vars) {
+      ++step;
+      HairCase hc;
+      hc.scene = hs.label;
+      hc.variant = v.name;
+      opt.progress = [&](const std::string& line) { ctx.say(fmt::format("table1 {}/{} {} {}: {}", step, steps, hs.label, v.name, line)); };
+      try {
+        Scene s = make_case(ctx.config, hs, v);
+        hc.primitives = s.primitive_count();
+        hc.rows = run_bench(s, opt, ctx.pool);
+      } catch (const std::exception& e) {
+        // A missing data file: every row of this case says why.
+        BenchRow r;
+        r.backend = "-";
+        r.unavailable = e.what();
+        hc.rows = {r};
+      }
+      ctx.hair.push_back(std::move(hc));
+    }
+  }
+}
+
+SuiteResult table1_result(const SuiteContext& ctx) {
+  SuiteResult res;
+  res.name = "table1";
+  res.title = "Table 1: hair and fur, rays/s ref vs masq per intersector";
+  std::vector<std::string> backends = ctx.config.backends;
+  for (RaySet set : {RaySet::Primary, RaySet::Shadow, RaySet::Diffuse}) {
+    Table t;
+    t.title = fmt::format("{} rays: Mrays/s ref -> masq (speedup) per backend", ray_set_name(set));
+    t.header = {"scene", "intersector", "prims"};
+    for (const std::string& b : backends) t.header.push_back(b);
+    t.left_columns = 2;
+    for (const HairCase& c : ctx.hair) {
+      std::vector<std::string> line = {c.scene, c.variant, std::to_string(c.primitives)};
+      for (const std::string& b : backends) {
+        const BenchRow* r = find_row(c.rows, b, Method::Ref, set);
+        const BenchRow* m = find_row(c.rows, b, Method::Masq, set);
+        line.push_back(r && m ? fmt::format("{:.2f} -> {:.2f} ({:.2f}x)", r->mrays_per_s(), m->mrays_per_s(),
+                                            m->mrays_per_s() / r->mrays_per_s())
+                              : "n/a");
+      }
+      if (c.rows.size() == 1 && !c.rows[0].unavailable.empty()) line = {c.scene, c.variant, "-", "unavailable: " + c.rows[0].unavailable};
+      t.add(line);
+    }
+    res.tables.push_back(t);
+  }
+  res.tables.back().notes = {"link = round cone (Han et al.), phantom xk = Reshetov's phantom cubic curve with each curve "
+                             "pre-split into k; TressFX strands become Catmull-Rom cubics through the same points",
+                             "shadow: rays from the primary hits to a point light; diffuse: cosine-weighted bounces from "
+                             "the primary hits (incoherent)"};
+  res.data["cases"] = nlohmann::json::array();
+  for (const HairCase& c : ctx.hair) {
+    nlohmann::json j = {{"scene", c.scene}, {"variant", c.variant}, {"primitives", c.primitives}};
+    for (const BenchRow& r : c.rows) j["results"].push_back(bench_row_json(r));
+    res.data["cases"].push_back(j);
+  }
+  res.method = "Each scene x intersector built once per method; the same primary, shadow and diffuse rays through every "
+               "backend x method; median device time (wall time on cpu) of the timed traces after warm-up.";
+  return res;
+}
+
+SuiteResult table2_result(const SuiteContext& ctx) {
+  SuiteResult res;
+  res.name = "table2";
+  res.title = "Table 2: memory per method";
+  Table t;
+  t.header = {"scene", "intersector", "prims", "common MiB", "ref accel MiB", "ref total MiB", "masq accel MiB",
+              "masq total MiB", "masq +%", "masq B/prim", "rayquery ref MiB", "rayquery masq MiB"};
+  t.left_columns = 2;
+  for (const HairCase& c : ctx.hair) {
+    const BenchRow* r = any_row(c, Method::Ref);
+    const BenchRow* m = any_row(c, Method::Masq);
+    if (!r || !m || !r->accel_bytes) continue;
+    const BenchRow* rq_r = find_row(c.rows, "rayquery", Method::Ref, RaySet::Primary);
+    const BenchRow* rq_m = find_row(c.rows, "rayquery", Method::Masq, RaySet::Primary);
+    std::size_t ref_total = r->prim_bytes + r->accel_bytes, masq_total = m->prim_bytes + m->accel_bytes;
+    t.add({c.scene, c.variant, std::to_string(c.primitives), mib(r->prim_bytes), mib(r->accel_bytes), mib(ref_total),
+           mib(m->accel_bytes), mib(masq_total),
+           fmt::format("+{:.0f}%", 100.0 * (double(masq_total) / double(ref_total) - 1.0)),
+           fmt::format("{:.1f}", double(m->accel_bytes) / double(std::max<std::size_t>(1, c.primitives))),
+           rq_r ? mib(rq_r->device_bytes) : "n/a", rq_m ? mib(rq_m->device_bytes) : "n/a"});
+  }
+  t.notes = {"common: primitive data both methods share; accel: masq's own two-level BVH (nodes, references, instances, "
+             "frames); masq +%: masq total over ref total (the paper's layout); rayquery: what the driver's acceleration "
+             "structures and the primitives take on the device"};
+  res.tables.push_back(t);
+  res.method = "Byte counts of the packed scenes each method uploads (host-side sizes of the GPU arrays), and the device "
+               "memory the rayquery backend holds after the driver's acceleration-structure builds.";
+  return res;
+}
+
+SuiteResult fig9_result(const SuiteContext& ctx) {
+  SuiteResult res;
+  res.name = "fig9";
+  res.title = "Fig. 9: surface area of AABBs vs OBBs";
+  Table t;
+  t.header = {"scene", "intersector", "prims", "sum AABB area", "sum OBB area", "OBB/AABB"};
+  t.left_columns = 2;
+  for (const HairCase& c : ctx.hair) {
+    const BenchRow* m = any_row(c, Method::Masq);
+    if (!m || !(m->build.aabb_area > 0)) continue;
+    t.add({c.scene, c.variant, std::to_string(c.primitives), fmt::format("{:.4g}", m->build.aabb_area),
+           fmt::format("{:.4g}", m->build.obb_area), fmt::format("{:.3f}", m->build.obb_area / m->build.aabb_area)});
+    res.data.push_back({{"scene", c.scene}, {"variant", c.variant}, {"aabb_area", m->build.aabb_area},
+                        {"obb_area", m->build.obb_area}});
+  }
+  t.notes = {"summed over primitives: the exact world AABB of each primitive vs its masquerade OBB (fp32-verified, "
+             "tight curve fit); lower is a tighter cull"};
+  res.tables.push_back(t);
+  res.method = "From the masq builds of table1's scenes: every primitive's exact AABB and its stored OBB.";
+  return res;
+}
+
+SuiteResult fig10_result(SuiteContext& ctx) {
+  SuiteResult res;
+  res.name = "fig10";
+  res.title = "Fig. 10: intersector calls per ray";
+  Table t;
+  t.header = {"scene", "intersector", "ref calls/ray", "masq calls/ray", "ref/masq", "rayquery ref", "rayquery masq",
+              "RT model speedup"};
+  t.left_columns = 2;
+  for (const HairCase& c : ctx.hair) {
+    const BenchRow* r = counter_row(c, Method::Ref, RaySet::Primary);
+    const BenchRow* m = counter_row(c, Method::Masq, RaySet::Primary);
+    if (!r || !m) continue;
+    const BenchRow* rq_r = find_row(c.rows, "rayquery", Method::Ref, RaySet::Primary);
+    const BenchRow* rq_m = find_row(c.rows, "rayquery", Method::Masq, RaySet::Primary);
+    t.add({c.scene, c.variant, fmt::format("{:.2f}", r->isect_calls), fmt::format("{:.2f}", m->isect_calls),
+           fmt::format("{:.2f}x", r->isect_calls / m->isect_calls), rq_r ? fmt::format("{:.2f}", rq_r->isect_calls) : "n/a",
+           rq_m ? fmt::format("{:.2f}", rq_m->isect_calls) : "n/a",
+           fmt::format("{:.2f}x", rt_predicted_speedup(*r, *m, ctx.rt_model))});
+  }
+  t.notes = {"primary rays; calls include the triangles of scenes that have them; rayquery: candidates the driver's BVH "
+             "hands to the intersector",
+             fmt::format("RT model speedup: cost(ref)/cost(masq) with node visits and transforms at 1 and an intersector "
+                         "call at {:.1f}", ctx.rt_model.isect)};
+  res.tables.push_back(t);
+  res.method = "Counters of the stats kernel variant on the primary rays of table1's scenes.";
+  if (!ctx.config.out_dir.empty() && !ctx.hair.empty()) {
+    try {
+      HairScene bear = hair_scenes(true).front();
+      Scene s = make_case(ctx.config, bear, {"capsule", PrimType::Capsule, 1});
+      res.images.push_back(write_call_heatmaps(ctx, s, "heatmap_bear.png",
+                                               "Intersector calls per pixel, ref (left) vs masq (right), bear fur capsules",
+                                               400, 300));
+    } catch (const std::exception& e) {
+      ctx.say(std::string("fig10 heatmap skipped: ") + e.what());
+    }
+  }
+  return res;
+}
+
+} // namespace masq

@@ -1,0 +1,187 @@
+// peers: masq against Embree 3 (the Debian package; round linear curves for capsules
+// and links, round Bezier curves for cubics, triangles) and the driver's ray query, on
+// the same rays, as ratios measured in the same run.
+#include "bench/bench_report.h"
+#include "bench/suite.h"
+#include "peers/embree_peer.h"
+#include "scenes/error.h"
+#include "scenes/generators.h"
+#include "scenes/loaders/load_any.h"
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+
+namespace masq {
+
+namespace {
+
+struct Agreement {
+  double rays = 0, hit_miss = 0, common = 0, t_off = 0;
+  std::string text() const {
+    if (rays == 0) return "n/a";
+    return fmt::format("{:.3f}% / {:.3f}%", 100.0 * hit_miss / rays, common > 0 ? 100.0 * t_off / common : 0.0);
+  }
+};
+
+// Hit/miss disagreements over all rays, and common hits whose t differs by more than
+// 1e-3 relative (a different surface or a badly converged root).
+Agreement agree(const std::vector<kernel::Hit>& a, const std::vector<kernel::Hit>& b) {
+  Agreement g;
+  g.rays = double(std::min(a.size(), b.size()));
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    bool ha = a[i].prim >= 0, hb = b[i].prim >= 0;
+    if (ha != hb) {
+      g.hit_miss++;
+    } else if (ha) {
+      g.common++;
+      if (std::fabs(double(a[i].t) - double(b[i].t)) > 1e-3 * std::max(double(a[i].t), double(b[i].t))) g.t_off++;
+    }
+  }
+  return g;
+}
+
+struct PeerTimes {
+  double median = 0, min = 0, max = 0;
+};
+
+PeerTimes time_embree(EmbreePeer& peer, const std::vector<kernel::Ray>& rays, std::vector<kernel::Hit>& hits,
+                      const BenchOptions& opt) {
+  std::vector<double> t;
+  for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
+    peer.trace(rays, hits);
+    if (i >= opt.warmup) t.push_back(peer.timing().trace_seconds);
+  }
+  std::sort(t.begin(), t.end());
+  return {t[t.size() / 2], t.front(), t.back()};
+}
+
+struct PeerScene {
+  std::string label;
+  std::string file; // under data_dir; empty: the embedded default bundle
+};
+
+} // namespace
+
+SuiteResult run_peers(SuiteContext& ctx) {
+  auto t0 = std::chrono::steady_clock::now();
+  const bool quick = ctx.config.quick;
+  SuiteResult res;
+  res.name = "peers";
+  res.title = "Peers: masq vs Embree 3 and the driver's ray query";
+  const std::string embree_why = EmbreePeer::unavailable_reason();
+  BenchOptions opt = ctx.bench_options(quick ? 128 : 320, quick ? 96 : 240);
+  opt.keep_per_ray = true;
+  Table t;
+  t.title = "Mrays/s on the same rays; agreement = hit/miss disagreement / common hits with t off by > 1e-3 relative, "
+            "against masq's best";
+  t.header = {"scene", "rays", "masq best", "Mrays/s", "Embree 3", "masq/Embree", "Embree agreement", "rayquery best",
+              "rayquery/masq", "rayquery agreement"};
+  t.left_columns = 3;
+  Table build;
+  build.title = "build time and memory";
+  build.header = {"scene", "masq ref build ms", "masq ref MiB", "masq masq build ms", "masq masq MiB", "Embree build ms",
+                  "Embree MiB"};
+  build.left_columns = 1;
+  res.data["scenes"] = nlohmann::json::array();
+  for (const PeerScene& ps : {PeerScene{"bear fur (TressFX 3), capsules", "hair/tressfx3_bear.tfx"},
+                              PeerScene{"default bundle (N=1000 r=0.002 tilt 45 + ground)", ""}}) {
+    Scene scene;
+    try {
+      scene = ps.file.empty() ? make_default_scene()
+                              : load_scene_file((std::filesystem::path(ctx.config.data_dir) / ps.file).string());
+    } catch (const std::exception& e) {
+      t.add({ps.label, "-", "unavailable: " + std::string(e.what())});
+      continue;
+    }
+    opt.progress = [&](const std::string& line) { ctx.say("peers " + ps.label + ": " + line); };
+    std::map<Method, PackedScene> built = build_methods(scene, opt);
+    std::vector<RayBatch> batches = make_ray_batches(scene, built, opt, ctx.pool);
+    std::vector<BenchRow> rows = measure(built, scene.primitive_count(), batches, opt, ctx.pool);
+    std::unique_ptr<EmbreePeer> embree;
+    std::string embree_error = embree_why;
+    if (embree_error.empty()) {
+      try {
+        ctx.say("peers " + ps.label + ": Embree build");
+        embree = std::make_unique<EmbreePeer>(2);
+        embree->set_scene(scene, ctx.config.mode == Mode::Robust);
+      } catch (const std::exception& e) {
+        embree_error = e.what();
+        embree.reset();
+      }
+    }
+    nlohmann::json sj = {{"scene", ps.label}, {"primitives", scene.primitive_count()}};
+    for (const BenchRow& r : rows) sj["results"].push_back(bench_row_json(r));
+    for (const RayBatch& batch : batches) {
+      const BenchRow* best = nullptr;
+      const BenchRow* best_rq = nullptr;
+      for (const BenchRow& r : rows) {
+        if (r.ray_set != batch.set || !r.unavailable.empty()) continue;
+        const BenchRow*& slot = r.backend == "rayquery" ? best_rq : best;
+        if (!slot || r.mrays_per_s() > slot->mrays_per_s()) slot = &r;
+      }
+      std::vector<std::string> line = {ps.label, ray_set_name(batch.set)};
+      if (!best) {
+        line.push_back("no masq backend ran");
+        t.add(line);
+        continue;
+      }
+      line.push_back(fmt::format("{} {}", best->backend, method_name(best->method)));
+      line.push_back(fmt::format("{:.3f}", best->mrays_per_s()));
+      nlohmann::json pj = {{"rays", ray_set_name(batch.set)}, {"masq_best", bench_row_json(*best)}};
+      if (embree) {
+        ctx.say("peers " + ps.label + ": Embree " + ray_set_name(batch.set));
+        std::vector<kernel::Hit> hits(batch.rays.size());
+        PeerTimes pt = time_embree(*embree, batch.rays, hits, opt);
+        double mrays = batch.rays.size() / pt.median * 1e-6;
+        Agreement g = agree(best->hits, hits);
+        line.push_back(fmt::format("{:.3f}", mrays));
+        line.push_back(fmt::format("{:.2f}x", best->mrays_per_s() / mrays));
+        line.push_back(g.text());
+        pj["embree"] = {{"mrays_per_s", mrays},          {"trace_seconds", {{"median", pt.median}, {"min", pt.min}, {"max", pt.max}}},
+                        {"hit_miss_disagree", g.hit_miss}, {"common_hits", g.common}, {"t_off", g.t_off}};
+      } else {
+        line.insert(line.end(), {"unavailable", "-", "-"});
+        pj["embree"] = {{"unavailable", embree_error}};
+      }
+      if (best_rq) {
+        Agreement g = agree(best->hits, best_rq->hits);
+        line.push_back(fmt::format("{} {:.3f}", method_name(best_rq->method), best_rq->mrays_per_s()));
+        line.push_back(fmt::format("{:.2f}x", best_rq->mrays_per_s() / best->mrays_per_s()));
+        line.push_back(g.text());
+        pj["rayquery_best"] = bench_row_json(*best_rq);
+        pj["rayquery_hit_miss_disagree"] = g.hit_miss;
+      } else {
+        line.insert(line.end(), {"unavailable", "-", "-"});
+      }
+      t.add(line);
+      sj["peers"].push_back(pj);
+    }
+    const BenchRow* rr = find_row(rows, opt.backends.front(), Method::Ref, RaySet::Primary);
+    const BenchRow* rm = find_row(rows, opt.backends.front(), Method::Masq, RaySet::Primary);
+    auto ms = [](const BenchRow* r) { return r ? fmt::format("{:.1f}", (r->build_s + r->scene_s) * 1e3) : std::string("n/a"); };
+    auto accel = [](const BenchRow* r) {
+      return r ? fmt::format("{:.2f}", (r->accel_bytes + r->prim_bytes) / 1048576.0) : std::string("n/a");
+    };
+    build.add({ps.label, ms(rr), accel(rr), ms(rm), accel(rm),
+               embree ? fmt::format("{:.1f}", embree->timing().build_seconds * 1e3) : "n/a",
+               embree ? fmt::format("{:.2f}", embree->bytes() / 1048576.0) : "n/a"});
+    res.data["scenes"].push_back(sj);
+  }
+  t.notes = {embree_why.empty() ? "Embree: " + EmbreePeer::version() + ", 2 threads, rtcIntersect1 per ray; capsules as "
+                                  "round linear curves, the ground plane as triangles"
+                                : "Embree: " + embree_why,
+             "masq best: the fastest of masq's own tracers (cpu, vulkan, opencl x ref, masq); rayquery: the driver's "
+             "BVH with masq's intersectors, best of ref and masq"};
+  build.notes = {"masq: host build + upload (first backend), nodes + instances + primitives; Embree: rtcCommitScene, "
+                 "memory from Embree's device memory monitor"};
+  res.tables = {t, build};
+  res.method = fmt::format("{}x{} camera rays and the shadow and diffuse rays derived from their hits; every tracer gets "
+                           "the same rays; median of {} timed traces after {} warm-up; Embree timed by wall clock.",
+                           opt.width, opt.height, opt.repetitions, opt.warmup);
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+} // namespace masq

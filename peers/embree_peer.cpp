@@ -1,0 +1,392 @@
+// Embree 3 peer: device, errors, memory accounting, scene mapping and threaded tracing.
+// Embree semantics that matter for the comparison (3.13.5, measured against the
+// long-double oracle in tests/test_embree_peer.cpp):
+//  - Round linear curve segments take their neighbours from RTC_BUFFER_TYPE_FLAGS; with
+//    a neighbour, the parts of a segment's end ball inside the neighbouring cone are cut
+//    away. Capsules and cones are independent, so each segment indexes its own two
+//    vertices (index 2*i) and the flags are set explicitly to 0, not left to Embree:
+//    both end balls are whole and the segment is the convex hull of its two balls,
+//    masq's capsule / round cone, also when one ball contains the other (Embree then
+//    reports that ball alone; 100% agreement on the generator's contained cones).
+//  - Round Bezier curves are open tubes: Embree's sweep has no end balls, so rays that
+//    hit masq's round curve ends miss, or enter the open end and hit the inside wall.
+//    Away from the ends the surfaces agree (the test counts end rays apart).
+//  - For hits inside instances, Ng comes back in the instance's object space.
+#include "peers/embree_peer.h"
+#include "scenes/error.h"
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <thread>
+#include <vector>
+
+#if MASQ_HAVE_EMBREE
+#include <embree3/rtcore.h>
+#include <atomic>
+#include <mutex>
+#endif
+
+namespace masq {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+kernel::Hit miss_hit() {
+  kernel::Hit h{};
+  h.t = std::numeric_limits<float>::infinity();
+  h.prim = -1;
+  h.geom = -1;
+  h.inst = -1;
+  return h;
+}
+
+// Same rule as the kernels' ray_is_valid (kernels/traverse.h).
+bool ray_valid(const kernel::Ray& r) {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(r.org[k]) || !std::isfinite(r.dir[k])) return false;
+  float dd = r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2];
+  return dd > 0.0f && !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
+}
+
+// Runs fn(begin, end) over [0, n) in `threads` contiguous chunks.
+template <class Fn>
+void parallel_chunks(std::size_t n, int threads, Fn fn) {
+  std::size_t workers = std::max<std::size_t>(1, std::min<std::size_t>(std::size_t(threads), n));
+  if (workers <= 1) {
+    fn(std::size_t(0), n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  pool.reserve(workers);
+  std::size_t chunk = (n + workers - 1) / workers;
+  for (std::size_t w = 0; w < workers; ++w) {
+    std::size_t b = w * chunk, e = std::min(n, b + chunk);
+    if (b >= e) break;
+    pool.emplace_back([=] { fn(b, e); });
+  }
+  for (std::thread& t : pool) t.join();
+}
+
+} // namespace
+
+std::string EmbreePeer::version() {
+#if MASQ_HAVE_EMBREE
+  return std::string("Embree ") + RTC_VERSION_STRING;
+#else
+  return "Embree (not built)";
+#endif
+}
+
+std::string EmbreePeer::unavailable_reason() {
+#if MASQ_HAVE_EMBREE
+  return "";
+#else
+  return "embree: masq was built without Embree 3 (install libembree-dev and rebuild)";
+#endif
+}
+
+#if MASQ_HAVE_EMBREE
+
+namespace {
+
+const char* rtc_error_name(RTCError e) {
+  static const char* const names[] = {"RTC_ERROR_NONE",          "RTC_ERROR_UNKNOWN",
+                                      "RTC_ERROR_INVALID_ARGUMENT", "RTC_ERROR_INVALID_OPERATION",
+                                      "RTC_ERROR_OUT_OF_MEMORY", "RTC_ERROR_UNSUPPORTED_CPU",
+                                      "RTC_ERROR_CANCELLED"};
+  return unsigned(e) < 7 ? names[unsigned(e)] : "RTC_ERROR_?";
+}
+
+} // namespace
+
+struct EmbreePeer::Impl {
+  int threads = 2;
+  bool robust = false;
+  RTCDevice device = nullptr;
+  RTCScene top = nullptr;
+  std::vector<RTCScene> subs;        // one per masq geometry
+  std::vector<int> inst_geom;        // masq instance -> masq geometry
+  std::vector<glm::dmat3> inst_nrm;  // masq instance -> inverse transpose of its linear part
+  std::vector<PrimType> geom_type;   // masq geometry -> type
+  std::atomic<long long> live_bytes{0};
+  std::size_t scene_bytes = 0;
+  PeerTiming timing;
+  std::mutex error_mutex;
+  std::string error_message; // first Embree error since the last check
+
+  // Embree reports errors through this callback (which must not throw through Embree's
+  // C frames); check() turns a recorded error into a masq::Error.
+  static void on_error(void* user, RTCError code, const char* str) {
+    auto* self = static_cast<Impl*>(user);
+    std::lock_guard<std::mutex> lock(self->error_mutex);
+    if (self->error_message.empty())
+      self->error_message = std::string(rtc_error_name(code)) + (str != nullptr ? std::string(": ") + str : "");
+  }
+  static bool on_memory(void* user, ssize_t bytes, bool /*post*/) {
+    static_cast<Impl*>(user)->live_bytes += bytes;
+    return true;
+  }
+  void check(const char* what) {
+    RTCError code = rtcGetDeviceError(device);
+    std::string msg;
+    {
+      std::lock_guard<std::mutex> lock(error_mutex);
+      msg.swap(error_message);
+    }
+    if (code == RTC_ERROR_NONE && msg.empty()) return;
+    if (msg.empty()) msg = rtc_error_name(code);
+    throw Error(std::string("embree: ") + what + ": " + msg);
+  }
+  void release_scene() {
+    if (top != nullptr) rtcReleaseScene(top);
+    top = nullptr;
+    for (RTCScene s : subs) rtcReleaseScene(s);
+    subs.clear();
+    inst_geom.clear();
+    inst_nrm.clear();
+    geom_type.clear();
+  }
+  RTCGeometry make_geometry(const Geometry& g);
+};
+
+namespace {
+
+// count elements of `per` values of T each (float4 vertices: T = float, per = 4).
+template <class T>
+T* new_buffer(RTCGeometry geo, RTCBufferType type, RTCFormat format, std::size_t count, std::size_t per = 1) {
+  void* p = rtcSetNewGeometryBuffer(geo, type, 0, format, per * sizeof(T), count);
+  return static_cast<T*>(p);
+}
+
+void put4(float* dst, const glm::vec3& p, float r) {
+  dst[0] = p.x;
+  dst[1] = p.y;
+  dst[2] = p.z;
+  dst[3] = r;
+}
+
+// Round linear curve of independent two-vertex segments (capsules and cones).
+RTCGeometry make_segments(RTCDevice device, std::size_t n, auto&& vertex_pair) {
+  RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+  float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, 2 * n, 4);
+  unsigned* idx = new_buffer<unsigned>(geo, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT, n);
+  unsigned char* flags = new_buffer<unsigned char>(geo, RTC_BUFFER_TYPE_FLAGS, RTC_FORMAT_UCHAR, n);
+  if (v == nullptr || idx == nullptr || flags == nullptr) return geo; // the error is recorded
+  for (std::size_t i = 0; i < n; ++i) {
+    vertex_pair(i, v + 8 * i, v + 8 * i + 4);
+    idx[i] = unsigned(2 * i);
+    flags[i] = 0; // no neighbours: both end balls whole
+  }
+  return geo;
+}
+
+} // namespace
+
+RTCGeometry EmbreePeer::Impl::make_geometry(const Geometry& g) {
+  switch (g.type) {
+    case PrimType::Capsule:
+      return make_segments(device, g.capsules.size(), [&](std::size_t i, float* a, float* b) {
+        put4(a, g.capsules[i].a, g.capsules[i].radius);
+        put4(b, g.capsules[i].b, g.capsules[i].radius);
+      });
+    case PrimType::RoundCone:
+      return make_segments(device, g.cones.size(), [&](std::size_t i, float* a, float* b) {
+        put4(a, g.cones[i].a, g.cones[i].ra);
+        put4(b, g.cones[i].b, g.cones[i].rb);
+      });
+    case PrimType::Curve: {
+      std::size_t n = g.curves.size();
+      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE);
+      float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, 4 * n, 4);
+      unsigned* idx = new_buffer<unsigned>(geo, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT, n);
+      if (v == nullptr || idx == nullptr) return geo;
+      for (std::size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 4; ++k) put4(v + 16 * i + 4 * k, g.curves[i].p[std::size_t(k)], g.curves[i].radius);
+        idx[i] = unsigned(4 * i);
+      }
+      return geo;
+    }
+    case PrimType::Sphere: {
+      std::size_t n = g.spheres.size();
+      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+      float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, n, 4);
+      if (v == nullptr) return geo;
+      for (std::size_t i = 0; i < n; ++i) put4(v + 4 * i, g.spheres[i].center, g.spheres[i].radius);
+      return geo;
+    }
+    case PrimType::Triangle: {
+      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, g.vertices.size(), 3);
+      unsigned* idx = new_buffer<unsigned>(geo, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3, g.triangles.size(), 3);
+      if (v == nullptr || idx == nullptr) return geo;
+      for (std::size_t i = 0; i < g.vertices.size(); ++i)
+        for (int k = 0; k < 3; ++k) v[3 * i + std::size_t(k)] = g.vertices[i][k];
+      for (std::size_t i = 0; i < g.triangles.size(); ++i)
+        for (int k = 0; k < 3; ++k) idx[3 * i + std::size_t(k)] = g.triangles[i][k];
+      return geo;
+    }
+  }
+  throw Error("embree: unknown primitive type");
+}
+
+EmbreePeer::EmbreePeer(int threads) : impl_(std::make_unique<Impl>()) {
+  if (threads < 1) throw Error("embree: thread count must be at least 1 (got " + std::to_string(threads) + ")");
+  impl_->threads = threads;
+  std::string config = "threads=" + std::to_string(threads);
+  impl_->device = rtcNewDevice(config.c_str());
+  if (impl_->device == nullptr)
+    throw Error(std::string("embree: rtcNewDevice failed: ") + rtc_error_name(rtcGetDeviceError(nullptr)));
+  rtcSetDeviceErrorFunction(impl_->device, &Impl::on_error, impl_.get());
+  rtcSetDeviceMemoryMonitorFunction(impl_->device, &Impl::on_memory, impl_.get());
+}
+
+EmbreePeer::~EmbreePeer() {
+  impl_->release_scene();
+  rtcReleaseDevice(impl_->device);
+}
+
+void EmbreePeer::set_scene(const Scene& scene, bool robust) {
+  Impl& m = *impl_;
+  bool empty = scene.instances.empty() || scene.primitive_count() == 0;
+  if (!empty) validate_scene(scene);
+  m.release_scene();
+  m.robust = robust;
+  m.check("before set_scene");
+  auto t0 = std::chrono::steady_clock::now();
+  RTCSceneFlags flags = robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE;
+  try {
+    for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
+      const Geometry& g = scene.geometries[gi];
+      m.geom_type.push_back(g.type);
+      RTCScene sub = rtcNewScene(m.device);
+      m.subs.push_back(sub);
+      rtcSetSceneFlags(sub, flags);
+      if (!empty && g.primitive_count() > 0) {
+        RTCGeometry geo = m.make_geometry(g);
+        rtcCommitGeometry(geo);
+        rtcAttachGeometryByID(sub, geo, 0);
+        rtcReleaseGeometry(geo);
+      }
+      rtcCommitScene(sub);
+      m.check(("building geometry " + std::to_string(gi)).c_str());
+    }
+    m.top = rtcNewScene(m.device);
+    rtcSetSceneFlags(m.top, flags);
+    if (!empty) {
+      for (std::size_t ii = 0; ii < scene.instances.size(); ++ii) {
+        const Instance& in = scene.instances[ii];
+        const Affine3& x = in.object_to_world;
+        float xfm[12];
+        for (int r = 0; r < 3; ++r) {
+          for (int c = 0; c < 3; ++c) xfm[4 * r + c] = float(x.linear[c][r]); // glm: [column][row]
+          xfm[4 * r + 3] = float(x.translation[r]);
+        }
+        RTCGeometry ig = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(ig, m.subs[in.geometry]);
+        rtcSetGeometryTransform(ig, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+        rtcCommitGeometry(ig);
+        rtcAttachGeometryByID(m.top, ig, unsigned(ii));
+        rtcReleaseGeometry(ig);
+        m.inst_geom.push_back(int(in.geometry));
+        m.inst_nrm.push_back(glm::transpose(glm::inverse(x.linear)));
+      }
+    }
+    rtcCommitScene(m.top);
+    m.check("building the instance scene");
+  } catch (...) {
+    m.release_scene();
+    throw;
+  }
+  m.timing.build_seconds = seconds_since(t0);
+  m.scene_bytes = std::size_t(std::max<long long>(0, m.live_bytes.load()));
+}
+
+void EmbreePeer::trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits) {
+  Impl& m = *impl_;
+  if (hits.size() < rays.size())
+    throw Error("embree: trace needs a hit per ray (" + std::to_string(rays.size()) + " rays, " +
+                std::to_string(hits.size()) + " hits)");
+  if (m.top == nullptr) throw Error("embree: trace before set_scene");
+  auto t0 = std::chrono::steady_clock::now();
+  parallel_chunks(rays.size(), m.threads, [&](std::size_t begin, std::size_t end) {
+    RTCIntersectContext ctx;
+    for (std::size_t i = begin; i < end; ++i) {
+      const kernel::Ray& r = rays[i];
+      hits[i] = miss_hit();
+      if (!ray_valid(r)) continue;
+      RTCRayHit rh;
+      rh.ray = RTCRay{r.org[0], r.org[1], r.org[2], r.tmin, r.dir[0], r.dir[1], r.dir[2], 0.0f, r.tmax, ~0u,
+                      unsigned(i), 0u};
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcInitIntersectContext(&ctx);
+      rtcIntersect1(m.top, &ctx, &rh);
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) continue;
+      kernel::Hit& h = hits[i];
+      int inst = int(rh.hit.instID[0]);
+      int geom = m.inst_geom[std::size_t(inst)];
+      h.t = rh.ray.tfar;
+      h.prim = int(rh.hit.primID);
+      h.geom = geom;
+      h.inst = inst;
+      glm::dvec3 n = m.inst_nrm[std::size_t(inst)] * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+      double len = glm::length(n);
+      if (len > 0.0) n /= len;
+      for (int k = 0; k < 3; ++k) h.normal[k] = float(n[k]);
+      switch (m.geom_type[std::size_t(geom)]) {
+        case PrimType::Triangle: h.u = rh.hit.u; h.v = rh.hit.v; break;
+        case PrimType::Sphere: break;
+        default: h.u = rh.hit.u; break;
+      }
+    }
+  });
+  m.timing.trace_seconds = seconds_since(t0);
+  m.check("trace");
+}
+
+PeerTiming EmbreePeer::timing() const { return impl_->timing; }
+std::size_t EmbreePeer::bytes() const { return impl_->scene_bytes; }
+
+std::string EmbreePeer::description() const {
+  const Impl& m = *impl_;
+  std::string d = version() + ", " + std::to_string(m.threads) + (m.threads == 1 ? " thread" : " threads") +
+                  ", rtcIntersect1" + (m.robust ? ", robust" : "");
+  bool linear = false, bezier = false, spheres = false, triangles = false;
+  for (PrimType t : m.geom_type) {
+    linear |= t == PrimType::Capsule || t == PrimType::RoundCone;
+    bezier |= t == PrimType::Curve;
+    spheres |= t == PrimType::Sphere;
+    triangles |= t == PrimType::Triangle;
+  }
+  std::string types;
+  auto add = [&](bool on, const char* name) {
+    if (!on) return;
+    if (!types.empty()) types += '/';
+    types += name;
+  };
+  add(linear, "round linear curves");
+  add(bezier, "round Bezier curves");
+  add(spheres, "sphere points");
+  add(triangles, "triangles");
+  return types.empty() ? d : d + ", " + types;
+}
+
+#else // !MASQ_HAVE_EMBREE
+
+struct EmbreePeer::Impl {};
+
+EmbreePeer::EmbreePeer(int /*threads*/) { throw Error(unavailable_reason()); }
+EmbreePeer::~EmbreePeer() = default;
+void EmbreePeer::set_scene(const Scene&, bool) { throw Error(unavailable_reason()); }
+void EmbreePeer::trace(std::span<const kernel::Ray>, std::span<kernel::Hit>) { throw Error(unavailable_reason()); }
+PeerTiming EmbreePeer::timing() const { return {}; }
+std::size_t EmbreePeer::bytes() const { return 0; }
+std::string EmbreePeer::description() const { return version(); }
+
+#endif
+
+} // namespace masq

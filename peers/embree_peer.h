@@ -1,0 +1,72 @@
+// Embree 3 as a peer tracer: the benchmark harness traces the same rays through masq and
+// through Embree (rtcIntersect1 per ray, std::thread workers) and compares time, memory
+// and answers. No Embree header here (pimpl), so callers build whether or not masq was
+// built with Embree; without it every constructor throws and unavailable_reason() says why.
+//
+// Mapping (one Embree geometry per masq Geometry, in its own sub-scene committed once and
+// shared by every instance of it; one RTC_GEOMETRY_TYPE_INSTANCE per masq Instance, its
+// object_to_world rounded to a 3x4 float transform):
+//   capsule    -> round linear curve, radius at both vertices, no neighbours (flags 0)
+//   round cone -> round linear curve with per-vertex radii (Embree's segment is the
+//                 convex hull of its two end balls, as masq's round cone)
+//   curve      -> round Bezier curve, constant radius (NB: Embree 3 leaves its ends open,
+//                 masq closes them with the end balls; see embree_peer.cpp)
+//   sphere     -> sphere point
+//   triangle   -> triangle
+#pragma once
+#include "kernels/layout.h"
+#include "scenes/scene.h"
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string>
+
+namespace masq {
+
+struct PeerTiming {
+  double build_seconds = 0; // last set_scene: geometry upload and every BVH build
+  double trace_seconds = 0; // last trace: wall time of the whole batch
+};
+
+class EmbreePeer {
+ public:
+  // "" when masq was built with Embree 3, else the one-line reason it was not.
+  static std::string unavailable_reason();
+  static std::string version(); // "Embree 3.13.5" (the headers masq was built against)
+
+  // threads: workers for trace (contiguous chunks of the batch); Embree's device is also
+  // limited to this many threads, so its BVH build uses the same number. Throws
+  // masq::Error when built without Embree or when Embree cannot make a device.
+  explicit EmbreePeer(int threads = 2);
+  ~EmbreePeer();
+  EmbreePeer(const EmbreePeer&) = delete;
+  EmbreePeer& operator=(const EmbreePeer&) = delete;
+
+  // Builds Embree's BVHs for the scene (replacing any previous one). robust ->
+  // RTC_SCENE_FLAG_ROBUST on every scene. Throws masq::Error for invalid scenes and for
+  // any Embree error (with Embree's message). A scene with no instances or no
+  // primitives is allowed: every ray misses.
+  void set_scene(const Scene& scene, bool robust);
+
+  // Closest hit of each ray (hits.size() >= rays.size()), masq's conventions:
+  // miss: t = +inf, prim = geom = inst = -1, normal and u, v zero. Hit: t in units of
+  // ray.dir, prim/geom/inst the masq indices, normal the unit world-space geometric
+  // normal (Embree's Ng), u, v as kernel::Hit documents (triangles: Embree's
+  // barycentrics; capsules, cones, curves: Embree's u, v = 0; spheres: 0, 0).
+  // Invalid rays (non-finite, zero direction, tmin > tmax) miss without reaching Embree.
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits);
+
+  PeerTiming timing() const;
+  // Bytes Embree holds for the current scene (its memory monitor after the build:
+  // vertex/index buffers and BVHs).
+  std::size_t bytes() const;
+  // "Embree 3.13.5, 2 threads, rtcIntersect1, round linear curves/round Bezier
+  // curves/triangles" (the Embree types of the current scene).
+  std::string description() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace masq
