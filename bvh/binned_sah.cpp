@@ -1,5 +1,7 @@
 #include "bvh/binned_sah.h"
+#include "scenes/error.h"
 #include <algorithm>
+#include <string>
 #include <array>
 #include <cmath>
 
@@ -72,6 +74,11 @@ BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt
   BinaryBvh bvh;
   const int n = int(boxes.size());
   if (n == 0) return bvh;
+  // A NaN or empty box would give a NaN centroid and an out-of-range bin below.
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (!(boxes[i].lo[k] <= boxes[i].hi[k]) || !std::isfinite(boxes[i].lo[k]) || !std::isfinite(boxes[i].hi[k]))
+        throw Error("bvh: box " + std::to_string(i) + " of " + std::to_string(n) + " is empty or not finite");
   bvh.order.resize(n);
   for (int i = 0; i < n; ++i) bvh.order[i] = i;
   bvh.nodes.reserve(2 * std::size_t(n));

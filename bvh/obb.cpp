@@ -94,7 +94,14 @@ ObbFrame curve_obb_fit(const BallHull& h, CurveObb mode) {
       far_dir = perp / l;
     }
   }
-  glm::dvec3 u1 = far > 0.0 ? far_dir : perpendicular(w);
+  // Offsets far below the radius are rounding noise of nearly collinear control points:
+  // their direction is not perpendicular to w (a 1e-5-long piece of a subdivided strand
+  // gave u1 == w and a singular box), and they do not matter for the box anyway.
+  glm::dvec3 u1 = perpendicular(w);
+  if (far > 1e-6 * hull_max_radius(h)) {
+    glm::dvec3 o = far_dir - glm::dot(far_dir, w) * w;
+    if (glm::length(o) > 0.5) u1 = glm::normalize(o);
+  }
   glm::dvec3 u2 = glm::cross(w, u1);
   if (mode == CurveObb::Tight) return fit_along(h, glm::dmat3(w, u1, u2));
   // paper: a cylinder around the chord of radius (largest control-point distance + r),
@@ -173,6 +180,10 @@ MasqueradeBox masquerade_box(const Geometry& g, std::size_t prim, const Affine3&
       corners.grow(u2w.apply_point(glm::dvec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1)));
     return corners;
   }());
+  for (int k = 0; k < 3; ++k)
+    if (!(out.world_box.lo[k] <= out.world_box.hi[k]) || !std::isfinite(out.world_box.lo[k]) ||
+        !std::isfinite(out.world_box.hi[k]))
+      throw Error(std::string("obb: the oriented box of a ") + prim_type_name(g.type) + " came out empty or not finite");
   glm::dvec3 e0 = unit_to_world.linear[0], e1 = unit_to_world.linear[1], e2 = unit_to_world.linear[2];
   out.obb_area = 8.0 * (glm::length(glm::cross(e0, e1)) + glm::length(glm::cross(e1, e2)) + glm::length(glm::cross(e2, e0)));
   out.aabb_area = exact.area();

@@ -145,3 +145,23 @@ TEST(Obb, EveryThinPrimitiveMapsInsideUnitBox) {
   std::printf("curve OBB surface area: tight / paper = %.3f\n", tight_area / paper_area);
   EXPECT_LT(tight_area, paper_area); // the tighter fit must be tighter in total
 }
+
+// A piece of a subdivided TressFX strand (tressfx3_bear.tfx, curve 253488 after x2
+// pre-splitting): its control points are collinear up to fp32 rounding, 1e-4 radii
+// apart. The noise offset is not perpendicular to the chord; using it as an axis gave a
+// singular frame and a NaN box that crashed the TLAS build.
+TEST(Obb, NearlyCollinearShortCurveHasAFiniteBox) {
+  for (CurveObb mode : {CurveObb::Tight, CurveObb::Paper}) {
+    Geometry g;
+    g.type = PrimType::Curve;
+    g.curves.push_back({{glm::vec3(-8.14569664f, 71.6065674f, -143.01799f), glm::vec3(-8.14569473f, 71.6065598f, -143.01799f),
+                         glm::vec3(-8.14569092f, 71.6065445f, -143.01799f), glm::vec3(-8.1456871f, 71.6065292f, -143.01799f)},
+                        0.245165f});
+    MasqueradeBox b = masquerade_box(g, 0, Affine3{}, mode);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE(std::isfinite(b.world_box.lo[k]) && std::isfinite(b.world_box.hi[k])) << curve_obb_name(mode);
+      EXPECT_GT(b.world_box.hi[k] - b.world_box.lo[k], 0.49) << curve_obb_name(mode); // at least the ball's diameter
+    }
+    for (float v : b.world_to_unit) EXPECT_TRUE(std::isfinite(v)) << curve_obb_name(mode);
+  }
+}
