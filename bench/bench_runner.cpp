@@ -99,7 +99,7 @@ std::vector<RayBatch> make_ray_batches(const Scene& scene, const std::map<Method
       continue;
     }
     if (hits.empty()) hits = primary_hits(built, primary, opt, pool);
-    batches.push_back({set, make_secondary_rays(set, scene.camera, primary, hits)});
+    batches.push_back({set, make_secondary_rays(set, scene, primary, hits)});
   }
   return batches;
 }

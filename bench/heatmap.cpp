@@ -4,6 +4,7 @@
 #include "scenes/camera.h"
 #include "scenes/error.h"
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
 
@@ -38,12 +39,14 @@ SuiteImage write_call_heatmaps(SuiteContext& ctx, const Scene& scene, const std:
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) {
         std::size_t i = std::size_t(y) * width + x;
-        heat_color(float(stats[half][i].isect_calls) / scale, &rgb[(std::size_t(y) * W + half * (width + gap) + x) * 3]);
+        // Logarithmic: masq's few calls per pixel stay visible beside ref's hundreds.
+        float v = std::log2(1.0f + float(stats[half][i].isect_calls)) / std::log2(1.0f + scale);
+        heat_color(std::min(v, 1.0f), &rgb[(std::size_t(y) * W + half * (width + gap) + x) * 3]);
       }
   std::filesystem::create_directories(ctx.config.out_dir);
   write_rgb((std::filesystem::path(ctx.config.out_dir) / file).string(), W, height, rgb);
   const double n = double(rays.size());
-  return {file, fmt::format("{} ({}x{} cpu rays; white = {:.0f}+ calls; mean {:.2f} vs {:.2f} calls per ray)", caption,
+  return {file, fmt::format("{} ({}x{} cpu rays; log scale: black 0, blue-red-yellow, white {:.0f}+ calls; mean {:.2f} vs {:.2f} calls per ray)", caption,
                             width, height, scale, mean[0] / n, mean[1] / n)};
 }
 

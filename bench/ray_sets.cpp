@@ -1,6 +1,7 @@
 #include "bench/ray_sets.h"
 #include "scenes/camera.h"
 #include "scenes/error.h"
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -46,10 +47,48 @@ glm::dvec3 cosine_direction(const glm::dvec3& n, double u1, double u2) {
   return glm::normalize(rad * std::cos(phi) * t + rad * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u1)) * n);
 }
 
+// World-space radius of the hit primitive (0 for triangles and for hits the scene does
+// not know): the primitive's radius times the instance's largest axis scale.
+double hit_radius(const Scene& scene, const kernel::Hit& h) {
+  if (h.geom < 0 || std::size_t(h.geom) >= scene.geometries.size() || h.prim < 0) return 0.0;
+  const Geometry& g = scene.geometries[h.geom];
+  const std::size_t p = std::size_t(h.prim);
+  if (p >= g.primitive_count()) return 0.0;
+  double r = 0.0;
+  switch (g.type) {
+    case PrimType::Triangle: return 0.0;
+    case PrimType::Capsule: r = g.capsules[p].radius; break;
+    case PrimType::RoundCone: r = std::max(g.cones[p].ra, g.cones[p].rb); break;
+    case PrimType::Sphere: r = g.spheres[p].radius; break;
+    case PrimType::Curve: r = g.curves[p].radius; break;
+  }
+  double scale = 1.0;
+  if (h.inst >= 0 && std::size_t(h.inst) < scene.instances.size()) {
+    const glm::dmat3& m = scene.instances[h.inst].object_to_world.linear;
+    scale = std::max({glm::length(m[0]), glm::length(m[1]), glm::length(m[2])});
+  }
+  return r * scale;
+}
+
 } // namespace
 
-std::vector<kernel::Ray> make_secondary_rays(RaySet set, const Camera& camera, std::span<const kernel::Ray> primary,
+float spawn_tmin(const Scene& scene, const kernel::Hit& hit, const glm::dvec3& p, const glm::dvec3& d) {
+  double len = glm::length(d);
+  if (!(len > 0)) return 0.0f;
+  double max_abs = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  // r/16: masq's robust intersectors need none (their self-intersection window is
+  // 2^-10 r), but Embree 3's round curves report their own surface up to ~3% of r from
+  // an origin on it (measured on the default bundle's shadow rays), and a peer
+  // comparison must ask every tracer the same question. It is still far below the
+  // primitive's features (a ray that re-crosses its own primitive does so ~2r away
+  // unless it grazes). 2^-17 |p| (about 64 ulp of the coordinates) serves triangles.
+  double eps = std::max(hit_radius(scene, hit) * 0x1p-4, max_abs * 0x1p-17);
+  return float(eps / len);
+}
+
+std::vector<kernel::Ray> make_secondary_rays(RaySet set, const Scene& scene, std::span<const kernel::Ray> primary,
                                              std::span<const kernel::Hit> hits, std::uint64_t seed) {
+  const Camera& camera = scene.camera;
   if (primary.size() != hits.size()) throw Error("secondary rays: primary rays and hits differ in count");
   std::vector<kernel::Ray> out;
   if (set == RaySet::Primary) return {primary.begin(), primary.end()};
@@ -59,7 +98,7 @@ std::vector<kernel::Ray> make_secondary_rays(RaySet set, const Camera& camera, s
     if (h.prim < 0) continue;
     glm::dvec3 p = hit_point(primary[i], h);
     if (set == RaySet::Shadow) {
-      out.push_back(make_ray(p, light - p, 0.0f, 1.0f));
+      out.push_back(make_ray(p, light - p, spawn_tmin(scene, h, p, light - p), 1.0f));
       continue;
     }
     glm::dvec3 n(h.normal[0], h.normal[1], h.normal[2]);
@@ -70,7 +109,8 @@ std::vector<kernel::Ray> make_secondary_rays(RaySet set, const Camera& camera, s
     std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + i);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     double u1 = u(rng), u2 = u(rng);
-    out.push_back(make_ray(p, cosine_direction(n, u1, u2)));
+    glm::dvec3 dir = cosine_direction(n, u1, u2);
+    out.push_back(make_ray(p, dir, spawn_tmin(scene, h, p, dir)));
   }
   return out;
 }

@@ -21,11 +21,16 @@ RaySet parse_ray_set(const std::string& name); // throws masq::Error
 glm::dvec3 shadow_light(const Camera& camera);
 
 // Secondary rays from the hits of `primary` (misses spawn none). Origins are the hit
-// points o + t d exactly (the robust intersectors' self-intersection window is what
-// keeps them off their own surface; fast mode's self hits are part of what is measured).
-// Shadow rays end at the light (tmax = 1 with d = light - origin); diffuse rays are
-// cosine-weighted about the normal facing the incoming ray, seeded per ray index.
-std::vector<kernel::Ray> make_secondary_rays(RaySet set, const Camera& camera, std::span<const kernel::Ray> primary,
+// points o + t d; each ray starts at spawn_tmin, a small offset from its surface, the
+// usual practice of renderers, so that every tracer (masq, Embree, the driver) answers
+// the same question rather than each meeting its own surface at t ~ 0 by its own
+// rounding. Shadow rays end at the light (tmax = 1 with d = light - origin); diffuse rays
+// are cosine-weighted about the normal facing the incoming ray, seeded per ray index.
+std::vector<kernel::Ray> make_secondary_rays(RaySet set, const Scene& scene, std::span<const kernel::Ray> primary,
                                              std::span<const kernel::Hit> hits, std::uint64_t seed = 1);
+
+// The tmin of a ray leaving hit point p along d: max(r / 16, 2^-17 max|p_i|) / |d|, with
+// r the hit primitive's world radius (0 for triangles).
+float spawn_tmin(const Scene& scene, const kernel::Hit& hit, const glm::dvec3& p, const glm::dvec3& d);
 
 } // namespace masq

@@ -157,6 +157,7 @@ SuiteResult table1_result(const SuiteContext& ctx) {
     for (const BenchRow& r : c.rows) j["results"].push_back(bench_row_json(r));
     res.data["cases"].push_back(j);
   }
+  res.images.push_back({"table1_speedup.png", "Speedup masq/ref per case, backend and ray set (scripts/plot_results.py)"});
   res.method = "Each scene x intersector built once per method; the same primary, shadow and diffuse rays through every "
                "backend x method; median device time (wall time on cpu) of the timed traces after warm-up.";
   return res;
@@ -182,11 +183,20 @@ SuiteResult table2_result(const SuiteContext& ctx) {
            fmt::format("+{:.0f}%", 100.0 * (double(masq_total) / double(ref_total) - 1.0)),
            fmt::format("{:.1f}", double(m->accel_bytes) / double(std::max<std::size_t>(1, c.primitives))),
            rq_r ? mib(rq_r->device_bytes) : "n/a", rq_m ? mib(rq_m->device_bytes) : "n/a"});
+    res.data.push_back({{"scene", c.scene},
+                        {"variant", c.variant},
+                        {"primitives", c.primitives},
+                        {"common_bytes", r->prim_bytes},
+                        {"ref_accel_bytes", r->accel_bytes},
+                        {"masq_accel_bytes", m->accel_bytes},
+                        {"rayquery_ref_device_bytes", rq_r ? rq_r->device_bytes : 0},
+                        {"rayquery_masq_device_bytes", rq_m ? rq_m->device_bytes : 0}});
   }
   t.notes = {"common: primitive data both methods share; accel: masq's own two-level BVH (nodes, references, instances, "
              "frames); masq +%: masq total over ref total (the paper's layout); rayquery: what the driver's acceleration "
              "structures and the primitives take on the device"};
   res.tables.push_back(t);
+  res.images.push_back({"memory.png", "Memory per method: common data and acceleration data (scripts/plot_results.py)"});
   res.method = "Byte counts of the packed scenes each method uploads (host-side sizes of the GPU arrays), and the device "
                "memory the rayquery backend holds after the driver's acceleration-structure builds.";
   return res;
@@ -232,6 +242,13 @@ SuiteResult fig10_result(SuiteContext& ctx) {
            fmt::format("{:.2f}x", r->isect_calls / m->isect_calls), rq_r ? fmt::format("{:.2f}", rq_r->isect_calls) : "n/a",
            rq_m ? fmt::format("{:.2f}", rq_m->isect_calls) : "n/a",
            fmt::format("{:.2f}x", rt_predicted_speedup(*r, *m, ctx.rt_model))});
+    res.data.push_back({{"scene", c.scene},
+                        {"variant", c.variant},
+                        {"ref_isect_per_ray", r->isect_calls},
+                        {"masq_isect_per_ray", m->isect_calls},
+                        {"rayquery_ref_isect_per_ray", rq_r ? rq_r->isect_calls : -1.0},
+                        {"rayquery_masq_isect_per_ray", rq_m ? rq_m->isect_calls : -1.0},
+                        {"rt_model_speedup", rt_predicted_speedup(*r, *m, ctx.rt_model)}});
   }
   t.notes = {"primary rays; calls include the triangles of scenes that have them; rayquery: candidates the driver's BVH "
              "hands to the intersector",

@@ -12,12 +12,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def main():
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    rows = [r for r in json.load(open(sys.argv[1])) if "unavailable" not in r]
-    if not rows:
-        sys.exit("plot_error: no measured rows in " + sys.argv[1])
+def plot_error_rows(rows, out):
+    """One scatter panel per error metric, trace time on x, one colour per backend."""
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     metrics = [("rate", "hit/miss disagreement rate"), ("mean_dt_over_r", "mean |dt| / r")]
     for ax, (key, label) in zip(axes, metrics):
@@ -36,7 +32,16 @@ def main():
         ax.legend()
     fig.suptitle("masq: run time against error (* = Pareto front)")
     fig.tight_layout()
-    fig.savefig(sys.argv[2], dpi=120)
+    fig.savefig(out, dpi=120)
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    rows = [r for r in json.load(open(sys.argv[1])) if "unavailable" not in r]
+    if not rows:
+        sys.exit("plot_error: no measured rows in " + sys.argv[1])
+    plot_error_rows(rows, sys.argv[2])
     print("wrote", sys.argv[2])
 
 

@@ -1,0 +1,145 @@
+// The bench harness's own logic: secondary ray sets, the RT cost model's calibration,
+// tables, and one real suite run (fig3 quick on cpu) whose figures must be consistent
+// with the counters it measured.
+#include "bench/ray_sets.h"
+#include "bench/rt_cost_model.h"
+#include "bench/suite.h"
+#include "bench/table.h"
+#include "scenes/camera.h"
+#include "scenes/error.h"
+#include "scenes/generators.h"
+#include <cmath>
+#include <gtest/gtest.h>
+
+using namespace masq;
+
+namespace {
+
+kernel::Hit hit_at(float t, int prim, glm::vec3 n) {
+  kernel::Hit h{};
+  h.t = t;
+  h.prim = prim;
+  h.geom = 0;
+  h.inst = 0;
+  h.normal[0] = n.x;
+  h.normal[1] = n.y;
+  h.normal[2] = n.z;
+  return h;
+}
+
+Scene one_capsule_scene(float radius) {
+  Scene s;
+  Geometry g;
+  g.type = PrimType::Capsule;
+  g.capsules.push_back({{0, -1, 0}, {0, 1, 0}, radius});
+  s.geometries.push_back(g);
+  s.instances.push_back({0, {}});
+  return s;
+}
+
+} // namespace
+
+TEST(RaySets, ShadowRaysStartOffTheSurfaceAndEndAtTheLight) {
+  Scene s = one_capsule_scene(0.01f);
+  std::vector<kernel::Ray> primary = {make_ray({0.5, 0, -5}, {0, 0, 1}), make_ray({0.005, 0, -5}, {0, 0, 1})};
+  std::vector<kernel::Hit> hits = {kernel::Hit{}, hit_at(5.0f - 0.0087f, 0, {0.5f, 0, -0.87f})};
+  hits[0].prim = -1; // a miss spawns nothing
+  std::vector<kernel::Ray> shadow = make_secondary_rays(RaySet::Shadow, s, primary, hits);
+  ASSERT_EQ(shadow.size(), 1u);
+  const kernel::Ray& r = shadow[0];
+  glm::dvec3 end = glm::dvec3(r.org[0], r.org[1], r.org[2]) + double(r.tmax) * glm::dvec3(r.dir[0], r.dir[1], r.dir[2]);
+  glm::dvec3 light = shadow_light(s.camera);
+  EXPECT_LT(glm::length(end - light), 1e-5 * glm::length(light));
+  // tmin * |d| = r / 16: clear of the surface, far inside the primitive's size.
+  double len = glm::length(glm::dvec3(r.dir[0], r.dir[1], r.dir[2]));
+  EXPECT_NEAR(double(r.tmin) * len, 0.01 / 16.0, 1e-7);
+}
+
+TEST(RaySets, DiffuseRaysLeaveOnTheSideTheRayCameFrom) {
+  Scene s = one_capsule_scene(0.01f);
+  std::vector<kernel::Ray> primary;
+  std::vector<kernel::Hit> hits;
+  for (int i = 0; i < 256; ++i) {
+    primary.push_back(make_ray({0.0, 0, -5}, {0, 0, 1}));
+    // Half the normals face away from the ray: the bounce must flip them.
+    hits.push_back(hit_at(4.99f, 0, i % 2 ? glm::vec3(0, 0, -1) : glm::vec3(0, 0, 1)));
+  }
+  std::vector<kernel::Ray> diffuse = make_secondary_rays(RaySet::Diffuse, s, primary, hits, 7);
+  ASSERT_EQ(diffuse.size(), 256u);
+  double mean_cos = 0;
+  for (const kernel::Ray& r : diffuse) {
+    EXPECT_LT(r.dir[2], 0.0f); // back towards the camera side
+    EXPECT_GT(r.tmin, 0.0f);
+    mean_cos += -r.dir[2];
+  }
+  // Cosine-weighted: E[cos] = 2/3.
+  EXPECT_NEAR(mean_cos / 256.0, 2.0 / 3.0, 0.05);
+  // Deterministic from the seed.
+  std::vector<kernel::Ray> again = make_secondary_rays(RaySet::Diffuse, s, primary, hits, 7);
+  EXPECT_EQ(again[17].dir[0], diffuse[17].dir[0]);
+  EXPECT_THROW(parse_ray_set("bounce"), Error);
+}
+
+TEST(RtCostModel, CalibrationReachesTheTargetBetweenItsLimits) {
+  BenchRow ref, masq;
+  ref.tlas_nodes = 1;
+  ref.blas_nodes = 6;
+  ref.transforms = 1;
+  ref.isect_calls = 20;
+  masq.tlas_nodes = 9;
+  masq.blas_nodes = 1;
+  masq.transforms = 1;
+  masq.isect_calls = 0.5;
+  // isect -> 0: hardware-cost ratio 8/11; isect -> inf: call ratio 40.
+  double price = rt_calibrate_isect(ref, masq, 3.0);
+  ASSERT_GT(price, 0);
+  RtCostModel m;
+  m.isect = price;
+  EXPECT_NEAR(rt_predicted_speedup(ref, masq, m), 3.0, 1e-6);
+  EXPECT_LT(rt_calibrate_isect(ref, masq, 50.0), 0); // beyond the call ratio: unreachable
+}
+
+TEST(Table, MarkdownEscapesPipesAndAlignsColumns) {
+  Table t;
+  t.header = {"name", "value"};
+  t.left_columns = 1;
+  t.add({"a|b", "1.5"});
+  std::string md = t.markdown();
+  EXPECT_NE(md.find("| a\\|b | 1.5 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("|---|---:|"), std::string::npos) << md;
+}
+
+TEST(Suites, UnknownSuiteIsAnError) {
+  SuiteContext ctx;
+  EXPECT_THROW(run_suites(ctx, {"fig4"}), Error);
+}
+
+// A real quick fig3 run on the cpu backend: every cell measured, and the call ratio
+// in the table is the one the counters give.
+TEST(Suites, Fig3QuickOnCpuMeasuresEveryCell) {
+  SuiteContext ctx;
+  ctx.config.quick = true;
+  ctx.config.backends = {"cpu"};
+  std::vector<SuiteResult> out = run_suites(ctx, {"fig3"});
+  ASSERT_EQ(out.size(), 1u);
+  const nlohmann::json& cells = out[0].data["cells"];
+  ASSERT_EQ(cells.size(), 12u); // 3 (N, r) pairs x 4 tilts
+  for (const auto& c : cells) {
+    double ref_calls = -1, masq_calls = -1;
+    for (const auto& r : c["results"]) {
+      ASSERT_FALSE(r.contains("unavailable")) << r.dump();
+      EXPECT_GT(r["mrays_per_s"].get<double>(), 0.0);
+      (r["method"] == "ref" ? ref_calls : masq_calls) = r["per_ray"]["isect_calls"].get<double>();
+    }
+    ASSERT_GT(masq_calls, 0.0);
+    // Tilted bundles: the OBB cull removes most calls; untilted ones have nothing to gain.
+    const double tilt = c["tilt_deg"].get<double>();
+    if (tilt >= 30.0) {
+      EXPECT_GT(ref_calls / masq_calls, 10.0) << c.dump();
+    } else if (tilt == 0.0) {
+      EXPECT_LT(ref_calls / masq_calls, 1.5) << c.dump();
+    }
+  }
+  EXPECT_TRUE(out[0].data["rt_model"]["calibrated"].get<bool>());
+  EXPECT_FALSE(out[0].tables.empty());
+}
