@@ -29,7 +29,7 @@ struct BenchCli {
   bool error_mode = false;
   std::vector<std::string> suites;
   bool quick = false;
-  std::string out_dir = "bench/results";
+  std::string out_dir; // "" : bench/results, or bench/results-quick with --quick
   std::string data_dir;
   std::string command_line;
   CLI::Option* count_opt = nullptr;
@@ -95,6 +95,7 @@ int bench_suites(BenchCli& c) {
   if (std::find(names.begin(), names.end(), "all") != names.end()) names = suite_names();
   SuiteContext ctx;
   ctx.config.quick = c.quick;
+  if (c.out_dir.empty()) c.out_dir = c.quick ? "bench/results-quick" : "bench/results";
   ctx.config.out_dir = c.out_dir;
   ctx.config.mode = parse_mode(c.scene.mode);
   if (!c.backends.empty()) ctx.config.backends = c.backends;
@@ -175,14 +176,15 @@ Action add_bench(CLI::App& app) {
                                         "writes OUT/RESULTS.md and OUT/results.json")
       ->check(CLI::IsMember({"fig3", "table1", "table2", "fig9", "fig10", "error", "peers", "all"}));
   cmd->add_flag("--quick", c->quick, "Suites: the small variant (< 3 minutes on 2 cores)");
-  cmd->add_option("--out", c->out_dir, "Suites: output directory of RESULTS.md, results.json and images")->capture_default_str();
+  cmd->add_option("--out", c->out_dir, "Suites: output directory of RESULTS.md, results.json and images (default: "
+                                        "bench/results, with --quick bench/results-quick)");
   cmd->add_option("--data", c->data_dir, "Suites: directory of the shared scenes (default: $MASQ_DATA or " MASQ_DATA_DIR ")");
   cmd->add_flag("--quiet", c->quiet, "No progress display");
   cmd->footer("Examples:\n"
               "  masq bench                                   default bundle, every backend x method x ray set\n"
               "  masq bench --file bear.tfx --prim curve --subdiv 4 --backend cpu --rays primary\n"
               "  masq bench --error --json error.json         run time against error of the curve variants\n"
-              "  masq bench --suite all --quick               the papers' tables in < 3 minutes -> bench/results/\n"
+              "  masq bench --suite all --quick               the papers' tables in < 3 minutes -> bench/results-quick/\n"
               "  bash scripts/results.sh                      the full results document with plots");
   return [c] {
     c->command_line = "masq bench";
