@@ -20,7 +20,7 @@ BenchOptions SuiteContext::bench_options(int width, int height) const {
 }
 
 const std::vector<std::string>& suite_names() {
-  static const std::vector<std::string> names = {"fig3", "table1", "table2", "fig9", "fig10", "error", "peers"};
+  static const std::vector<std::string> names = {"fig3", "table1", "table2", "fig9", "fig10", "error", "peers", "bv"};
   return names;
 }
 
@@ -52,7 +52,7 @@ SuiteResult run_error_suite(SuiteContext& ctx) {
 std::vector<SuiteResult> run_suites(SuiteContext& ctx, const std::vector<std::string>& names) {
   for (const std::string& n : names)
     if (std::find(suite_names().begin(), suite_names().end(), n) == suite_names().end())
-      throw Error("bench: unknown suite '" + n + "' (fig3, table1, table2, fig9, fig10, error, peers, all)");
+      throw Error("bench: unknown suite '" + n + "' (fig3, table1, table2, fig9, fig10, error, peers, bv, all)");
   auto wants = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
   auto timed = [](auto&& f) {
     auto t0 = std::chrono::steady_clock::now();
@@ -80,6 +80,7 @@ std::vector<SuiteResult> run_suites(SuiteContext& ctx, const std::vector<std::st
   }
   if (wants("error")) out.push_back(run_error_suite(ctx));
   if (wants("peers")) out.push_back(run_peers(ctx));
+  if (wants("bv")) out.push_back(run_bv_suite(ctx));
   return out;
 }
 

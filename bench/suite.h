@@ -74,5 +74,6 @@ SuiteResult fig9_result(const SuiteContext& ctx);
 SuiteResult fig10_result(SuiteContext& ctx);
 SuiteResult run_error_suite(SuiteContext& ctx);
 SuiteResult run_peers(SuiteContext& ctx);
+SuiteResult run_bv_suite(SuiteContext& ctx);
 
 } // namespace masq

@@ -174,7 +174,7 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--json", c->json_path, "Also write every raw figure as JSON");
   cmd->add_option("--suite", c->suites, "Reproduce the papers' tables: fig3 table1 table2 fig9 fig10 error peers, or all; "
                                         "writes OUT/RESULTS.md and OUT/results.json")
-      ->check(CLI::IsMember({"fig3", "table1", "table2", "fig9", "fig10", "error", "peers", "all"}));
+      ->check(CLI::IsMember({"fig3", "table1", "table2", "fig9", "fig10", "error", "peers", "bv", "all"}));
   cmd->add_flag("--quick", c->quick, "Suites: the small variant (< 3 minutes on 2 cores)");
   cmd->add_option("--out", c->out_dir, "Suites: output directory of RESULTS.md, results.json and images (default: "
                                         "bench/results, with --quick bench/results-quick)");

@@ -4,7 +4,8 @@
 # TARGET include as "spirv/<NAME>.h". Header dependencies come from glslang's depfile.
 #
 #   masq_add_spirv(TARGET <target> SOURCE <file.comp> NAME <c_identifier>
-#                  [VISIBILITY PUBLIC|PRIVATE])
+#                  [VISIBILITY PUBLIC|PRIVATE] [DEFINES NAME=VALUE ...])
+# DEFINES become glslang -D options (one source compiled into several modules).
 include_guard(GLOBAL)
 
 if(NOT GLSLANG_VALIDATOR)
@@ -18,7 +19,7 @@ if(NOT MASQ_GENERATED_DIR)
 endif()
 
 function(masq_add_spirv)
-  cmake_parse_arguments(ARG "" "TARGET;SOURCE;NAME;VISIBILITY" "" ${ARGN})
+  cmake_parse_arguments(ARG "" "TARGET;SOURCE;NAME;VISIBILITY" "DEFINES" ${ARGN})
   if(NOT ARG_TARGET OR NOT ARG_SOURCE OR NOT ARG_NAME)
     message(FATAL_ERROR "masq_add_spirv: TARGET, SOURCE and NAME are required")
   endif()
@@ -30,6 +31,9 @@ function(masq_add_spirv)
   set(spv ${out_dir}/${ARG_NAME}.spv)
   set(hdr ${out_dir}/${ARG_NAME}.h)
   set(glslang_args --target-env vulkan1.2 -V -I${CMAKE_SOURCE_DIR}/kernels)
+  foreach(def IN LISTS ARG_DEFINES)
+    list(APPEND glslang_args -D${def})
+  endforeach()
   # The depfile's target is the .spv (the first output), as Ninja requires.
   add_custom_command(
     OUTPUT ${spv} ${hdr}

@@ -19,6 +19,11 @@
 #define MASQ_BINDING_SPHERES 11
 #define MASQ_BINDING_CURVES 12
 #define MASQ_BINDING_COUNT 13
+// The binary bounding-volume hierarchies (kernels/bv_traverse.h) add two arrays; their
+// kernels use bindings 0..MASQ_BV_BINDING_COUNT-1 (0 and 1, the wide BVH, stay unused).
+#define MASQ_BINDING_BV_NODES 13
+#define MASQ_BINDING_BV_PRIMS 14
+#define MASQ_BV_BINDING_COUNT 15
 
 #if defined(MASQ_LANG_GLSL)
 layout(std430, binding = MASQ_BINDING_NODES) readonly buffer NodesBuf { WideNode nodes[]; };
@@ -49,6 +54,12 @@ STRUCT_BEGIN(KernelData)
   MASQ_GLOBAL const RoundCone* cones;
   MASQ_GLOBAL const Sphere* spheres;
   MASQ_GLOBAL const Curve* curves;
+  // Binary hierarchies: the node array of the kernel's MASQ_BV_TYPE, and leaf entries.
+  MASQ_GLOBAL const BvNodeAabb* bv_aabb;
+  MASQ_GLOBAL const BvNodeSphere* bv_sphere;
+  MASQ_GLOBAL const BvNodeObb* bv_obb;
+  MASQ_GLOBAL const BvNodeScb* bv_scb;
+  MASQ_GLOBAL const BvPrimRef* bv_prims;
 STRUCT_END(KernelData)
 LAYOUT_NS_END
 #endif

@@ -156,4 +156,5 @@ STATIC_ASSERT(sizeof(RayStats) == 16, ray_stats_size);
 STATIC_ASSERT(sizeof(TraceParams) == 16, trace_params_size);
 
 LAYOUT_NS_END
+#include "bv_layout.h"
 #endif

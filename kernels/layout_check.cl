@@ -9,7 +9,7 @@
 
 #define MASQ_LAYOUT_STRUCTS(S) \
   S(WideNode) S(Instance) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(RoundCone) S(Sphere) S(Curve) S(Ray) \
-  S(Hit) S(RayStats) S(TraceParams)
+  S(Hit) S(RayStats) S(TraceParams) S(BvNodeAabb) S(BvNodeSphere) S(BvNodeObb) S(BvNodeScb) S(BvPrimRef)
 
 #define MASQ_LAYOUT_WideNode(F, A) \
   A(WideNode, lo_x, MASQ_WIDTH) A(WideNode, hi_x, MASQ_WIDTH) A(WideNode, lo_y, MASQ_WIDTH) \
@@ -33,6 +33,17 @@
   F(RayStats, tlas_nodes) F(RayStats, blas_nodes) F(RayStats, transforms) F(RayStats, isect_calls)
 #define MASQ_LAYOUT_TraceParams(F, A) \
   F(TraceParams, ray_count) F(TraceParams, tlas_root) F(TraceParams, ray_offset) F(TraceParams, pad)
+
+#define MASQ_LAYOUT_BvNodeAabb(F, A) A(BvNodeAabb, lo, 3) F(BvNodeAabb, child) A(BvNodeAabb, hi, 3) F(BvNodeAabb, count)
+#define MASQ_LAYOUT_BvNodeSphere(F, A) \
+  A(BvNodeSphere, center, 3) F(BvNodeSphere, radius) F(BvNodeSphere, child) F(BvNodeSphere, count) A(BvNodeSphere, pad, 2)
+#define MASQ_LAYOUT_BvNodeObb(F, A) \
+  A(BvNodeObb, axis0, 3) F(BvNodeObb, half0) A(BvNodeObb, axis1, 3) F(BvNodeObb, half1) A(BvNodeObb, axis2, 3) \
+  F(BvNodeObb, half2) A(BvNodeObb, center, 3) F(BvNodeObb, child) F(BvNodeObb, count) A(BvNodeObb, pad, 3)
+#define MASQ_LAYOUT_BvNodeScb(F, A) \
+  A(BvNodeScb, center, 3) F(BvNodeScb, radius) A(BvNodeScb, normal, 3) F(BvNodeScb, e) F(BvNodeScb, f) \
+  F(BvNodeScb, child) F(BvNodeScb, count) F(BvNodeScb, pad)
+#define MASQ_LAYOUT_BvPrimRef(F, A) F(BvPrimRef, geom) F(BvPrimRef, prim) F(BvPrimRef, scene_inst) F(BvPrimRef, pad)
 
 #if defined(__OPENCL_VERSION__)
 // sizes: for each struct in list order, sizeof then the offset of every field; the

@@ -5,5 +5,6 @@
 
 namespace masq::opencl {
 std::string trace_source();        // kernels/trace.cl
+std::string trace_bv_source();     // kernels/trace_bv.cl
 std::string layout_check_source(); // kernels/layout_check.cl (tests)
 } // namespace masq::opencl

@@ -1,0 +1,147 @@
+// opencl bv tracer: kernels/trace_bv.cl built per (node type, counters, primitive
+// types) with -D switches, one dispatch per trace (rays are bounded by the device's
+// largest allocation, checked below).
+#include "host/bv_tracer.h"
+#include "host/opencl/cl_runtime.h"
+#include "host/opencl/kernel_sources.h"
+#include "scenes/error.h"
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+namespace masq {
+namespace {
+
+using opencl::check;
+constexpr std::size_t kGlobalMultiple = 64;
+constexpr std::size_t kDummyBytes = 16; // OpenCL rejects zero-sized buffers
+
+class OpenClBvTracer final : public BvTracer {
+ public:
+  OpenClBvTracer() : rt_(opencl::open_runtime()) {}
+  std::string name() const override { return "opencl"; }
+  TraceTiming timing() const override { return timing_; }
+
+  void set_scene(const BvScene& scene) override {
+    auto t0 = std::chrono::steady_clock::now();
+    const PackedScene& p = scene.prims;
+    buffers_.clear();
+    buffers_.push_back(upload("frames", p.frames));
+    buffers_.push_back(upload("geoms", p.geoms));
+    buffers_.push_back(upload("triangles", p.triangles));
+    buffers_.push_back(upload("capsules", p.capsules));
+    buffers_.push_back(upload("round cones", p.cones));
+    buffers_.push_back(upload("spheres", p.spheres));
+    buffers_.push_back(upload("curves", p.curves));
+    switch (scene.type) {
+      case BvType::Aabb: buffers_.push_back(upload("bv nodes", scene.aabb)); break;
+      case BvType::Sphere: buffers_.push_back(upload("bv nodes", scene.sphere)); break;
+      case BvType::Obb: buffers_.push_back(upload("bv nodes", scene.obb)); break;
+      case BvType::Scb: buffers_.push_back(upload("bv nodes", scene.scb)); break;
+    }
+    buffers_.push_back(upload("bv primitive refs", scene.refs));
+    check(rt_.queue.finish(), "clFinish (bv scene upload)");
+    type_ = scene.type;
+    node_count_ = int(scene.node_count());
+    features_ = p.features;
+    have_scene_ = true;
+    timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
+             std::span<kernel::RayStats> stats) override {
+    if (!have_scene_) throw Error("opencl bv: trace called before set_scene");
+    const bool want_stats = !stats.empty();
+    if (hits.size() != rays.size() || (want_stats && stats.size() != rays.size()))
+      throw Error("opencl bv: hits/stats spans must have one entry per ray");
+    if (rays.size() > std::size_t(INT32_MAX)) throw Error("opencl bv: more than 2^31-1 rays in one batch");
+    cl::Kernel& k = kernel(want_stats);
+    timing_.trace_seconds = 0;
+    const std::size_t n = rays.size();
+    if (n == 0) return;
+    cl::Buffer ray_buf = scratch("rays", n * sizeof(kernel::Ray), CL_MEM_READ_ONLY);
+    cl::Buffer hit_buf = scratch("hits", n * sizeof(kernel::Hit), CL_MEM_WRITE_ONLY);
+    cl::Buffer stat_buf = scratch("stats", want_stats ? n * sizeof(kernel::RayStats) : kDummyBytes, CL_MEM_WRITE_ONLY);
+    check(rt_.queue.enqueueWriteBuffer(ray_buf, CL_FALSE, 0, n * sizeof(kernel::Ray), rays.data()),
+          "clEnqueueWriteBuffer(rays)");
+    cl_uint a = 0;
+    for (const cl::Buffer& b : buffers_) check(k.setArg(a++, b), "clSetKernelArg(bv scene)");
+    check(k.setArg(a++, ray_buf), "clSetKernelArg(rays)");
+    check(k.setArg(a++, hit_buf), "clSetKernelArg(hits)");
+    check(k.setArg(a++, stat_buf), "clSetKernelArg(stats)");
+    check(k.setArg(a++, cl_int(n)), "clSetKernelArg(ray_count)");
+    check(k.setArg(a++, cl_int(node_count_)), "clSetKernelArg(node_count)");
+    const std::size_t global = (n + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
+    cl::Event ev;
+    check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr, &ev),
+          "clEnqueueNDRangeKernel(trace_bv)");
+    check(rt_.queue.enqueueReadBuffer(hit_buf, CL_FALSE, 0, n * sizeof(kernel::Hit), hits.data()),
+          "clEnqueueReadBuffer(hits)");
+    if (want_stats)
+      check(rt_.queue.enqueueReadBuffer(stat_buf, CL_FALSE, 0, n * sizeof(kernel::RayStats), stats.data()),
+            "clEnqueueReadBuffer(stats)");
+    check(rt_.queue.finish(), "clFinish(trace_bv)");
+    cl_ulong t0 = 0, t1 = 0;
+    check(ev.getProfilingInfo(CL_PROFILING_COMMAND_START, &t0), "clGetEventProfilingInfo(start)");
+    check(ev.getProfilingInfo(CL_PROFILING_COMMAND_END, &t1), "clGetEventProfilingInfo(end)");
+    timing_.trace_seconds = double(t1 - t0) * 1e-9;
+  }
+
+ private:
+  cl::Buffer scratch(const char* what, std::size_t bytes, cl_mem_flags flags) {
+    if (bytes > rt_.max_alloc)
+      throw Error("opencl bv: " + std::string(what) + " need " + std::to_string(bytes) +
+                  " bytes, more than CL_DEVICE_MAX_MEM_ALLOC_SIZE (" + std::to_string(rt_.max_alloc) + ")");
+    cl_int err = CL_SUCCESS;
+    cl::Buffer b(rt_.context, flags, std::max(bytes, kDummyBytes), nullptr, &err);
+    check(err, "clCreateBuffer(" + std::string(what) + ")");
+    return b;
+  }
+
+  template <class T>
+  cl::Buffer upload(const char* what, const std::vector<T>& data) {
+    const std::size_t bytes = data.size() * sizeof(T);
+    cl::Buffer b = scratch(what, bytes, CL_MEM_READ_ONLY);
+    if (bytes > 0)
+      check(rt_.queue.enqueueWriteBuffer(b, CL_FALSE, 0, bytes, data.data()),
+            "clEnqueueWriteBuffer(" + std::string(what) + ")");
+    return b;
+  }
+
+  cl::Kernel& kernel(bool want_stats) {
+    const KernelFeatures& f = features_;
+    auto flag = [](const char* name, bool on) { return std::string(" -D ") + name + (on ? "=1" : "=0"); };
+    std::string options = opencl::base_build_options() + " -D MASQ_BV_TYPE=" +
+                          std::to_string(bv_type_kernel_id(type_)) + flag("MASQ_STATS", want_stats) +
+                          flag("MASQ_HAVE_TRIANGLES", f.triangles) + flag("MASQ_HAVE_CAPSULES", f.capsules) +
+                          flag("MASQ_HAVE_CONES", f.cones) + flag("MASQ_HAVE_SPHERES", f.spheres) +
+                          flag("MASQ_HAVE_CURVES", f.curves) + flag("MASQ_ROBUST", true) +
+                          " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters);
+    auto it = kernels_.find(options);
+    if (it != kernels_.end()) {
+      timing_.compile_seconds = it->second.second;
+      return it->second.first;
+    }
+    opencl::BuiltProgram built = opencl::build_program(rt_, opencl::trace_bv_source(), options, "kernels/trace_bv.cl");
+    cl_int err = CL_SUCCESS;
+    cl::Kernel k(built.program, "trace_bv", &err);
+    check(err, "clCreateKernel(trace_bv)");
+    timing_.compile_seconds = built.seconds;
+    return kernels_.emplace(options, std::make_pair(k, built.seconds)).first->second.first;
+  }
+
+  opencl::Runtime rt_;
+  std::vector<cl::Buffer> buffers_; // kernel arguments 0..8 in order
+  std::map<std::string, std::pair<cl::Kernel, double>> kernels_;
+  BvType type_ = BvType::Scb;
+  int node_count_ = 0;
+  KernelFeatures features_;
+  bool have_scene_ = false;
+  TraceTiming timing_;
+};
+
+} // namespace
+
+std::unique_ptr<BvTracer> make_opencl_bv_tracer() { return std::make_unique<OpenClBvTracer>(); }
+
+} // namespace masq

@@ -1,0 +1,113 @@
+// vulkan bv tracer: kernels/trace_bv.comp, one SPIR-V module per node type, the other
+// switches as specialization constants (host/vulkan/trace_dispatch.h). The scene's
+// primitive arrays use the trace kernels' bindings; the hierarchy adds 13 and 14.
+#include "host/bv_tracer.h"
+#include "host/vulkan/trace_dispatch.h"
+#include "kernels/kernel_data.h"
+#include "scenes/error.h"
+#include "spirv/trace_bv_aabb_spv.h"
+#include "spirv/trace_bv_obb_spv.h"
+#include "spirv/trace_bv_scb_spv.h"
+#include "spirv/trace_bv_sphere_spv.h"
+#include <chrono>
+
+namespace masq {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr std::uint32_t kLocalSize = 64;
+const char* const kName = "vulkan";
+
+class VulkanBvTracer final : public BvTracer {
+ public:
+  VulkanBvTracer()
+      : ctx_(vk::Context::get(kName, false)),
+        layout_(*ctx_, std::vector<VkDescriptorType>(MASQ_BV_BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
+                sizeof(kernel::TraceParams)),
+        batch_(*ctx_) {}
+
+  std::string name() const override { return kName; }
+
+  void set_scene(const BvScene& scene) override {
+    auto t0 = Clock::now();
+    if (scene.node_count() > std::size_t(INT32_MAX)) throw Error("vulkan bv: more than 2^31-1 nodes");
+    scene_ = vk::SceneBuffers{};
+    scene_ = vk::upload_scene_arrays(*ctx_, kName, scene.prims);
+    switch (scene.type) {
+      case BvType::Aabb: upload(nodes_, "bv nodes", scene.aabb); break;
+      case BvType::Sphere: upload(nodes_, "bv nodes", scene.sphere); break;
+      case BvType::Obb: upload(nodes_, "bv nodes", scene.obb); break;
+      case BvType::Scb: upload(nodes_, "bv nodes", scene.scb); break;
+    }
+    upload(prims_, "bv primitive refs", scene.refs);
+    scene_.bind(layout_);
+    layout_.bind_buffer(MASQ_BINDING_BV_NODES, nodes_);
+    layout_.bind_buffer(MASQ_BINDING_BV_PRIMS, prims_);
+    type_ = scene.type;
+    node_count_ = int(scene.node_count());
+    features_ = scene.prims.features;
+    features_.mode = Mode::Robust; // the bv kernels use the robust intersectors
+    have_scene_ = true;
+    timing_.scene_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
+             std::span<kernel::RayStats> stats) override {
+    if (!have_scene_) throw Error("vulkan bv: trace called before set_scene");
+    VkPipeline p = pipeline(!stats.empty());
+    timing_.trace_seconds = batch_.run(kName, layout_, p, kLocalSize, node_count_, rays, hits, stats);
+  }
+
+  TraceTiming timing() const override { return timing_; }
+
+ private:
+  template <class T>
+  void upload(vk::Buffer& out, const char* what, const std::vector<T>& v) {
+    std::uint64_t bytes = v.size() * sizeof(T);
+    vk::check_storage_range(*ctx_, kName, what, bytes);
+    out = vk::Buffer(*ctx_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    if (bytes > 0) out.upload(v.data(), bytes);
+  }
+
+  vk::PipelineVariants& variants() {
+    switch (type_) {
+      case BvType::Aabb: return aabb_;
+      case BvType::Sphere: return sphere_;
+      case BvType::Obb: return obb_;
+      case BvType::Scb: break;
+    }
+    return scb_;
+  }
+
+  VkPipeline pipeline(bool stats) {
+    const vk::PipelineVariants::Variant& v =
+        variants().get(vk::spec_constants(features_, stats, kLocalSize), [&](VkPipeline p) {
+          batch_.bind_minimal(layout_); // an empty dispatch triggers the driver's JIT
+          kernel::TraceParams pc{0, node_count_, 0, 0};
+          layout_.dispatch(p, &pc, 1);
+        });
+    timing_.compile_seconds = v.compile_seconds;
+    return v.pipeline;
+  }
+
+  std::shared_ptr<vk::Context> ctx_;
+  vk::KernelLayout layout_;
+  vk::PipelineVariants aabb_{layout_, trace_bv_aabb_spv};
+  vk::PipelineVariants sphere_{layout_, trace_bv_sphere_spv};
+  vk::PipelineVariants obb_{layout_, trace_bv_obb_spv};
+  vk::PipelineVariants scb_{layout_, trace_bv_scb_spv};
+  vk::RayBatch batch_;
+  vk::SceneBuffers scene_;
+  vk::Buffer nodes_, prims_;
+  BvType type_ = BvType::Scb;
+  int node_count_ = 0;
+  KernelFeatures features_;
+  bool have_scene_ = false;
+  TraceTiming timing_;
+};
+
+} // namespace
+
+std::unique_ptr<BvTracer> make_vulkan_bv_tracer() { return std::make_unique<VulkanBvTracer>(); }
+
+} // namespace masq
