@@ -6,6 +6,10 @@ namespace masq {
 namespace {
 std::string per_ray(double v) { return v < 0 ? "n/a" : fmt::format("{:.2f}", v); }
 bool has_counters(const BenchRow& r) { return r.tlas_nodes >= 0 && r.blas_nodes >= 0 && r.transforms >= 0; }
+// "shadow (any)" when the set was traced as an occlusion query.
+std::string rays_label(const BenchRow& r) {
+  return std::string(ray_set_name(r.ray_set)) + (r.query == Query::Any ? " (any)" : "");
+}
 } // namespace
 
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set) {
@@ -21,10 +25,10 @@ Table bench_table(const std::vector<BenchRow>& rows) {
   t.left_columns = 3;
   for (const BenchRow& r : rows) {
     if (!r.unavailable.empty()) {
-      t.add({r.backend, method_name(r.method), ray_set_name(r.ray_set), "unavailable: " + r.unavailable});
+      t.add({r.backend, method_name(r.method), rays_label(r), "unavailable: " + r.unavailable});
       continue;
     }
-    t.add({r.backend, method_name(r.method), ray_set_name(r.ray_set), fmt::format("{:.3f}", r.mrays_per_s()),
+    t.add({r.backend, method_name(r.method), rays_label(r), fmt::format("{:.3f}", r.mrays_per_s()),
            fmt::format("({:.3f}-{:.3f})", r.rays / r.max_s * 1e-6, r.rays / r.min_s * 1e-6), per_ray(r.tlas_nodes),
            per_ray(r.blas_nodes), per_ray(r.transforms), per_ray(r.isect_calls), fmt::format("{:.1f}", 100.0 * r.hit_fraction),
            fmt::format("{:.3f}", r.accel_bytes / 1048576.0),
@@ -49,7 +53,7 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) 
     if (m.method != Method::Masq || !m.unavailable.empty()) continue;
     const BenchRow* r = find_row(rows, m.backend, Method::Ref, m.ray_set);
     if (!r) continue;
-    t.add({m.backend, ray_set_name(m.ray_set), fmt::format("{:.2f}x", m.mrays_per_s() / r->mrays_per_s()),
+    t.add({m.backend, rays_label(m), fmt::format("{:.2f}x", m.mrays_per_s() / r->mrays_per_s()),
            fmt::format("{:.2f}x ({:.2f} vs {:.2f})", r->isect_calls / m.isect_calls, r->isect_calls, m.isect_calls),
            fmt::format("{:.2f}x", double(m.accel_bytes) / double(r->accel_bytes)),
            m.build.aabb_area > 0 ? fmt::format("{:.3f}", m.build.obb_area / m.build.aabb_area) : "-",
@@ -62,7 +66,7 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) 
 }
 
 nlohmann::json bench_row_json(const BenchRow& r) {
-  nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"rays", ray_set_name(r.ray_set)},
+  nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},
                       {"device", r.device}};
   e["bytes"] = {{"acceleration", r.accel_bytes}, {"primitives", r.prim_bytes}, {"device", r.device_bytes}};
   e["primitives"] = r.primitives;

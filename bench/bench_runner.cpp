@@ -37,7 +37,7 @@ void measure_one(BenchRow& row, Backend& be, std::span<const kernel::Ray> rays, 
   std::vector<kernel::Hit> hits(rays.size());
   std::vector<kernel::RayStats> stats(rays.size());
   say(opt, tag + ": counters");
-  be.trace(rays, hits, stats);
+  be.trace(rays, hits, stats, row.query);
   fill_counters(row, stats, hits);
   if (opt.keep_per_ray) {
     row.hits = hits;
@@ -45,7 +45,7 @@ void measure_one(BenchRow& row, Backend& be, std::span<const kernel::Ray> rays, 
   }
   std::vector<double> times;
   for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
-    be.trace(rays, hits, {});
+    be.trace(rays, hits, {}, row.query);
     if (i == 0) row.compile_s = be.timing().compile_seconds;
     if (i >= opt.warmup) times.push_back(be.timing().trace_seconds);
     say(opt, fmt::format("{}: trace {}/{}", tag, i + 1, opt.warmup + opt.repetitions));
@@ -118,6 +118,7 @@ std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::s
         row.backend = name;
         row.method = m;
         row.ray_set = batch.set;
+        row.query = batch.set == RaySet::Shadow && opt.shadow_any_hit ? Query::Any : Query::Closest;
         row.rays = double(batch.rays.size());
         row.primitives = primitives;
         row.build = ps.stats;

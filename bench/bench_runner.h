@@ -26,6 +26,9 @@ struct BenchOptions {
   int warmup = 1;
   int repetitions = 5;
   bool keep_per_ray = false; // keep every row's hits and counters (heatmaps, agreement)
+  // Shadow rays ask the occlusion question (any hit, early exit), as a renderer would;
+  // false traces them for the closest hit like the other sets.
+  bool shadow_any_hit = true;
   AccelOptions accel;        // mode, curve OBB, phantom iterations
   std::function<void(const std::string&)> progress; // one line per step, may be empty
 };
@@ -35,6 +38,7 @@ struct BenchRow {
   std::string device;
   Method method = Method::Ref;
   RaySet ray_set = RaySet::Primary;
+  Query query = Query::Closest;
   std::string unavailable; // non-empty: the backend could not run (why)
   double rays = 0;
   double median_s = 0, min_s = 0, max_s = 0;

@@ -31,7 +31,7 @@ struct Agreement {
 // t more than 1e-3 relative away (the closest hit is another surface). Distances on the
 // same primitive are not compared: Embree's round curves are accurate to about 1% of r
 // near a ray origin, far looser than masq's.
-Agreement agree(const std::vector<kernel::Hit>& a, const std::vector<kernel::Hit>& b) {
+Agreement agree(const std::vector<kernel::Hit>& a, const std::vector<kernel::Hit>& b, Query query) {
   Agreement g;
   g.rays = double(std::min(a.size(), b.size()));
   for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
@@ -39,7 +39,7 @@ Agreement agree(const std::vector<kernel::Hit>& a, const std::vector<kernel::Hit
     if (ha != hb) {
       g.hit_miss++;
       g.differing.push_back(i);
-    } else if (ha) {
+    } else if (ha && query == Query::Closest) { // occlusion: only occluded or not is asked
       g.common++;
       bool same = a[i].prim == b[i].prim && a[i].geom == b[i].geom && a[i].inst == b[i].inst;
       // Where two primitives meet (consecutive segments of a strand) either may be the
@@ -54,9 +54,9 @@ Agreement agree(const std::vector<kernel::Hit>& a, const std::vector<kernel::Hit
   return g;
 }
 
-bool matches_oracle(const kernel::Hit& h, const oracle::OracleHit& o) {
+bool matches_oracle(const kernel::Hit& h, const oracle::OracleHit& o, Query query) {
   if ((h.prim >= 0) != (o.prim >= 0)) return false;
-  if (h.prim < 0) return true;
+  if (h.prim < 0 || query == Query::Any) return true;
   if (h.prim == o.prim && h.geom == o.geom && h.inst == o.inst) return true;
   return std::fabs(double(h.t) - double(o.t)) <= 1e-3 * double(o.t); // a tie at a joint
 }
@@ -69,7 +69,8 @@ struct Arbitration {
 };
 
 Arbitration arbitrate(const oracle::Oracle& orc, const std::vector<kernel::Ray>& rays, const std::vector<kernel::Hit>& a,
-                      const std::vector<kernel::Hit>& b, const std::vector<std::size_t>& differing, std::size_t cap = 300) {
+                      const std::vector<kernel::Hit>& b, const std::vector<std::size_t>& differing, Query query,
+                      std::size_t cap = 300) {
   Arbitration r;
   std::vector<kernel::Ray> sel;
   std::vector<std::size_t> idx;
@@ -81,8 +82,8 @@ Arbitration arbitrate(const oracle::Oracle& orc, const std::vector<kernel::Ray>&
   std::vector<oracle::OracleHit> truth = orc.trace_all(sel);
   for (std::size_t k = 0; k < idx.size(); ++k) {
     r.traced++;
-    r.a_right += matches_oracle(a[idx[k]], truth[k]);
-    r.b_right += matches_oracle(b[idx[k]], truth[k]);
+    r.a_right += matches_oracle(a[idx[k]], truth[k], query);
+    r.b_right += matches_oracle(b[idx[k]], truth[k], query);
   }
   return r;
 }
@@ -91,13 +92,25 @@ struct PeerTimes {
   double median = 0, min = 0, max = 0;
 };
 
+// Times Embree on the batch: rtcIntersect1 for closest-hit sets, rtcOccluded1 for
+// occlusion sets (whose hits then only say occluded, prim 0, or not, prim -1).
 PeerTimes time_embree(EmbreePeer& peer, const std::vector<kernel::Ray>& rays, std::vector<kernel::Hit>& hits,
-                      const BenchOptions& opt) {
+                      Query query, const BenchOptions& opt) {
   std::vector<double> t;
+  std::vector<std::uint8_t> occluded(rays.size());
   for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
-    peer.trace(rays, hits);
+    if (query == Query::Any) {
+      peer.occluded(rays, occluded);
+    } else {
+      peer.trace(rays, hits);
+    }
     if (i >= opt.warmup) t.push_back(peer.timing().trace_seconds);
   }
+  if (query == Query::Any)
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      hits[i] = kernel::Hit{};
+      hits[i].prim = occluded[i] ? 0 : -1;
+    }
   std::sort(t.begin(), t.end());
   return {t[t.size() / 2], t.front(), t.back()};
 }
@@ -167,7 +180,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
         const BenchRow*& slot = r.backend == "rayquery" ? best_rq : best;
         if (!slot || r.mrays_per_s() > slot->mrays_per_s()) slot = &r;
       }
-      std::vector<std::string> line = {ps.label, ray_set_name(batch.set)};
+      std::vector<std::string> line = {ps.label, std::string(ray_set_name(batch.set)) +
+                                                     (batch.set == RaySet::Shadow && opt.shadow_any_hit ? " (any)" : "")};
       if (!best) {
         line.push_back("no masq backend ran");
         t.add(line);
@@ -179,14 +193,14 @@ SuiteResult run_peers(SuiteContext& ctx) {
       if (embree) {
         ctx.say("peers " + ps.label + ": Embree " + ray_set_name(batch.set));
         std::vector<kernel::Hit> hits(batch.rays.size());
-        PeerTimes pt = time_embree(*embree, batch.rays, hits, opt);
+        PeerTimes pt = time_embree(*embree, batch.rays, hits, best->query, opt);
         double mrays = batch.rays.size() / pt.median * 1e-6;
-        Agreement g = agree(best->hits, hits);
+        Agreement g = agree(best->hits, hits, best->query);
         line.push_back(fmt::format("{:.3f}", mrays));
         line.push_back(fmt::format("{:.2f}x", best->mrays_per_s() / mrays));
         line.push_back(g.text());
         ctx.say("peers " + ps.label + ": oracle on the differing rays");
-        Arbitration arb = arbitrate(orc, batch.rays, best->hits, hits, g.differing);
+        Arbitration arb = arbitrate(orc, batch.rays, best->hits, hits, g.differing, best->query);
         line.push_back(arb.text());
         pj["embree"] = {{"mrays_per_s", mrays},
                         {"trace_seconds", {{"median", pt.median}, {"min", pt.min}, {"max", pt.max}}},
@@ -199,7 +213,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
         pj["embree"] = {{"unavailable", embree_error}};
       }
       if (best_rq) {
-        Agreement g = agree(best->hits, best_rq->hits);
+        Agreement g = agree(best->hits, best_rq->hits, best->query);
         line.push_back(fmt::format("{} {:.3f}", method_name(best_rq->method), best_rq->mrays_per_s()));
         line.push_back(fmt::format("{:.2f}x", best_rq->mrays_per_s() / best->mrays_per_s()));
         line.push_back(g.text());
@@ -222,7 +236,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
                embree ? fmt::format("{:.2f}", embree->bytes() / 1048576.0) : "n/a"});
     res.data["scenes"].push_back(sj);
   }
-  t.notes = {embree_why.empty() ? "Embree: " + EmbreePeer::version() + ", 2 threads, rtcIntersect1 per ray; capsules as "
+  t.notes = {embree_why.empty() ? "Embree: " + EmbreePeer::version() + ", 2 threads, rtcIntersect1 per ray (rtcOccluded1 for shadow rays, as masq traces them: any hit, early exit); capsules as "
                                   "round linear curves, the ground plane as triangles"
                                 : "Embree: " + embree_why,
              "oracle: of the differing rays (at most 300, evenly spread), how many masq and Embree answer as the "

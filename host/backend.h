@@ -16,6 +16,9 @@ class BackendUnavailable : public std::runtime_error {
   using std::runtime_error::runtime_error; // one line: "<backend>: <why>"
 };
 
+enum class Query { Closest, Any };
+const char* query_name(Query q); // "closest", "any"
+
 struct TraceTiming {
   double scene_seconds = 0;   // upload + driver acceleration-structure build
   double compile_seconds = 0; // kernel/pipeline compile of the variant used (first use)
@@ -29,10 +32,13 @@ class Backend {
   virtual std::string device_name() const = 0;   // device and driver version
   // Uploads (and for rayquery builds) the scene; replaces any previous one.
   virtual void set_scene(const PackedScene& scene) = 0;
-  // Closest hit for every ray. stats empty: the counter-free variant runs; else it must
-  // have rays.size() entries and the stats variant runs.
+  // For every ray, the closest hit (Query::Closest) or, for occlusion/shadow rays, the
+  // first hit found (Query::Any: a kernel variant that stops there; its hit is some hit
+  // in [tmin, tmax], not necessarily the closest; a miss means unoccluded). stats empty:
+  // the counter-free variant runs; else it must have rays.size() entries and the stats
+  // variant runs.
   virtual void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
-                     std::span<kernel::RayStats> stats) = 0;
+                     std::span<kernel::RayStats> stats, Query query = Query::Closest) = 0;
   virtual TraceTiming timing() const = 0;
   // Bytes the backend holds on the device for the current scene (acceleration + primitives).
   virtual std::size_t device_bytes() const = 0;

@@ -57,8 +57,9 @@ void main() {
     // Robust mode: triangles are non-opaque, so each triangle candidate comes here and
     // the same watertight intersector as every other backend (with its self-intersection
     // rules) decides it; fast mode lets the driver commit triangles itself.
-    rayQueryInitializeEXT(rq, tlas, MASQ_ROBUST ? gl_RayFlagsNoOpaqueEXT : gl_RayFlagsNoneEXT, 0xFF, wo, tmin, wd,
-                          tmax);
+    uint flags = (MASQ_ROBUST ? gl_RayFlagsNoOpaqueEXT : gl_RayFlagsNoneEXT) |
+                 (MASQ_ANY_HIT ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT);
+    rayQueryInitializeEXT(rq, tlas, flags, 0xFF, wo, tmin, wd, tmax);
     while (rayQueryProceedEXT(rq)) {
       uint candidate = rayQueryGetIntersectionTypeEXT(rq, false);
       if (candidate == gl_RayQueryCandidateIntersectionTriangleEXT) {
@@ -79,6 +80,7 @@ void main() {
           gen.normal = ph.normal;
           gen.u = ph.u;
           gen.v = ph.v;
+          if (MASQ_ANY_HIT) rayQueryTerminateEXT(rq); // occlusion: any hit will do
         }
         continue;
       }
@@ -111,6 +113,7 @@ void main() {
         gen.normal = ph.normal;
         gen.u = ph.u;
         gen.v = ph.v;
+        if (MASQ_ANY_HIT) rayQueryTerminateEXT(rq);
       }
     }
     uint committed = rayQueryGetIntersectionTypeEXT(rq, true);

@@ -108,6 +108,7 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
         if (MASQ_STATS) res.isect_calls = res.isect_calls + 1;
         PrimHit ph = intersect_primitive(KD_ARG g, prim, o, d, tmin, res.nearest.t);
         res.nearest = nearest_take(res.nearest, ph, prim, geom_id, inst_id);
+        if (MASQ_ANY_HIT && res.nearest.prim >= 0) return res; // occlusion: any hit will do
       }
     }
     for (int k = co.n - 1; k >= 0; --k) {
@@ -194,6 +195,10 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
             res.stats.blas_nodes = res.stats.blas_nodes + bo.nodes;
             res.stats.isect_calls = res.stats.isect_calls + bo.isect_calls;
           }
+          if (MASQ_ANY_HIT && best.prim >= 0) {
+            res.hit = hit_from_nearest(KD_ARG best);
+            return res;
+          }
         } else {
           // Masquerade: the unit-box test is the OBB cull; the intersector then runs
           // on the untransformed ray (in the scene instance's frame).
@@ -206,6 +211,10 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
           if (MASQ_STATS) res.stats.isect_calls = res.stats.isect_calls + 1;
           PrimHit ph = intersect_primitive(KD_ARG g, inst.prim, affine_point(f, wo), affine_vector(f, wd), tmin, best.t);
           best = nearest_take(best, ph, inst.prim, inst.geom, inst.scene_inst);
+          if (MASQ_ANY_HIT && best.prim >= 0) {
+            res.hit = hit_from_nearest(KD_ARG best);
+            return res;
+          }
         }
       }
     }

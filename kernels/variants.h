@@ -16,6 +16,7 @@ layout(constant_id = 5) const bool MASQ_HAVE_SPHERES = true;
 layout(constant_id = 6) const bool MASQ_HAVE_CURVES = true;
 layout(constant_id = 7) const bool MASQ_ROBUST = true;
 layout(constant_id = 8) const int MASQ_CURVE_ITERS = 24;
+layout(constant_id = 9) const bool MASQ_ANY_HIT = false;
 #else
 #ifndef MASQ_STATS
 #define MASQ_STATS 0
@@ -50,6 +51,19 @@ inline thread_local int curve_iters_runtime = 24;
 #define MASQ_CURVE_ITERS (::masq::kernel::curve_iters_runtime)
 #else
 #define MASQ_CURVE_ITERS 24
+#endif
+#endif
+// Occlusion queries (shadow rays): stop at the first hit found, not the closest. The cpu
+// backend reads it at run time like the iteration limit (a branch on a per-dispatch
+// constant costs nothing measurable there); OpenCL gets it as -D.
+#ifndef MASQ_ANY_HIT
+#if defined(MASQ_LANG_CPP)
+namespace masq::kernel {
+inline thread_local bool any_hit_runtime = false;
+}
+#define MASQ_ANY_HIT (::masq::kernel::any_hit_runtime)
+#else
+#define MASQ_ANY_HIT 0
 #endif
 #endif
 #endif

@@ -348,6 +348,29 @@ void EmbreePeer::trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit>
   m.check("trace");
 }
 
+void EmbreePeer::occluded(std::span<const kernel::Ray> rays, std::span<std::uint8_t> occluded) {
+  Impl& m = *impl_;
+  if (occluded.size() < rays.size())
+    throw Error("embree: occluded needs a flag per ray (" + std::to_string(rays.size()) + " rays, " +
+                std::to_string(occluded.size()) + " flags)");
+  if (m.top == nullptr) throw Error("embree: occluded before set_scene");
+  auto t0 = std::chrono::steady_clock::now();
+  parallel_chunks(rays.size(), m.threads, [&](std::size_t begin, std::size_t end) {
+    RTCIntersectContext ctx;
+    for (std::size_t i = begin; i < end; ++i) {
+      const kernel::Ray& r = rays[i];
+      occluded[i] = 0;
+      if (!ray_valid(r)) continue;
+      RTCRay ray{r.org[0], r.org[1], r.org[2], r.tmin, r.dir[0], r.dir[1], r.dir[2], 0.0f, r.tmax, ~0u, unsigned(i), 0u};
+      rtcInitIntersectContext(&ctx);
+      rtcOccluded1(m.top, &ctx, &ray);
+      occluded[i] = ray.tfar < 0.0f; // Embree sets tfar to -inf when it finds any hit
+    }
+  });
+  m.timing.trace_seconds = seconds_since(t0);
+  m.check("occluded");
+}
+
 PeerTiming EmbreePeer::timing() const { return impl_->timing; }
 std::size_t EmbreePeer::bytes() const { return impl_->scene_bytes; }
 
@@ -383,6 +406,7 @@ EmbreePeer::EmbreePeer(int /*threads*/) { throw Error(unavailable_reason()); }
 EmbreePeer::~EmbreePeer() = default;
 void EmbreePeer::set_scene(const Scene&, bool) { throw Error(unavailable_reason()); }
 void EmbreePeer::trace(std::span<const kernel::Ray>, std::span<kernel::Hit>) { throw Error(unavailable_reason()); }
+void EmbreePeer::occluded(std::span<const kernel::Ray>, std::span<std::uint8_t>) { throw Error(unavailable_reason()); }
 PeerTiming EmbreePeer::timing() const { return {}; }
 std::size_t EmbreePeer::bytes() const { return 0; }
 std::string EmbreePeer::description() const { return version(); }

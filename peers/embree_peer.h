@@ -17,6 +17,7 @@
 #include "kernels/layout.h"
 #include "scenes/scene.h"
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
@@ -55,6 +56,10 @@ class EmbreePeer {
   // barycentrics; capsules, cones, curves: Embree's u, v = 0; spheres: 0, 0).
   // Invalid rays (non-finite, zero direction, tmin > tmax) miss without reaching Embree.
   void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits);
+
+  // Occlusion (shadow rays): occluded[i] = 1 when any surface lies in [tmin, tmax]
+  // (rtcOccluded1, which stops at the first hit found). Invalid rays are unoccluded.
+  void occluded(std::span<const kernel::Ray> rays, std::span<std::uint8_t> occluded);
 
   PeerTiming timing() const;
   // Bytes Embree holds for the current scene (its memory monitor after the build:

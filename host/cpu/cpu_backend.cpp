@@ -44,8 +44,8 @@ class CpuBackend final : public Backend {
     has_scene_ = true;
   }
 
-  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
-             std::span<kernel::RayStats> stats) override {
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits, std::span<kernel::RayStats> stats,
+             Query query) override {
     if (!has_scene_) throw Error("cpu: trace called before set_scene");
     if (hits.size() != rays.size() || (!stats.empty() && stats.size() != rays.size()))
       throw Error("cpu: hits/stats spans must have one entry per ray");
@@ -58,8 +58,10 @@ class CpuBackend final : public Backend {
     // Small chunks handed out dynamically balance uneven rays across threads.
     const int chunk = 256;
     std::atomic<int> next{0};
+    const bool any_hit = query == Query::Any;
     auto worker = [&] {
       kernel::curve_iters_runtime = curve_iters; // per thread (see kernels/variants.h)
+      kernel::any_hit_runtime = any_hit;
       for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
         fn(kd_, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
            scene_.tlas_root);

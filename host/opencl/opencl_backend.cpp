@@ -69,15 +69,15 @@ class OpenClBackend final : public Backend {
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
-  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
-             std::span<kernel::RayStats> stats) override {
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits, std::span<kernel::RayStats> stats,
+             Query query) override {
     if (!scene_) throw Error("opencl: trace called before set_scene");
     if (hits.size() != rays.size())
       throw Error("opencl: " + std::to_string(rays.size()) + " rays but " + std::to_string(hits.size()) + " hits");
     const bool want_stats = !stats.empty();
     if (want_stats && stats.size() != rays.size())
       throw Error("opencl: " + std::to_string(rays.size()) + " rays but " + std::to_string(stats.size()) + " stats");
-    Variant& v = variant(want_stats);
+    Variant& v = variant(want_stats, query == Query::Any);
     timing_.compile_seconds = v.compile_seconds;
     timing_.trace_seconds = 0;
     const std::size_t n = rays.size();
@@ -179,14 +179,14 @@ class OpenClBackend final : public Backend {
   }
 
   // The program variant for the current scene's features, built on first use.
-  Variant& variant(bool want_stats) {
+  Variant& variant(bool want_stats, bool any_hit) {
     const KernelFeatures& f = scene_->features;
     auto flag = [](const char* name, bool on) { return std::string(" -D ") + name + (on ? "=1" : "=0"); };
     std::string options = opencl::base_build_options() + flag("MASQ_STATS", want_stats) +
                           flag("MASQ_HAVE_TRIANGLES", f.triangles) + flag("MASQ_HAVE_CAPSULES", f.capsules) +
                           flag("MASQ_HAVE_CONES", f.cones) + flag("MASQ_HAVE_SPHERES", f.spheres) +
                           flag("MASQ_HAVE_CURVES", f.curves) + flag("MASQ_ROBUST", f.mode == Mode::Robust) +
-                          " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters);
+                          flag("MASQ_ANY_HIT", any_hit) + " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters);
     auto it = variants_.find(options);
     if (it != variants_.end()) return it->second;
     opencl::BuiltProgram built = opencl::build_program(rt_, opencl::trace_source(), options, "kernels/trace.cl");

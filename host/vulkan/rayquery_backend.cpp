@@ -125,11 +125,11 @@ class RayQueryBackend final : public Backend {
     timing_.scene_seconds = seconds_since(t0);
   }
 
-  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
-             std::span<kernel::RayStats> stats) override {
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits, std::span<kernel::RayStats> stats,
+             Query query) override {
     if (!have_scene_) throw Error("rayquery: trace called before set_scene");
     widen_for(rays);
-    VkPipeline p = pipeline(!stats.empty());
+    VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
     timing_.trace_seconds = batch_.run(kName, layout_, p, kLocalSize, tlas_count_ > 0 ? 1 : 0, rays, hits, stats);
   }
 
@@ -274,9 +274,9 @@ class RayQueryBackend final : public Backend {
     tlas_ = vk::build_tlas(*ctx_, entries);
   }
 
-  VkPipeline pipeline(bool stats) {
+  VkPipeline pipeline(bool stats, bool any_hit) {
     const vk::PipelineVariants::Variant& v =
-        variants_.get(vk::spec_constants(features_, stats, kLocalSize), [&](VkPipeline p) {
+        variants_.get(vk::spec_constants(features_, stats, any_hit, kLocalSize), [&](VkPipeline p) {
           // An empty dispatch (ray_count 0) triggers the driver's JIT.
           batch_.bind_minimal(layout_);
           kernel::TraceParams pc{0, 0, 0, 0};

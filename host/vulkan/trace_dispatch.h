@@ -23,7 +23,7 @@ struct SceneBuffers {
   void bind(KernelLayout& layout) const;
 };
 // Specialisation constants of the kernels (ids as in kernels/variants.h).
-std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, std::uint32_t local_size);
+std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, bool any_hit, std::uint32_t local_size);
 
 // with_bvh false: nodes and refs (masq's own BVH) get 16-byte dummies (ray query).
 SceneBuffers upload_scene_arrays(Context& ctx, const char* backend, const PackedScene& scene, bool with_bvh = true);

@@ -81,7 +81,7 @@ class VulkanBvTracer final : public BvTracer {
 
   VkPipeline pipeline(bool stats) {
     const vk::PipelineVariants::Variant& v =
-        variants().get(vk::spec_constants(features_, stats, kLocalSize), [&](VkPipeline p) {
+        variants().get(vk::spec_constants(features_, stats, false, kLocalSize), [&](VkPipeline p) {
           batch_.bind_minimal(layout_); // an empty dispatch triggers the driver's JIT
           kernel::TraceParams pc{0, node_count_, 0, 0};
           layout_.dispatch(p, &pc, 1);
