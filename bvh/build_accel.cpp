@@ -212,6 +212,10 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
     ps.stats.sah_cost = info.sah_cost;
     ps.stats.max_depth += info.depth;
   }
+  // A single BLAS under an identity instance: the kernels skip the TLAS stage and the
+  // ray transform (the TLAS is still built, for the rayquery backend and the stats).
+  ps.features.single_blas = ps.instances.size() == 1 && ps.instances[0].blas_root >= 0 &&
+                            scene.instances[ps.instances[0].scene_inst].object_to_world.is_identity();
   ps.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return ps;
 }

@@ -33,6 +33,7 @@ struct KernelFeatures {
   bool curves = false;
   Mode mode = Mode::Robust;
   int curve_iters = 24;
+  bool single_blas = false; // one BLAS instance, identity transform: no TLAS stage
   bool operator==(const KernelFeatures&) const = default;
 };
 

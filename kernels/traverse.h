@@ -165,6 +165,16 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
     res.hit = hit_from_nearest(KD_ARG nearest_none(ray.tmax));
     return res;
   }
+  if (MASQ_SINGLE_BLAS) {
+    Instance only = KD(instances)[0];
+    BlasOut bo = traverse_blas(KD_ARG only.blas_root, only.geom, only.scene_inst, wo, wd, tmin, best);
+    if (MASQ_STATS) {
+      res.stats.blas_nodes = bo.nodes;
+      res.stats.isect_calls = bo.isect_calls;
+    }
+    res.hit = hit_from_nearest(KD_ARG bo.nearest);
+    return res;
+  }
   vec3 inv_d = safe_rcp3(wd);
   int stack_node[MASQ_STACK_SIZE];
   float stack_t[MASQ_STACK_SIZE];

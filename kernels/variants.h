@@ -17,6 +17,7 @@ layout(constant_id = 6) const bool MASQ_HAVE_CURVES = true;
 layout(constant_id = 7) const bool MASQ_ROBUST = true;
 layout(constant_id = 8) const int MASQ_CURVE_ITERS = 24;
 layout(constant_id = 9) const bool MASQ_ANY_HIT = false;
+layout(constant_id = 10) const bool MASQ_SINGLE_BLAS = false;
 #else
 #ifndef MASQ_STATS
 #define MASQ_STATS 0
@@ -64,6 +65,19 @@ inline thread_local bool any_hit_runtime = false;
 #define MASQ_ANY_HIT (::masq::kernel::any_hit_runtime)
 #else
 #define MASQ_ANY_HIT 0
+#endif
+#endif
+// The scene is one BLAS under one identity instance (a mesh, a hair file in ref): no
+// TLAS stage and no ray transform; the BLAS of instance 0 is traversed with the world
+// ray. Run time on cpu, -D on OpenCL.
+#ifndef MASQ_SINGLE_BLAS
+#if defined(MASQ_LANG_CPP)
+namespace masq::kernel {
+inline thread_local bool single_blas_runtime = false;
+}
+#define MASQ_SINGLE_BLAS (::masq::kernel::single_blas_runtime)
+#else
+#define MASQ_SINGLE_BLAS 0
 #endif
 #endif
 #endif

@@ -268,3 +268,30 @@ TEST(CrossBackend, InvalidRaysMissOnEveryBackend) {
     for (int i = 0; i < 4; ++i) EXPECT_LT(hits[i].prim, 0) << name << " ray " << i;
   }
 }
+
+// One BLAS under one identity instance (a bare bundle, no ground): ref runs the variant
+// without a TLAS stage (KernelFeatures::single_blas) and must still agree with the
+// oracle on every backend; on cpu its counters show no TLAS visit and no transform.
+TEST(CrossBackend, SingleIdentityInstanceSkipsTheTlas) {
+  BundleParams p;
+  p.count = 300;
+  p.radius = 0.004f;
+  Scene s = make_default_scene(p);
+  s.geometries.resize(1); // the bundle only: drop the ground plane and its instance
+  s.instances = {{0, {}}};
+  s.name = "bare bundle (one identity instance)";
+  ASSERT_TRUE(build_accel(s, Method::Ref).features.single_blas);
+  ASSERT_FALSE(build_accel(s, Method::Masq).features.single_blas);
+  std::vector<kernel::Ray> rays = make_camera_rays(s.camera, 96, 72);
+  check_all_backends(s, rays);
+  std::unique_ptr<Backend> cpu = make_backend("cpu");
+  cpu->set_scene(build_accel(s, Method::Ref));
+  std::vector<kernel::Hit> hits(rays.size());
+  std::vector<kernel::RayStats> stats(rays.size());
+  cpu->trace(rays, hits, stats);
+  long tlas = 0, transforms = 0, blas = 0;
+  for (const kernel::RayStats& r : stats) tlas += r.tlas_nodes, transforms += r.transforms, blas += r.blas_nodes;
+  EXPECT_EQ(tlas, 0);
+  EXPECT_EQ(transforms, 0);
+  EXPECT_GT(blas, 0);
+}

@@ -59,9 +59,11 @@ class CpuBackend final : public Backend {
     const int chunk = 256;
     std::atomic<int> next{0};
     const bool any_hit = query == Query::Any;
+    const bool single_blas = scene_.features.single_blas;
     auto worker = [&] {
       kernel::curve_iters_runtime = curve_iters; // per thread (see kernels/variants.h)
       kernel::any_hit_runtime = any_hit;
+      kernel::single_blas_runtime = single_blas;
       for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
         fn(kd_, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
            scene_.tlas_root);

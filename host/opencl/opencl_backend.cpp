@@ -186,7 +186,7 @@ class OpenClBackend final : public Backend {
                           flag("MASQ_HAVE_TRIANGLES", f.triangles) + flag("MASQ_HAVE_CAPSULES", f.capsules) +
                           flag("MASQ_HAVE_CONES", f.cones) + flag("MASQ_HAVE_SPHERES", f.spheres) +
                           flag("MASQ_HAVE_CURVES", f.curves) + flag("MASQ_ROBUST", f.mode == Mode::Robust) +
-                          flag("MASQ_ANY_HIT", any_hit) + " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters);
+                          flag("MASQ_ANY_HIT", any_hit) + flag("MASQ_SINGLE_BLAS", f.single_blas) + " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters);
     auto it = variants_.find(options);
     if (it != variants_.end()) return it->second;
     opencl::BuiltProgram built = opencl::build_program(rt_, opencl::trace_source(), options, "kernels/trace.cl");

@@ -53,7 +53,7 @@ SceneBuffers upload_scene_arrays(Context& ctx, const char* backend, const Packed
 
 std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, bool any_hit, std::uint32_t local_size) {
   return {stats,     f.triangles, f.capsules, local_size, f.cones, f.spheres, f.curves, f.mode == Mode::Robust,
-          static_cast<std::uint32_t>(f.curve_iters), any_hit};
+          static_cast<std::uint32_t>(f.curve_iters), any_hit, f.single_blas};
 }
 
 void RayBatch::ensure(std::size_t capacity, KernelLayout& layout) {
