@@ -1,4 +1,5 @@
 #include "bench/bench_report.h"
+#include <algorithm>
 #include <fmt/format.h>
 
 namespace masq {
@@ -23,9 +24,13 @@ Table bench_table(const std::vector<BenchRow>& rows) {
   t.header = {"backend", "method", "rays",   "Mrays/s", "(min-max)", "tlas/r", "blas/r",   "xf/r",
               "isect/r", "hit%",   "accel MiB", "B/prim", "dev MiB", "build ms", "compile ms"};
   t.left_columns = 3;
+  std::vector<std::string> why; // one note per distinct reason, so the columns stay narrow
   for (const BenchRow& r : rows) {
     if (!r.unavailable.empty()) {
-      t.add({r.backend, method_name(r.method), rays_label(r), "unavailable: " + r.unavailable});
+      auto it = std::find(why.begin(), why.end(), r.unavailable);
+      std::size_t k = std::size_t(it - why.begin()) + 1;
+      if (it == why.end()) why.push_back(r.unavailable);
+      t.add({r.backend, method_name(r.method), rays_label(r), fmt::format("unavailable [{}]", k)});
       continue;
     }
     t.add({r.backend, method_name(r.method), rays_label(r), fmt::format("{:.3f}", r.mrays_per_s()),
@@ -41,6 +46,7 @@ Table bench_table(const std::vector<BenchRow>& rows) {
              "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, frames); dev MiB: what the backend "
              "holds on the device (rayquery: the driver's acceleration structures plus primitives); build ms: host "
              "build + upload/driver build; compile ms: kernel/pipeline compile on first use of the variant (0: cached)"};
+  for (std::size_t k = 0; k < why.size(); ++k) t.notes.push_back(fmt::format("[{}] {}", k + 1, why[k]));
   return t;
 }
 

@@ -53,9 +53,11 @@ void clear_progress(bool quiet) {
   if (!quiet && isatty(2)) fmt::print(stderr, "\r\033[K");
 }
 
-std::string ray_sets_text(const std::vector<RaySet>& sets) {
+std::string ray_sets_text(const std::vector<RaySet>& sets, bool shadow_any_hit) {
   std::string out;
-  for (RaySet s : sets) out += std::string(out.empty() ? "" : ", ") + ray_set_name(s);
+  for (RaySet s : sets)
+    out += std::string(out.empty() ? "" : ", ") + ray_set_name(s) +
+           (s == RaySet::Shadow && shadow_any_hit ? " (occlusion: any hit)" : "");
   return out;
 }
 
@@ -132,17 +134,19 @@ int bench(BenchCli& c) {
   }
   c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
-  fmt::print("scene '{}': {} primitives{}, {} mode, {}x{} camera rays and the {} sets derived from them, {} warm-up + {} timed traces, median (min-max) "
-             "of device time\n",
+  fmt::print("scene '{}': {} primitives{}, {} mode, {}x{} camera rays; ray sets: {}; {} warm-up + {} timed traces, "
+             "median (min-max) of device time\n",
              scene.name, scene.primitive_count(),
              bundle ? fmt::format(" ({} {} strands r={} tilt {} deg + ground plane)", c.scene.bundle.count, c.scene.prim,
                                   c.scene.bundle.radius, c.scene.bundle.tilt_deg)
                     : std::string(),
-             c.scene.mode, c.bench.width, c.bench.height, ray_sets_text(c.bench.ray_sets), c.bench.warmup,
+             c.scene.mode, c.bench.width, c.bench.height, ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup,
              c.bench.repetitions);
   std::vector<BenchRow> rows = run_bench(scene, c.bench);
   clear_progress(c.quiet);
-  fmt::print("{}\n{}", bench_table(rows).text(), bench_ratios(rows).text());
+  Table ratios = bench_ratios(rows);
+  fmt::print("{}\n{}", bench_table(rows).text(),
+             ratios.rows.empty() ? std::string("(no masq/ref ratios: both methods must run on a backend)\n") : ratios.text());
   if (!c.json_path.empty()) {
     std::ofstream f(c.json_path);
     if (!f) throw Error("bench: cannot write '" + c.json_path + "'");
