@@ -7,6 +7,7 @@
 #include "kernels/kernel_data.h"
 #include "spirv/trace_comp_spv.h"
 #include <chrono>
+#include <cstdlib>
 #include <map>
 #include <mutex>
 #include <tuple>
@@ -17,7 +18,20 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-constexpr std::uint32_t kLocalSize = 64;
+// Work-group size: 64 unless MASQ_VK_LOCAL_SIZE (1..1024) says otherwise, for tuning per
+// device (measured on lavapipe in docs/results.md).
+std::uint32_t local_size() {
+  static const std::uint32_t size = [] {
+    const char* v = std::getenv("MASQ_VK_LOCAL_SIZE");
+    if (v == nullptr || *v == '\0') return 64u;
+    char* end = nullptr;
+    long n = std::strtol(v, &end, 10);
+    if (*end != '\0' || n < 1 || n > 1024)
+      throw Error(std::string("vulkan: MASQ_VK_LOCAL_SIZE='") + v + "' is not a work-group size in 1..1024");
+    return std::uint32_t(n);
+  }();
+  return size;
+}
 const char* const kName = "vulkan";
 
 class VulkanComputeBackend final : public Backend {
@@ -47,7 +61,7 @@ class VulkanComputeBackend final : public Backend {
              Query query) override {
     if (!have_scene_) throw Error("vulkan: trace called before set_scene");
     VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
-    timing_.trace_seconds = batch_.run(kName, layout_, p, kLocalSize, tlas_root_, rays, hits, stats);
+    timing_.trace_seconds = batch_.run(kName, layout_, p, local_size(), tlas_root_, rays, hits, stats);
   }
 
   TraceTiming timing() const override { return timing_; }
@@ -56,7 +70,7 @@ class VulkanComputeBackend final : public Backend {
  private:
   VkPipeline pipeline(bool stats, bool any_hit) {
     const vk::PipelineVariants::Variant& v =
-        variants_.get(vk::spec_constants(features_, stats, any_hit, kLocalSize), [&](VkPipeline p) {
+        variants_.get(vk::spec_constants(features_, stats, any_hit, local_size()), [&](VkPipeline p) {
           // An empty dispatch (ray_count 0) triggers the driver's JIT.
           batch_.bind_minimal(layout_);
           kernel::TraceParams pc{0, tlas_root_, 0, 0};
