@@ -24,6 +24,7 @@ struct BenchCli {
   std::vector<std::string> methods;
   BenchOptions bench;
   std::vector<std::string> ray_sets;
+  std::string shadow_query = "any";
   std::string json_path;
   bool quiet = false;
   bool error_mode = false;
@@ -132,6 +133,7 @@ int bench(BenchCli& c) {
     c.bench.ray_sets.clear();
     for (const std::string& r : c.ray_sets) c.bench.ray_sets.push_back(parse_ray_set(r));
   }
+  c.bench.shadow_any_hit = c.shadow_query == "any";
   c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
   fmt::print("scene '{}': {} primitives{}, {} mode, {}x{} camera rays; ray sets: {}; {} warm-up + {} timed traces, "
@@ -175,6 +177,10 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--reps", c->bench.repetitions, "Timed traces")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--rays", c->ray_sets, "Ray sets: primary (camera), shadow (hits to a light), diffuse (bounces from hits)")
       ->check(CLI::IsMember({"primary", "shadow", "diffuse"}));
+  cmd->add_option("--shadow-query", c->shadow_query,
+                  "Shadow rays as an occlusion query (any: first hit ends the ray) or for the closest hit")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"any", "closest"}));
   cmd->add_option("--json", c->json_path, "Also write every raw figure as JSON");
   cmd->add_option("--suite", c->suites, "Reproduce the papers' tables: fig3 table1 table2 fig9 fig10 error peers, or all; "
                                         "writes OUT/RESULTS.md and OUT/results.json")
