@@ -98,8 +98,19 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
   for (const std::string& name : backend_names()) {
     std::unique_ptr<Backend> be = backend_or_fail(name);
     if (!be) continue;
-    for (Method m : {Method::Ref, Method::Masq}) {
+    for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
       SCOPED_TRACE(name + " " + method_name(m) + " " + mode_name(opt.mode) + " on " + scene.name);
+      if (name == "rayquery" && (m == Method::Cluster || m == Method::Auto)) {
+        // Not supported there yet: it must say so in one line, not trace wrongly.
+        try {
+          be->set_scene(build_accel(scene, m, opt));
+          ADD_FAILURE() << "rayquery accepted method " << method_name(m);
+        } catch (const BackendUnavailable& e) {
+          EXPECT_EQ(std::string(e.what()).rfind(std::string("rayquery: method ") + method_name(m) + " is not supported: ", 0), 0u)
+              << e.what();
+        }
+        continue;
+      }
       be->set_scene(build_accel(scene, m, opt));
       std::vector<kernel::Hit> hits(rays.size());
       be->trace(rays, hits, {});
@@ -118,7 +129,7 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
         std::printf("  fast mode: %d hit/miss, %d primitive, %d t, %d normal differences\n", t.wrong_hit_miss,
                     t.wrong_prim, t.wrong_t, t.wrong_normal);
       }
-      std::printf("[ %-8s %-4s %-6s ] %s: %d rays compared, %d hits, %d ambiguous skipped\n", name.c_str(),
+      std::printf("[ %-8s %-7s %-6s ] %s: %d rays compared, %d hits, %d ambiguous skipped\n", name.c_str(),
                   method_name(m), mode_name(opt.mode), scene.name.c_str(), t.compared, t.hits, t.ambiguous);
     }
   }

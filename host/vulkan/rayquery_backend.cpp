@@ -103,6 +103,12 @@ class RayQueryBackend final : public Backend {
   std::string device_name() const override { return ctx_->device_name(); }
 
   void set_scene(const PackedScene& scene) override {
+    // Cluster instances need one driver BLAS per cluster over its local boxes, padded
+    // per ray origin like the masquerade boxes (docs/robustness.md); not built yet.
+    if (scene.method == Method::Cluster || scene.method == Method::Auto)
+      throw BackendUnavailable(fmt::format("rayquery: method {} is not supported: the driver would need one BLAS per "
+                                           "cluster with origin-dependent padding, which this backend does not build yet",
+                                           method_name(scene.method)));
     auto t0 = Clock::now();
     have_scene_ = false;
     kept_.reset();
