@@ -22,7 +22,7 @@ namespace masq {
 // the defaults come from.
 struct CostPrices {
   double node = 1.0;
-  double transform = 1.0;
+  double transform = 10.0; // a TLAS entry also deepens and widens the TLAS: see docs/methods.md
   double isect = 2.0;
 };
 

@@ -100,17 +100,6 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
     if (!be) continue;
     for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
       SCOPED_TRACE(name + " " + method_name(m) + " " + mode_name(opt.mode) + " on " + scene.name);
-      if (name == "rayquery" && (m == Method::Cluster || m == Method::Auto)) {
-        // Not supported there yet: it must say so in one line, not trace wrongly.
-        try {
-          be->set_scene(build_accel(scene, m, opt));
-          ADD_FAILURE() << "rayquery accepted method " << method_name(m);
-        } catch (const BackendUnavailable& e) {
-          EXPECT_EQ(std::string(e.what()).rfind(std::string("rayquery: method ") + method_name(m) + " is not supported: ", 0), 0u)
-              << e.what();
-        }
-        continue;
-      }
       be->set_scene(build_accel(scene, m, opt));
       std::vector<kernel::Hit> hits(rays.size());
       be->trace(rays, hits, {});
