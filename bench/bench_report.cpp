@@ -52,14 +52,17 @@ Table bench_table(const std::vector<BenchRow>& rows) {
 
 Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) {
   Table t;
-  t.header = {"backend", "rays", "speedup", "isect calls ref/masq", "accel memory masq/ref", "OBB/AABB area",
-              "RT model speedup"};
-  t.left_columns = 2;
+  t.header = {"backend", "method", "rays", "speedup", "vs masq", "isect calls ref/this", "accel memory this/ref",
+              "OBB/AABB area", "RT model speedup"};
+  t.left_columns = 3;
   for (const BenchRow& m : rows) {
-    if (m.method != Method::Masq || !m.unavailable.empty()) continue;
+    if (m.method == Method::Ref || !m.unavailable.empty()) continue;
     const BenchRow* r = find_row(rows, m.backend, Method::Ref, m.ray_set);
     if (!r) continue;
-    t.add({m.backend, rays_label(m), fmt::format("{:.2f}x", m.mrays_per_s() / r->mrays_per_s()),
+    const BenchRow* q = m.method == Method::Masq ? nullptr : find_row(rows, m.backend, Method::Masq, m.ray_set);
+    t.add({m.backend, method_name(m.method), rays_label(m),
+           fmt::format("{:.2f}x", m.mrays_per_s() / r->mrays_per_s()),
+           q ? fmt::format("{:.2f}x", m.mrays_per_s() / q->mrays_per_s()) : "-",
            fmt::format("{:.2f}x ({:.2f} vs {:.2f})", r->isect_calls / m.isect_calls, r->isect_calls, m.isect_calls),
            fmt::format("{:.2f}x", double(m.accel_bytes) / double(r->accel_bytes)),
            m.build.aabb_area > 0 ? fmt::format("{:.3f}", m.build.obb_area / m.build.aabb_area) : "-",
@@ -79,7 +82,8 @@ nlohmann::json bench_row_json(const BenchRow& r) {
   e["build"] = {{"tlas_sah", r.build.sah_cost}, {"blas_sah", r.build.blas_sah_cost},
                 {"tlas_nodes", r.build.tlas_nodes}, {"blas_nodes", r.build.blas_nodes},
                 {"instances", r.build.instances}, {"max_depth", r.build.max_depth},
-                {"obb_area", r.build.obb_area},   {"aabb_area", r.build.aabb_area}};
+                {"obb_area", r.build.obb_area},   {"aabb_area", r.build.aabb_area},
+                {"clusters", r.build.clusters},   {"masq_prims", r.build.masq_prims}};
   if (!r.unavailable.empty()) {
     e["unavailable"] = r.unavailable;
     return e;

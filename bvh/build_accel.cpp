@@ -1,4 +1,5 @@
 #include "bvh/build_accel.h"
+#include "bvh/cluster_blas.h"
 #include "bvh/obb.h"
 #include "bvh/prim_bounds.h"
 #include "bvh/wide_bvh.h"
@@ -146,36 +147,44 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
     ps.frame_object_to_world.push_back(to_mat3x4f(inst.object_to_world));
   }
 
-  // BLAS per geometry that needs one (all in ref; triangles only in masq).
+  // What goes where, per geometry (bvh/method_plan.h).
+  PlanOptions plan_opt;
+  plan_opt.cluster = opt.cluster;
+  plan_opt.curve_obb = opt.curve_obb;
+  plan_opt.prices = opt.prices;
+  std::vector<std::vector<int>> insts_of(scene.geometries.size());
+  for (std::size_t si = 0; si < scene.instances.size(); ++si) insts_of[scene.instances[si].geometry].push_back(int(si));
+  std::vector<GeometryPlan> plans(scene.geometries.size());
+  for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
+    if (!insts_of[gi].empty() && scene.geometries[gi].primitive_count() > 0)
+      plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt);
+
+  // The ordinary BLAS of each geometry over the primitives its plan keeps there.
   std::vector<int> blas_root(scene.geometries.size(), -1);
   std::vector<Aabb> blas_box(scene.geometries.size());
   ps.geometry_leaf_order.resize(scene.geometries.size());
-  std::vector<bool> used(scene.geometries.size(), false);
-  for (const Instance& inst : scene.instances) used[inst.geometry] = true;
   for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
     const Geometry& g = scene.geometries[gi];
-    if (!used[gi] || g.primitive_count() == 0) continue;
-    if (method == Method::Masq && g.type != PrimType::Triangle) continue;
+    const std::vector<std::int32_t>& ids = plans[gi].blas_prims;
+    if (ids.empty()) continue;
     std::vector<Aabb> boxes;
-    boxes.reserve(g.primitive_count());
-    if (g.type == PrimType::Triangle)
-      for (const glm::uvec3& t : g.triangles) boxes.push_back(triangle_box(g, t));
-    else
-      for (std::size_t p = 0; p < g.primitive_count(); ++p) boxes.push_back(hull_box(ball_hull(g, p)));
+    boxes.reserve(ids.size());
+    for (std::int32_t p : ids)
+      boxes.push_back(g.type == PrimType::Triangle ? triangle_box(g, g.triangles[std::size_t(p)])
+                                                   : hull_box(ball_hull(g, std::size_t(p))));
     BinaryBvh bvh = build_binned_sah(boxes, opt.sah);
-    std::vector<std::int32_t> ids(boxes.size());
-    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
     WideBvhInfo info = append_wide_bvh(bvh, ids, ps.nodes, ps.refs);
     blas_root[gi] = info.root;
     blas_box[gi] = bvh.nodes[0].box;
-    ps.geometry_leaf_order[gi].assign(bvh.order.begin(), bvh.order.end());
+    for (int i : bvh.order) ps.geometry_leaf_order[gi].push_back(ids[std::size_t(i)]);
     ps.stats.blas_nodes += info.nodes;
     ps.stats.blas_leaves += info.leaves;
     ps.stats.blas_sah_cost += info.sah_cost;
     ps.stats.max_depth = std::max(ps.stats.max_depth, info.depth);
   }
 
-  // TLAS entries.
+  // TLAS entries: per scene instance its BLAS and masquerade instances, then per
+  // geometry its cluster instances (their BLAS are shared by the scene instances).
   std::vector<Aabb> inst_boxes;
   for (std::size_t si = 0; si < scene.instances.size(); ++si) {
     const Instance& inst = scene.instances[si];
@@ -187,18 +196,20 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
       ps.instances.push_back(make_instance(w2o, blas_root[gi], gi, -1, int(si)));
       ps.instance_object_to_world.push_back(ps.frame_object_to_world[si]);
       inst_boxes.push_back(transform_box(blas_box[gi], inst.object_to_world));
-    } else if (method == Method::Masq && g.type != PrimType::Triangle) {
-      for (std::size_t p = 0; p < g.primitive_count(); ++p) {
-        if (!(hull_max_radius(ball_hull(g, p)) > 0.0)) continue; // no surface: nothing to box
-        MasqueradeBox mb = masquerade_box(g, p, inst.object_to_world, opt.curve_obb);
-        ps.stats.obb_area += mb.obb_area;
-        ps.stats.aabb_area += mb.aabb_area;
-        ps.instances.push_back(make_instance(mb.world_to_unit, -1, gi, int(p), int(si)));
-        ps.instance_object_to_world.push_back(mb.unit_to_world);
-        inst_boxes.push_back(mb.world_box);
-      }
+    }
+    for (std::int32_t p : plans[std::size_t(gi)].masq_prims) {
+      MasqueradeBox mb = masquerade_box(g, std::size_t(p), inst.object_to_world, opt.curve_obb);
+      ps.stats.obb_area += mb.obb_area;
+      ps.stats.aabb_area += mb.aabb_area;
+      ps.stats.masq_prims += 1;
+      ps.instances.push_back(make_instance(mb.world_to_unit, -1, gi, int(p), int(si)));
+      ps.instance_object_to_world.push_back(mb.unit_to_world);
+      inst_boxes.push_back(mb.world_box);
     }
   }
+  for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
+    if (!plans[gi].clusters.empty())
+      append_cluster_instances(scene, int(gi), plans[gi].clusters, insts_of[gi], opt.sah, ps, inst_boxes);
   ps.stats.instances = ps.instances.size();
   if (!inst_boxes.empty()) {
     BinaryBvh tlas = build_binned_sah(inst_boxes, opt.sah);
@@ -214,7 +225,9 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
   }
   // A single BLAS under an identity instance: the kernels skip the TLAS stage and the
   // ray transform (the TLAS is still built, for the rayquery backend and the stats).
+  // Not for a cluster instance: its transform is the cluster's frame, not the scene's.
   ps.features.single_blas = ps.instances.size() == 1 && ps.instances[0].blas_root >= 0 &&
+                            ps.instances[0].prim != MASQ_INST_CLUSTER &&
                             scene.instances[ps.instances[0].scene_inst].object_to_world.is_identity();
   ps.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return ps;

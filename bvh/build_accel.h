@@ -5,8 +5,10 @@
 //        transform maps the unit box onto its OBB (the masquerade); triangle
 //        geometries keep their BLAS, since a triangle's OBB is flat and a map of the
 //        unit box onto it would be singular.
+//  cluster, auto: see bvh/method_plan.h and docs/methods.md.
 #pragma once
 #include "bvh/binned_sah.h"
+#include "bvh/method_plan.h"
 #include "bvh/obb.h"
 #include "bvh/packed_scene.h"
 #include "scenes/scene.h"
@@ -18,6 +20,8 @@ struct AccelOptions {
   CurveObb curve_obb = CurveObb::Tight; // masq: how curve OBBs are oriented
   Mode mode = Mode::Robust;             // kernel intersectors and box test
   int curve_iters = 24;                 // phantom iteration limit (1..64; 24: see docs/robustness.md)
+  ClusterOptions cluster;               // cluster, auto: cluster size and orientation classes
+  CostPrices prices;                    // auto: the cost model's prices
 };
 
 PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt = {});

@@ -3,12 +3,20 @@
 
 namespace masq {
 
-const char* method_name(Method m) { return m == Method::Ref ? "ref" : "masq"; }
+const char* method_name(Method m) {
+  switch (m) {
+    case Method::Ref: return "ref";
+    case Method::Masq: return "masq";
+    case Method::Cluster: return "cluster";
+    case Method::Auto: return "auto";
+  }
+  return "?";
+}
 
 Method parse_method(const std::string& name) {
-  if (name == "ref") return Method::Ref;
-  if (name == "masq") return Method::Masq;
-  throw Error("unknown method '" + name + "' (expected ref or masq)");
+  for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto})
+    if (name == method_name(m)) return m;
+  throw Error("unknown method '" + name + "' (expected ref, masq, cluster or auto)");
 }
 
 const char* mode_name(Mode m) { return m == Mode::Robust ? "robust" : "fast"; }

@@ -10,7 +10,10 @@
 
 namespace masq {
 
-enum class Method { Ref, Masq };
+// ref and masq: Wald et al. 2020; cluster: oriented clusters of thin primitives, one
+// instance per cluster (docs/methods.md); auto: per primitive or cluster, the cheapest of
+// the three by a surface-area cost model (docs/methods.md).
+enum class Method { Ref, Masq, Cluster, Auto };
 const char* method_name(Method m);
 Method parse_method(const std::string& name); // throws masq::Error
 
@@ -48,7 +51,10 @@ struct BuildStats {
   int max_depth = 0;           // wide levels, TLAS + BLAS
   // masq: summed surface areas of the masquerade OBBs and of the same primitives'
   // exact world AABBs (the masquerade paper's Fig. 9 compares the two).
+  // cluster/auto: the same for the members of clusters (their local boxes' world areas).
   double obb_area = 0, aabb_area = 0;
+  std::size_t clusters = 0;     // cluster instances (cluster and auto)
+  std::size_t masq_prims = 0;   // masquerade instances (masq and auto)
   double build_seconds = 0;
 };
 

@@ -1,5 +1,6 @@
 // masq bench: one scene through every backend x method with the same rays.
 #include "bench/bench_report.h"
+#include "bench/price_fit.h"
 #include "bench/error_mode.h"
 #include "bench/results_doc.h"
 #include "bench/suite.h"
@@ -22,6 +23,7 @@ struct BenchCli {
   SceneOptions scene;
   std::vector<std::string> backends;
   std::vector<std::string> methods;
+  bool fit_prices = false;
   BenchOptions bench;
   std::vector<std::string> ray_sets;
   std::string shadow_query = "any";
@@ -148,7 +150,19 @@ int bench(BenchCli& c) {
   clear_progress(c.quiet);
   Table ratios = bench_ratios(rows);
   fmt::print("{}\n{}", bench_table(rows).text(),
-             ratios.rows.empty() ? std::string("(no masq/ref ratios: both methods must run on a backend)\n") : ratios.text());
+             ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n") : ratios.text());
+  if (c.fit_prices) {
+    // The auto method's cost-model prices for each backend, fitted to these rows.
+    for (const std::string& b : c.bench.backends) {
+      std::optional<PriceFit> f = fit_prices(rows, b);
+      if (!f) {
+        fmt::print("prices {}: not enough rows with counters to fit (run ref, masq and cluster)\n", b);
+        continue;
+      }
+      fmt::print("prices {}: --prices 1 {:.3g} {:.3g}  (node {:.3g} ns/ray-visit, {} rows, worst fit error {:.0f}%)\n", b,
+                 f->prices.transform, f->prices.isect, f->ns_per_node, f->rows, 100.0 * f->max_rel_error);
+    }
+  }
   if (!c.json_path.empty()) {
     std::ofstream f(c.json_path);
     if (!f) throw Error("bench: cannot write '" + c.json_path + "'");
@@ -170,7 +184,7 @@ Action add_bench(CLI::App& app) {
   cmd->add_flag("--error", c->error_mode,
                 "Run time against error: every curve intersector variant vs the long-double oracle (Pareto table)");
   cmd->add_option("--backend", c->backends, "Backends to run (default: all)")->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
-  cmd->add_option("--method", c->methods, "Methods to run (default: ref masq)")->check(CLI::IsMember({"ref", "masq"}));
+  cmd->add_option("--method", c->methods, "Methods to run: ref masq cluster auto (default: ref masq)")->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
   c->width_opt = cmd->add_option("--width", c->bench.width, "Rays per row")->capture_default_str()->check(CLI::Range(1, 16384));
   c->height_opt = cmd->add_option("--height", c->bench.height, "Rows of rays")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--warmup", c->bench.warmup, "Untimed traces first")->capture_default_str()->check(CLI::NonNegativeNumber);
@@ -181,6 +195,8 @@ Action add_bench(CLI::App& app) {
                   "Shadow rays as an occlusion query (any: first hit ends the ray) or for the closest hit")
       ->capture_default_str()
       ->check(CLI::IsMember({"any", "closest"}));
+  cmd->add_flag("--fit-prices", c->fit_prices,
+                "Fit the auto method's cost-model prices per backend to the measured rows (docs/methods.md)");
   cmd->add_option("--json", c->json_path, "Also write every raw figure as JSON");
   cmd->add_option("--suite", c->suites, "Reproduce the papers' tables: fig3 table1 table2 fig9 fig10 error peers, or all; "
                                         "writes OUT/RESULTS.md and OUT/results.json")

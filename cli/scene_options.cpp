@@ -37,6 +37,15 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->capture_default_str()
       ->check(CLI::IsMember({"paper", "tight"}));
   cmd.add_option("--curve-iters", opt.curve_iters, "Phantom curve iteration limit")->capture_default_str()->check(CLI::Range(1, 64));
+  cmd.add_option("--cluster-size", opt.cluster_size, "Methods cluster/auto: most primitives per oriented cluster")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 256));
+  cmd.add_option("--cluster-classes", opt.cluster_classes, "Methods cluster/auto: orientation classes (hemisphere bins)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
+  cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (docs/methods.md)")
+      ->expected(3)
+      ->check(CLI::PositiveNumber);
 }
 
 Scene make_scene(const SceneOptions& opt) {
@@ -89,6 +98,9 @@ AccelOptions accel_options(const SceneOptions& opt) {
   a.mode = parse_mode(opt.mode);
   a.curve_obb = parse_curve_obb(opt.curve_obb);
   a.curve_iters = opt.curve_iters;
+  a.cluster.max_size = opt.cluster_size;
+  a.cluster.classes = opt.cluster_classes;
+  if (opt.prices.size() == 3) a.prices = {opt.prices[0], opt.prices[1], opt.prices[2]};
   return a;
 }
 

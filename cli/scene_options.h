@@ -6,6 +6,7 @@
 #include "scenes/strand_generators.h"
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 namespace masq::cli {
 struct SceneOptions {
@@ -20,6 +21,9 @@ struct SceneOptions {
   std::string mode = "robust";
   std::string curve_obb = "tight";
   int curve_iters = 24;
+  int cluster_size = 32;     // cluster, auto
+  int cluster_classes = 32;  // cluster, auto
+  std::vector<double> prices; // auto: node transform isect (empty: defaults)
 };
 void add_scene_options(CLI::App& cmd, SceneOptions& opt);
 Scene make_scene(const SceneOptions& opt);

@@ -60,6 +60,41 @@ FN bool hit_unit_box_padded(Affine m, vec3 wo, vec3 wd, vec3 oo, vec3 od, float 
   return tn <= tf && tf >= tmin && tn <= tmax;
 }
 
+// Per-axis error bound of the fp32 ray transform o' = A o + b, d' = A d at any t up to
+// t_bound (docs/robustness.md): the padding a box in the transformed space needs when
+// the primitives inside are intersected with a different (untransformed) ray.
+FN vec3 transform_pad(Affine m, vec3 wo, vec3 wd, float t_bound) {
+  vec3 ao = vabs_(wo);
+  vec3 ad = vabs_(wd);
+  float tb = fabs_(t_bound);
+  float px = MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r0), ad);
+  float py = MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r1), ad);
+  float pz = MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r2), ad);
+  // The bound itself is evaluated in fp32: a few more relative steps cover that.
+  return VEC3(px, py, pz) * (1.0f + 8.0f * MASQ_U);
+}
+
+// The wide node test with every child box grown by pad on each axis (cluster BLAS of
+// the robust mode). lo - pad is rounded to nearest, so the bounds also move outward by
+// 2u of their magnitude; the slab interval is widened as in intersect_wide_node.
+FN WideHits intersect_wide_node_padded(WideNode n, vec3 o, vec3 inv_d, vec3 pad, float tmin, float tmax) {
+  WideHits r;
+  for (int i = 0; i < MASQ_WIDTH; ++i) {
+    float tx0 = (n.lo_x[i] - (pad.x + fabs_(n.lo_x[i]) * 2.0f * MASQ_U) - o.x) * inv_d.x;
+    float tx1 = (n.hi_x[i] + (pad.x + fabs_(n.hi_x[i]) * 2.0f * MASQ_U) - o.x) * inv_d.x;
+    float ty0 = (n.lo_y[i] - (pad.y + fabs_(n.lo_y[i]) * 2.0f * MASQ_U) - o.y) * inv_d.y;
+    float ty1 = (n.hi_y[i] + (pad.y + fabs_(n.hi_y[i]) * 2.0f * MASQ_U) - o.y) * inv_d.y;
+    float tz0 = (n.lo_z[i] - (pad.z + fabs_(n.lo_z[i]) * 2.0f * MASQ_U) - o.z) * inv_d.z;
+    float tz1 = (n.hi_z[i] + (pad.z + fabs_(n.hi_z[i]) * 2.0f * MASQ_U) - o.z) * inv_d.z;
+    float tn = widen_lo(vmax3_(min(tx0, tx1), min(ty0, ty1), min(tz0, tz1)));
+    float tf = widen_hi(vmin3_(max(tx0, tx1), max(ty0, ty1), max(tz0, tz1)));
+    bool hit = n.count[i] >= 0 && tn <= tf && tf >= tmin && tn <= tmax;
+    r.tnear[i] = hit ? max(tn, tmin) : inf_();
+    r.tfar[i] = tf;
+  }
+  return r;
+}
+
 // Fast mode: the plain unit-box test of the transformed ray, as RT hardware does it
 // (no padding, no widening; can cull grazing rays the intersector would hit).
 FN bool hit_unit_box(vec3 oo, vec3 od, float tmin, float tmax) {

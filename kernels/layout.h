@@ -39,6 +39,12 @@ STRUCT_END(WideNode)
 // the unit box [-1,1]^3, whose test is the whole BLAS; then the world-space
 // intersector runs on primitive `prim` of geometry `geom`, in the frame of scene
 // instance `scene_inst`. 64 bytes: the masquerade's per-primitive memory cost.
+// blas_root >= 0 and prim == MASQ_INST_CLUSTER: an oriented cluster (method cluster,
+// docs/methods.md): the transform maps the world into the cluster's local frame, the
+// BLAS boxes are the members' bounds in that frame (OBBs in the world), and the BLAS
+// leaves' primitives are intersected with the world ray in scene instance
+// `scene_inst`'s frame, as masquerade leaves are. Ordinary BLAS instances have prim -1.
+#define MASQ_INST_CLUSTER (-2)
 STRUCT_BEGIN(Instance)
   float world_to_object[12];
   int blas_root;

@@ -11,6 +11,9 @@
 //     ray is the driver's.
 //   blas_root < 0: masquerade: one unit-box AABB placed on the primitive's OBB; the
 //     world ray, moved into scene instance `scene_inst`'s frame, goes to the intersector.
+//   prim == MASQ_INST_CLUSTER: a cluster; its BLAS holds the members' local boxes, the
+//     instance's SBT record offset is where their ids start in prim_map; the world ray
+//     goes to the intersector as for masquerade.
 // prim_map: entries 0..G-1 are the offsets of each geometry's list of primitive ids in
 // submission (BLAS leaf) order.
 // Stats: isect_calls counts intersector calls (triangle tests inside the driver are not
@@ -89,7 +92,15 @@ void main() {
       int prim;
       vec3 o;
       vec3 d;
-      if (inst.blas_root < 0) {
+      if (inst.prim == MASQ_INST_CLUSTER) {
+        // Cluster: the driver tested the member's local box; the world ray, in the
+        // scene instance's frame, goes to the intersector (as for masquerade).
+        prim = prim_map[int(rayQueryGetIntersectionInstanceShaderBindingTableRecordOffsetEXT(rq, false)) +
+                        int(rayQueryGetIntersectionPrimitiveIndexEXT(rq, false))];
+        Affine f = affine_from_frame(frames[inst.scene_inst]);
+        o = affine_point(f, wo);
+        d = affine_vector(f, wd);
+      } else if (inst.blas_root < 0) {
         prim = inst.prim;
         Affine f = affine_from_frame(frames[inst.scene_inst]);
         o = affine_point(f, wo);

@@ -78,8 +78,12 @@ FN Nearest nearest_take(Nearest n, PrimHit ph, int prim, int geom, int inst) {
   return n;
 }
 
-FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, vec3 d, float tmin,
-                         Nearest nearest) {
+// (o, d): the ray the boxes are tested with; (po, pd): the ray the primitives are
+// intersected with. They are the same ray for an ordinary BLAS instance; for a cluster
+// instance (o, d) is in the cluster's frame and (po, pd) in the scene instance's, and
+// padded != 0 grows every box by pad (the error bound of the fp32 transform to (o, d)).
+FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, vec3 d, int padded, vec3 pad,
+                         vec3 po, vec3 pd, float tmin, Nearest nearest) {
   BlasOut res;
   res.nearest = nearest;
   res.nodes = 0;
@@ -97,7 +101,8 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
     if (stack_t[sp] > res.nearest.t) continue;
     WideNode n = KD(nodes)[stack_node[sp]];
     if (MASQ_STATS) res.nodes = res.nodes + 1;
-    WideHits wh = intersect_wide_node(n, o, inv_d, tmin, res.nearest.t);
+    WideHits wh = padded != 0 ? intersect_wide_node_padded(n, o, inv_d, pad, tmin, res.nearest.t)
+                              : intersect_wide_node(n, o, inv_d, tmin, res.nearest.t);
     ChildOrder co = order_children(wh);
     // Leaves now (nearest first), inner nodes pushed farthest first so nearest pops next.
     for (int k = 0; k < co.n; ++k) {
@@ -106,7 +111,7 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
       for (int j = 0; j < n.count[i]; ++j) {
         int prim = KD(refs)[n.child[i] + j];
         if (MASQ_STATS) res.isect_calls = res.isect_calls + 1;
-        PrimHit ph = intersect_primitive(KD_ARG g, prim, o, d, tmin, res.nearest.t);
+        PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, res.nearest.t);
         res.nearest = nearest_take(res.nearest, ph, prim, geom_id, inst_id);
         if (MASQ_ANY_HIT && res.nearest.prim >= 0) return res; // occlusion: any hit will do
       }
@@ -167,7 +172,8 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
   }
   if (MASQ_SINGLE_BLAS) {
     Instance only = KD(instances)[0];
-    BlasOut bo = traverse_blas(KD_ARG only.blas_root, only.geom, only.scene_inst, wo, wd, tmin, best);
+    BlasOut bo = traverse_blas(KD_ARG only.blas_root, only.geom, only.scene_inst, wo, wd, 0, VEC3(0.0f, 0.0f, 0.0f), wo,
+                               wd, tmin, best);
     if (MASQ_STATS) {
       res.stats.blas_nodes = bo.nodes;
       res.stats.isect_calls = bo.isect_calls;
@@ -199,7 +205,20 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
         vec3 od = affine_vector(m, wd);
         if (MASQ_STATS) res.stats.transforms = res.stats.transforms + 1;
         if (inst.blas_root >= 0) {
-          BlasOut bo = traverse_blas(KD_ARG inst.blas_root, inst.geom, inst.scene_inst, oo, od, tmin, best);
+          // Cluster: boxes in the cluster's frame, primitives on the scene-frame ray.
+          bool cluster = inst.prim == MASQ_INST_CLUSTER;
+          vec3 po = oo;
+          vec3 pd = od;
+          vec3 pad = VEC3(0.0f, 0.0f, 0.0f);
+          if (cluster) {
+            Affine f = affine_from_frame(KD(frames)[inst.scene_inst]);
+            po = affine_point(f, wo);
+            pd = affine_vector(f, wd);
+            if (MASQ_ROBUST) pad = transform_pad(m, wo, wd, wh.tfar[i]);
+          }
+          int padded = (cluster && MASQ_ROBUST) ? 1 : 0;
+          BlasOut bo = traverse_blas(KD_ARG inst.blas_root, inst.geom, inst.scene_inst, oo, od, padded, pad, po, pd,
+                                     tmin, best);
           best = bo.nearest;
           if (MASQ_STATS) {
             res.stats.blas_nodes = res.stats.blas_nodes + bo.nodes;

@@ -98,7 +98,7 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
   for (const std::string& name : backend_names()) {
     std::unique_ptr<Backend> be = backend_or_fail(name);
     if (!be) continue;
-    for (Method m : {Method::Ref, Method::Masq}) {
+    for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
       SCOPED_TRACE(name + " " + method_name(m) + " " + mode_name(opt.mode) + " on " + scene.name);
       be->set_scene(build_accel(scene, m, opt));
       std::vector<kernel::Hit> hits(rays.size());
@@ -118,7 +118,7 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
         std::printf("  fast mode: %d hit/miss, %d primitive, %d t, %d normal differences\n", t.wrong_hit_miss,
                     t.wrong_prim, t.wrong_t, t.wrong_normal);
       }
-      std::printf("[ %-8s %-4s %-6s ] %s: %d rays compared, %d hits, %d ambiguous skipped\n", name.c_str(),
+      std::printf("[ %-8s %-7s %-6s ] %s: %d rays compared, %d hits, %d ambiguous skipped\n", name.c_str(),
                   method_name(m), mode_name(opt.mode), scene.name.c_str(), t.compared, t.hits, t.ambiguous);
     }
   }

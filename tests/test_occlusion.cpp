@@ -9,6 +9,7 @@
 #include "scenes/camera.h"
 #include "scenes/generators.h"
 #include <cstdlib>
+#include <ostream>
 #include <gtest/gtest.h>
 
 using namespace masq;
@@ -36,6 +37,7 @@ struct Case {
   std::string backend;
   Method method;
 };
+void PrintTo(const Case& c, std::ostream* os) { *os << c.backend << " " << method_name(c.method); }
 
 class Occlusion : public ::testing::TestWithParam<Case> {};
 
@@ -84,7 +86,7 @@ TEST_P(Occlusion, AgreesWithTheOracleAndStopsEarly) {
 std::vector<Case> cases() {
   std::vector<Case> out;
   for (const std::string& b : backend_names())
-    for (Method m : {Method::Ref, Method::Masq}) out.push_back({b, m});
+    for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) out.push_back({b, m});
   return out;
 }
 

@@ -6,9 +6,16 @@
 //   Method::Masq: one BLAS holding the unit box (padded, see kUnitBoxMargin), one TLAS
 //                 instance per primitive mapping it onto the primitive's OBB; triangle
 //                 geometries keep a triangle BLAS per geometry.
+//   Method::Cluster (and auto's clusters): one AABB BLAS per cluster over its members'
+//                 local boxes, one TLAS instance per (scene instance, cluster) with the
+//                 cluster's local-to-world transform; the instance's SBT record offset
+//                 is where the cluster's member ids (in submission order) start in
+//                 prim_map. auto's ordinary BLAS may hold a subset of a geometry.
 // lavapipe builds its BVH in submission order without sorting, so primitives and
 // instances are submitted in the order of masq's own BVH leaves (PackedScene's
 // geometry_leaf_order and tlas_leaf_order).
+#include "bvh/cluster_blas.h"
+#include "bvh/obb.h"
 #include "bvh/prim_bounds.h"
 #include "host/vulkan/acceleration_structures.h"
 #include "host/vulkan/trace_dispatch.h"
@@ -108,6 +115,7 @@ class RayQueryBackend final : public Backend {
     kept_.reset();
     tlas_ = vk::AccelStructure();
     blas_.clear();
+    cluster_blas_.clear();
     unit_box_ = vk::AccelStructure();
     scene_ = vk::SceneBuffers{};
     check_counts(scene);
@@ -115,7 +123,7 @@ class RayQueryBackend final : public Backend {
     upload_prim_map(scene);
     reach_ = origin_reach(scene);
     build_structures(scene);
-    if (scene.features.mode == Mode::Robust && scene.method == Method::Masq) kept_ = scene; // for TLAS rebuilds
+    if (scene.features.mode == Mode::Robust && scene.method != Method::Ref) kept_ = scene; // for TLAS rebuilds
     scene_.bind(layout_);
     layout_.bind_buffer(kBindingPrimMap, prim_map_);
     layout_.bind_acceleration_structure(kBindingTlas, tlas_.handle());
@@ -138,6 +146,7 @@ class RayQueryBackend final : public Backend {
   std::size_t device_bytes() const override {
     std::size_t b = scene_.bytes + prim_map_bytes_ + tlas_.bytes() + unit_box_.bytes();
     for (const auto& [g, as] : blas_) b += as.bytes();
+    for (const auto& [r, as] : cluster_blas_) b += as.bytes();
     return b;
   }
 
@@ -174,7 +183,7 @@ class RayQueryBackend final : public Backend {
     auto n = static_cast<std::size_t>(s.geoms[g].count);
     if (g < s.geometry_leaf_order.size() && !s.geometry_leaf_order[g].empty()) {
       const auto& order = s.geometry_leaf_order[g];
-      if (order.size() != n)
+      if (order.size() > n) // auto keeps a subset in the ordinary BLAS
         throw Error(fmt::format("rayquery: geometry_leaf_order[{}] has {} entries for {} primitives", g,
                                 order.size(), n));
       for (std::int32_t p : order)
@@ -194,10 +203,71 @@ class RayQueryBackend final : public Backend {
       auto order = leaf_order(s, g);
       map.insert(map.end(), order.begin(), order.end());
     }
+    // Each cluster BLAS (keyed by its masq BLAS root): its members in the order of its
+    // refs, which is also the order its boxes are submitted in.
+    cluster_offset_.clear();
+    for (const kernel::Instance& inst : s.instances) {
+      if (inst.prim != MASQ_INST_CLUSTER || cluster_offset_.count(inst.blas_root)) continue;
+      cluster_offset_[inst.blas_root] = static_cast<std::int32_t>(map.size());
+      std::vector<std::int32_t> members = cluster_members(s, inst.blas_root);
+      map.insert(map.end(), members.begin(), members.end());
+    }
+    if (map.size() >= (1u << 24))
+      throw Error(fmt::format("rayquery: the primitive id map has {} entries; SBT record offsets hold 24 bits", map.size()));
     prim_map_bytes_ = map.size() * sizeof(std::int32_t);
     vk::check_storage_range(*ctx_, kName, "primitive id map", prim_map_bytes_);
     prim_map_ = vk::Buffer(*ctx_, prim_map_bytes_, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     prim_map_.upload(map.data(), prim_map_bytes_);
+  }
+
+  // Member ids of the cluster BLAS at node `root`, in depth-first leaf order.
+  static std::vector<std::int32_t> cluster_members(const PackedScene& s, int root) {
+    std::vector<std::int32_t> out;
+    std::vector<int> stack{root};
+    while (!stack.empty()) {
+      const kernel::WideNode& n = s.nodes.at(static_cast<std::size_t>(stack.back()));
+      stack.pop_back();
+      for (int i = 0; i < MASQ_WIDTH; ++i) {
+        if (n.count[i] == 0) stack.push_back(n.child[i]);
+        for (int j = 0; j < n.count[i]; ++j) out.push_back(s.refs.at(static_cast<std::size_t>(n.child[i] + j)));
+      }
+    }
+    return out;
+  }
+
+  // The driver BLAS of a cluster: each member's exact local box under every scene
+  // instance's stored maps (bvh/cluster_blas.h), padded per local axis by twice the
+  // driver's fp32 transform error for any origin within reach_ and any point it can
+  // hit (|t d| <= 3 reach_): 2 (gamma_4 (|S_k|_1 reach + |s_k|) + gamma_3 |S_k|_1 3 reach).
+  const vk::AccelStructure& cluster_blas(const PackedScene& s, int root) {
+    auto it = cluster_blas_.find(root);
+    if (it != cluster_blas_.end()) return it->second;
+    constexpr double kGamma4 = 4.0 * 5.9604645e-8 / (1.0 - 4.0 * 5.9604645e-8);
+    constexpr double kGamma3 = 3.0 * 5.9604645e-8 / (1.0 - 3.0 * 5.9604645e-8);
+    std::vector<std::int32_t> members = cluster_members(s, root);
+    std::vector<Aabb> local(members.size());
+    glm::dvec3 pad(0.0);
+    for (const kernel::Instance& inst : s.instances) {
+      if (inst.prim != MASQ_INST_CLUSTER || inst.blas_root != root) continue;
+      Mat3x4f w2l, frame;
+      std::copy(std::begin(inst.world_to_object), std::end(inst.world_to_object), w2l.begin());
+      const float* f = s.frames.at(static_cast<std::size_t>(inst.scene_inst)).world_to_object;
+      std::copy(f, f + 12, frame.begin());
+      Affine3 realised = realised_object_to_local(w2l, frame);
+      for (std::size_t m = 0; m < members.size(); ++m)
+        local[m].grow(hull_world_box(ball_hull(s, inst.geom, members[m]), realised));
+      for (int k = 0; k < 3; ++k) {
+        const float* row = inst.world_to_object + 4 * k;
+        double a = std::fabs(row[0]) + std::fabs(row[1]) + std::fabs(row[2]);
+        pad[k] = std::max(pad[k], 2.0 * (kGamma4 * (a * reach_ + std::fabs(row[3])) + kGamma3 * a * 3.0 * reach_));
+      }
+    }
+    std::vector<VkAabbPositionsKHR> boxes;
+    boxes.reserve(members.size());
+    for (const Aabb& b : local)
+      boxes.push_back({round_down(b.lo.x - pad.x), round_down(b.lo.y - pad.y), round_down(b.lo.z - pad.z),
+                       round_up(b.hi.x + pad.x), round_up(b.hi.y + pad.y), round_up(b.hi.z + pad.z)});
+    return cluster_blas_.emplace(root, vk::build_aabb_blas(*ctx_, boxes)).first->second;
   }
 
   const vk::AccelStructure& geometry_blas(const PackedScene& s, int g) {
@@ -234,6 +304,7 @@ class RayQueryBackend final : public Backend {
         if (std::isfinite(c)) far = std::max(far, double(std::fabs(c)));
     if (far <= reach_) return;
     reach_ = std::max(2.0 * reach_, far);
+    cluster_blas_.clear(); // their padding depends on the reach
     build_tlas(*kept_);
     layout_.bind_acceleration_structure(kBindingTlas, tlas_.handle());
   }
@@ -254,7 +325,13 @@ class RayQueryBackend final : public Backend {
       e.mask = 0xFF;
       e.instanceShaderBindingTableRecordOffset = 0;
       e.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
-      if (inst.blas_root >= 0) {
+      if (inst.prim == MASQ_INST_CLUSTER) {
+        if (static_cast<std::size_t>(i) >= s.instance_object_to_world.size())
+          throw Error(fmt::format("rayquery: instance {} has no instance_object_to_world transform", i));
+        e.transform = to_vk(s.instance_object_to_world[static_cast<std::size_t>(i)]);
+        e.instanceShaderBindingTableRecordOffset = static_cast<std::uint32_t>(cluster_offset_.at(inst.blas_root));
+        e.accelerationStructureReference = cluster_blas(s, inst.blas_root).address();
+      } else if (inst.blas_root >= 0) {
         e.transform = to_vk(s.frame_object_to_world.at(static_cast<std::size_t>(inst.scene_inst)));
         e.accelerationStructureReference = geometry_blas(s, inst.geom).address();
       } else {
@@ -294,6 +371,8 @@ class RayQueryBackend final : public Backend {
   vk::Buffer prim_map_;
   std::size_t prim_map_bytes_ = 0;
   std::map<int, vk::AccelStructure> blas_;
+  std::map<int, vk::AccelStructure> cluster_blas_;  // by the cluster's masq BLAS root
+  std::map<int, std::int32_t> cluster_offset_;      // its members' start in prim_map
   vk::AccelStructure unit_box_;
   vk::AccelStructure tlas_;
   std::int32_t tlas_count_ = 0;
