@@ -19,7 +19,7 @@ namespace masq {
 
 struct BenchOptions {
   std::vector<std::string> backends = backend_names();
-  std::vector<Method> methods = {Method::Ref, Method::Masq};
+  std::vector<Method> methods = {Method::Ref, Method::Masq, Method::Cluster, Method::Auto};
   std::vector<RaySet> ray_sets = {RaySet::Primary, RaySet::Shadow, RaySet::Diffuse};
   int width = 512;
   int height = 512;

@@ -3,6 +3,7 @@
 // 1/2/4/8 pre-subdivisions), measured once and read by all four views.
 #include "bench/bench_report.h"
 #include "bench/heatmap.h"
+#include "bench/method_compare.h"
 #include "bench/suite.h"
 #include "scenes/curve_tools.h"
 #include "scenes/error.h"
@@ -90,6 +91,7 @@ void collect_hair_measurements(SuiteContext& ctx, bool timed) {
   const bool quick = ctx.config.quick;
   const int w = quick ? 96 : 256, h = quick ? 72 : 192;
   BenchOptions opt = ctx.bench_options(w, h);
+  opt.methods = {Method::Ref, Method::Masq, Method::Cluster, Method::Auto};
   if (!timed) {
     // Only counters and memory (table2, fig9, fig10 without table1): the cpu backend.
     opt.backends = {"cpu"};
@@ -151,7 +153,22 @@ SuiteResult table1_result(const SuiteContext& ctx) {
     }
     res.tables.push_back(t);
   }
-  res.tables.back().notes = {"link = round cone (Han et al.), phantom xk = Reshetov's phantom cubic curve with each curve "
+  Table mt;
+  mt.title = "cluster and auto on the same rays";
+  mt.header = {"scene", "intersector", "rays"};
+  for (const std::string& b : backends) mt.header.push_back(b);
+  mt.left_columns = 3;
+  MethodTally tally;
+  for (const HairCase& c : ctx.hair)
+    for (RaySet set : {RaySet::Primary, RaySet::Shadow, RaySet::Diffuse}) {
+      std::vector<std::string> line = {c.scene, c.variant, ray_set_name(set)};
+      for (const std::string& b : backends) line.push_back(method_cell(c.rows, b, set, tally));
+      mt.add(line);
+    }
+  mt.notes = {method_note(tally)};
+  res.data["auto_target"] = {{"cells", tally.cells}, {"within_5_percent", tally.auto_within}, {"worst", tally.worst}};
+  res.tables.push_back(mt);
+  res.tables[2].notes = {"link = round cone (Han et al.), phantom xk = Reshetov's phantom cubic curve with each curve "
                              "pre-split into k; TressFX strands become Catmull-Rom cubics through the same points",
                              "shadow: rays from the primary hits to a point light; diffuse: cosine-weighted bounces from "
                              "the primary hits (incoherent)"};
@@ -173,11 +190,13 @@ SuiteResult table2_result(const SuiteContext& ctx) {
   res.title = "Table 2: memory per method";
   Table t;
   t.header = {"scene", "intersector", "prims", "common MiB", "ref accel MiB", "ref total MiB", "masq accel MiB",
-              "masq total MiB", "masq +%", "masq B/prim", "rayquery ref MiB", "rayquery masq MiB"};
+              "masq total MiB", "masq +%", "masq B/prim", "cluster total MiB", "cluster +%", "cluster B/prim",
+              "rayquery ref MiB", "rayquery masq MiB"};
   t.left_columns = 2;
   for (const HairCase& c : ctx.hair) {
     const BenchRow* r = any_row(c, Method::Ref);
     const BenchRow* m = any_row(c, Method::Masq);
+    const BenchRow* cl = any_row(c, Method::Cluster);
     if (!r || !m || !r->accel_bytes) continue;
     const BenchRow* rq_r = find_row(c.rows, "rayquery", Method::Ref, RaySet::Primary);
     const BenchRow* rq_m = find_row(c.rows, "rayquery", Method::Masq, RaySet::Primary);
@@ -186,6 +205,9 @@ SuiteResult table2_result(const SuiteContext& ctx) {
            mib(m->accel_bytes), mib(masq_total),
            fmt::format("+{:.0f}%", 100.0 * (double(masq_total) / double(ref_total) - 1.0)),
            fmt::format("{:.1f}", double(m->accel_bytes) / double(std::max<std::size_t>(1, c.primitives))),
+           cl ? mib(cl->prim_bytes + cl->accel_bytes) : "n/a",
+           cl ? fmt::format("{:+.0f}%", 100.0 * (double(cl->prim_bytes + cl->accel_bytes) / double(ref_total) - 1.0)) : "n/a",
+           cl ? fmt::format("{:.1f}", double(cl->accel_bytes) / double(std::max<std::size_t>(1, c.primitives))) : "n/a",
            rq_r ? mib(rq_r->device_bytes) : "n/a", rq_m ? mib(rq_m->device_bytes) : "n/a"});
     res.data.push_back({{"scene", c.scene},
                         {"variant", c.variant},
@@ -193,6 +215,7 @@ SuiteResult table2_result(const SuiteContext& ctx) {
                         {"common_bytes", r->prim_bytes},
                         {"ref_accel_bytes", r->accel_bytes},
                         {"masq_accel_bytes", m->accel_bytes},
+                        {"cluster_accel_bytes", cl ? cl->accel_bytes : 0},
                         {"rayquery_ref_device_bytes", rq_r ? rq_r->device_bytes : 0},
                         {"rayquery_masq_device_bytes", rq_m ? rq_m->device_bytes : 0}});
   }

@@ -184,7 +184,7 @@ Action add_bench(CLI::App& app) {
   cmd->add_flag("--error", c->error_mode,
                 "Run time against error: every curve intersector variant vs the long-double oracle (Pareto table)");
   cmd->add_option("--backend", c->backends, "Backends to run (default: all)")->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
-  cmd->add_option("--method", c->methods, "Methods to run: ref masq cluster auto (default: ref masq)")->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
+  cmd->add_option("--method", c->methods, "Methods to run: ref masq cluster auto (default: all four)")->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
   c->width_opt = cmd->add_option("--width", c->bench.width, "Rays per row")->capture_default_str()->check(CLI::Range(1, 16384));
   c->height_opt = cmd->add_option("--height", c->bench.height, "Rows of rays")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--warmup", c->bench.warmup, "Untimed traces first")->capture_default_str()->check(CLI::NonNegativeNumber);

@@ -1,0 +1,34 @@
+#include "bench/method_compare.h"
+#include "bench/bench_report.h"
+#include <algorithm>
+#include <fmt/format.h>
+
+namespace masq {
+
+std::string method_cell(const std::vector<BenchRow>& rows, const std::string& backend, RaySet set, MethodTally& tally) {
+  const BenchRow* ref = find_row(rows, backend, Method::Ref, set);
+  const BenchRow* masq = find_row(rows, backend, Method::Masq, set);
+  const BenchRow* cluster = find_row(rows, backend, Method::Cluster, set);
+  const BenchRow* automatic = find_row(rows, backend, Method::Auto, set);
+  std::string c = ref && cluster ? fmt::format("{:.2f}x", cluster->mrays_per_s() / ref->mrays_per_s()) : "n/a";
+  std::string a = "n/a";
+  if (ref && masq && automatic) {
+    double best = std::max(ref->mrays_per_s(), masq->mrays_per_s());
+    double r = automatic->mrays_per_s() / best;
+    a = fmt::format("{:.2f}x", r);
+    tally.cells++;
+    tally.auto_within += r >= 0.95;
+    tally.worst = tally.cells == 1 ? r : std::min(tally.worst, r);
+  }
+  return c + " / " + a;
+}
+
+std::string method_note(const MethodTally& tally) {
+  std::string held = tally.cells == 0 ? std::string("no cell had ref, masq and auto")
+                                      : fmt::format("auto within 5% of the better of ref and masq in {} of {} cells "
+                                                    "(worst {:.2f}x)",
+                                                    tally.auto_within, tally.cells, tally.worst);
+  return "each backend: cluster/ref speedup / auto over the better of ref and masq (rays/s, same rays); " + held;
+}
+
+} // namespace masq
