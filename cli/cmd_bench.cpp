@@ -179,7 +179,7 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--out", c->out_dir, "Suites: output directory of RESULTS.md, results.json and images (default: "
                                         "bench/results, with --quick bench/results-quick)");
   cmd->add_option("--data", c->data_dir, "Suites: directory of the shared scenes (default: $MASQ_DATA or " MASQ_DATA_DIR ")");
-  cmd->add_flag("--quiet", c->quiet, "No progress display");
+  cmd->add_flag("-q,--quiet", c->quiet, "No progress display");
   cmd->footer("Examples:\n"
               "  masq bench                                   default bundle, every backend x method x ray set\n"
               "  masq bench --file bear.tfx --prim curve --subdiv 4 --backend cpu --rays primary\n"
