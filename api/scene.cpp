@@ -25,7 +25,7 @@ Scene& Scene::operator=(const Scene& o) {
   if (this != &o) impl_ = std::make_unique<Impl>(*o.impl_);
   return *this;
 }
-// A moved-from Scene stays usable (empty), so moves allocate a fresh Impl.
+// Moves do not allocate: a moved-from Scene may only be assigned to or destroyed.
 Scene::Scene(Scene&& o) noexcept : impl_(std::move(o.impl_)) {}
 Scene& Scene::operator=(Scene&& o) noexcept {
   std::swap(impl_, o.impl_);

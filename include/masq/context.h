@@ -52,7 +52,8 @@ struct Timing {
   double trace_seconds = 0;   ///< last trace: device time where the backend measures it, else wall time
 };
 
-/// One backend on one device. Owns its device resources; movable, not copyable.
+/// One backend on one device. Owns its device resources; movable, not copyable (a
+/// moved-from Context throws masq::Error from trace).
 ///
 /// Thread safety: a Context must be used by one thread at a time. Distinct Contexts may
 /// be used from different threads at the same time (also two on the same backend: Vulkan

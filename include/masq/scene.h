@@ -17,7 +17,8 @@ struct LoadOptions {
   bool round_cones = false;   ///< strands as round cones (radius interpolated) instead of capsules
 };
 
-/// An in-memory scene. A value type: copies are deep, moves are cheap. Not thread-safe
+/// An in-memory scene. A value type: copies are deep, moves are cheap (a moved-from
+/// Scene may only be assigned to or destroyed). Not thread-safe
 /// for writing; const member functions may be called from several threads at once.
 ///
 /// Geometries are added with add_triangles/add_capsules/...; each call makes one
