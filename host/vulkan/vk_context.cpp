@@ -69,7 +69,7 @@ std::weak_ptr<Context> g_contexts[2];
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 std::atomic<std::uint64_t> g_validation_errors{0};
-std::mutex g_first_error_mutex;
+std::mutex g_last_error_mutex;
 std::string g_last_error; // the latest validation error's message, for the exception
 
 VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
@@ -78,7 +78,7 @@ VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(VkDebugUtilsMessageSeverity
   const char* msg = data && data->pMessage ? data->pMessage : "(no message)";
   if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
     std::fprintf(stderr, "vulkan validation error: %s\n", msg);
-    std::lock_guard<std::mutex> lock(g_first_error_mutex);
+    std::lock_guard<std::mutex> lock(g_last_error_mutex);
     g_last_error = msg;
     g_validation_errors.fetch_add(1);
   } else {
@@ -267,7 +267,7 @@ void Context::check_validation() {
   if (now == validation_errors_seen_) return;
   std::uint64_t fresh = now - validation_errors_seen_;
   validation_errors_seen_ = now;
-  std::lock_guard<std::mutex> lock(g_first_error_mutex);
+  std::lock_guard<std::mutex> lock(g_last_error_mutex);
   throw Error(fmt::format("vulkan: {} validation error(s) (MASQ_VK_VALIDATION), the last: {}", fresh, g_last_error));
 }
 
