@@ -198,14 +198,14 @@ Action add_bench(CLI::App& app) {
   cmd->add_flag("--fit-prices", c->fit_prices,
                 "Fit the auto method's cost-model prices per backend to the measured rows (docs/methods.md)");
   cmd->add_option("--json", c->json_path, "Also write every raw figure as JSON");
-  cmd->add_option("--suite", c->suites, "Reproduce the papers' tables: fig3 table1 table2 fig9 fig10 error peers, or all; "
+  cmd->add_option("--suite", c->suites, "Reproduce the papers' tables: fig3 table1 table2 fig9 fig10 error peers bv, or all; "
                                         "writes OUT/RESULTS.md and OUT/results.json")
       ->check(CLI::IsMember({"fig3", "table1", "table2", "fig9", "fig10", "error", "peers", "bv", "all"}));
   cmd->add_flag("--quick", c->quick, "Suites: the small variant (< 3 minutes on 2 cores)");
   cmd->add_option("--out", c->out_dir, "Suites: output directory of RESULTS.md, results.json and images (default: "
                                         "bench/results, with --quick bench/results-quick)");
   cmd->add_option("--data", c->data_dir, "Suites: directory of the shared scenes (default: $MASQ_DATA or " MASQ_DATA_DIR ")");
-  cmd->add_flag("--quiet", c->quiet, "No progress display");
+  cmd->add_flag("-q,--quiet", c->quiet, "No progress display");
   cmd->footer("Examples:\n"
               "  masq bench                                   default bundle, every backend x method x ray set\n"
               "  masq bench --file bear.tfx --prim curve --subdiv 4 --backend cpu --rays primary\n"

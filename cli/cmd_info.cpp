@@ -6,7 +6,10 @@
 namespace masq::cli {
 
 Action add_info(CLI::App& app) {
-  app.add_subcommand("info", "List backends, devices and driver versions (and why any is unavailable)");
+  CLI::App* cmd = app.add_subcommand("info", "List backends, devices and driver versions (and why any is unavailable)");
+  cmd->footer("Examples:\n"
+              "  masq info                                    exit 0 when at least one backend runs here, else 1\n"
+              "  VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json masq info   pick the Vulkan driver");
   return [] {
     int available = 0;
     for (const std::string& name : backend_names()) {

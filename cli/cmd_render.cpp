@@ -63,12 +63,20 @@ Action add_render(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render a shaded image and an intersector-call heatmap");
   add_scene_options(*cmd, o->scene);
-  cmd->add_option("--backend", o->backend, "cpu, vulkan, opencl or rayquery")->capture_default_str();
-  cmd->add_option("--method", o->method, "ref, masq, cluster or auto")->capture_default_str()->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
+  cmd->add_option("--backend", o->backend, "cpu, vulkan, opencl or rayquery")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
+  cmd->add_option("--method", o->method, "ref, masq, cluster or auto")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
   cmd->add_option("--width", o->width, "Image width")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--height", o->height, "Image height")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--out", o->out, "Output prefix: PREFIX_shaded.EXT and PREFIX_heat.EXT")->capture_default_str();
   cmd->add_option("--format", o->ext, "png or exr")->capture_default_str()->check(CLI::IsMember({"png", "exr"}));
+  cmd->footer("Examples:\n"
+              "  masq render                                  default bundle on cpu -> masq_shaded.png, masq_heat.png\n"
+              "  masq render --backend vulkan --method ref --out bundle\n"
+              "  masq render --file scene.json --width 1024 --height 768 --format exr");
   return [o] { return render(*o); };
 }
 

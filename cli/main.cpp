@@ -13,7 +13,10 @@ int main(int argc, char** argv) {
              "  masq bench --prim curve --subdiv 4 --mode fast\n"
              "  masq render --backend vulkan --out bundle   # bundle_shaded.png, bundle_heat.png\n"
              "  masq stress --quick                 # numerical stress suite vs the long-double oracle\n"
-             "Exit codes: 0 ok, 1 error (message on stderr), 2 bad usage.");
+             "Every subcommand's --help shows its own examples (masq bench --help).\n"
+             "Exit codes: 0 ok; 1 runtime error, one line on stderr (bad scene file, device or driver\n"
+             "failure, `info` finding no backend, `stress --check` bounds missed); 2 usage error\n"
+             "(unknown subcommand, option or value; the message names it).");
   app.require_subcommand(1);
   masq::cli::Action action;
   masq::cli::Action info = masq::cli::add_info(app);

@@ -3,6 +3,7 @@
 // acceleration structures). Drivers (CLI, bench, tests) use only this header.
 #pragma once
 #include "bvh/packed_scene.h"
+#include "masq/error.h"
 #include <memory>
 #include <span>
 #include <string>
@@ -11,10 +12,8 @@
 
 namespace masq {
 
-class BackendUnavailable : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error; // one line: "<backend>: <why>"
-};
+// BackendUnavailable (one line: "<backend>: <why>") is defined in the public
+// include/masq/error.h.
 
 enum class Query { Closest, Any };
 const char* query_name(Query q); // "closest", "any"

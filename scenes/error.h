@@ -1,11 +1,4 @@
 #pragma once
-#include <stdexcept>
-#include <string>
-
-namespace masq {
-// Every error masq reports: what failed and why, in one line.
-class Error : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-} // namespace masq
+// masq::Error (and BackendUnavailable) are defined once in the public header so the
+// library's users catch the very types its internals throw.
+#include "masq/error.h"

@@ -29,7 +29,10 @@ PrimType parse_prim_type(const std::string& key) {
 
 std::size_t Scene::primitive_count() const {
   std::size_t n = 0;
-  for (const Instance& inst : instances) n += geometries[inst.geometry].primitive_count();
+  // Callable before validate_scene (found by ASan: EmbreePeer::set_scene counted first):
+  // an instance of a geometry that does not exist counts nothing; validation names it.
+  for (const Instance& inst : instances)
+    if (inst.geometry < geometries.size()) n += geometries[inst.geometry].primitive_count();
   return n;
 }
 

@@ -44,6 +44,7 @@ packages=(
   libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev libembree-dev
   python3-matplotlib
+  clang libclang-rt-dev doxygen
 )
 
 need_install=()

@@ -21,7 +21,7 @@ std::string data_dir() { return MASQ_DATA_DIR; }
 
 std::vector<std::byte> bytes_of(const std::string& s) {
   std::vector<std::byte> b(s.size());
-  std::memcpy(b.data(), s.data(), s.size());
+  if (!s.empty()) std::memcpy(b.data(), s.data(), s.size()); // memcpy(nullptr, .., 0) is UB (UBSan)
   return b;
 }
 

@@ -2,6 +2,8 @@
 #include "host/backend.h"
 #include "host/vulkan/vulkan_backends.h"
 #include <fmt/format.h>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
 #include <vector>
@@ -15,7 +17,18 @@ const char* const kRayQueryExtensions[] = {
     VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
 };
 
+// Fault injection for tests: MASQ_VK_HIDE_EXTENSIONS="VK_KHR_ray_query,..." makes the
+// named device extensions look absent, so the missing-extension path runs on a driver
+// that has them (tests/test_device_faults.cpp).
+bool hidden_extension(const char* name) {
+  const char* hide = std::getenv("MASQ_VK_HIDE_EXTENSIONS");
+  if (!hide) return false;
+  std::string list = std::string(",") + hide + ",";
+  return list.find(std::string(",") + name + ",") != std::string::npos;
+}
+
 bool has_extension(VkPhysicalDevice pd, const char* name) {
+  if (hidden_extension(name)) return false;
   std::uint32_t n = 0;
   vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
   std::vector<VkExtensionProperties> exts(n);
@@ -54,6 +67,41 @@ std::string ray_query_gap(VkPhysicalDevice pd) {
 std::mutex g_mutex;
 std::weak_ptr<Context> g_contexts[2];
 
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+std::atomic<std::uint64_t> g_validation_errors{0};
+std::mutex g_last_error_mutex;
+std::string g_last_error; // the latest validation error's message, for the exception
+
+VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                     VkDebugUtilsMessageTypeFlagsEXT,
+                                                     const VkDebugUtilsMessengerCallbackDataEXT* data, void*) {
+  const char* msg = data && data->pMessage ? data->pMessage : "(no message)";
+  if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+    std::fprintf(stderr, "vulkan validation error: %s\n", msg);
+    std::lock_guard<std::mutex> lock(g_last_error_mutex);
+    g_last_error = msg;
+    g_validation_errors.fetch_add(1);
+  } else {
+    std::fprintf(stderr, "vulkan validation warning: %s\n", msg);
+  }
+  return VK_FALSE; // never abort the call: the error is reported at the next submission
+}
+
+bool validation_requested() {
+  const char* v = std::getenv("MASQ_VK_VALIDATION");
+  return v && *v && std::strcmp(v, "0") != 0;
+}
+
+bool instance_has_layer(const char* name) {
+  std::uint32_t n = 0;
+  vkEnumerateInstanceLayerProperties(&n, nullptr);
+  std::vector<VkLayerProperties> layers(n);
+  vkEnumerateInstanceLayerProperties(&n, layers.data());
+  for (const auto& l : layers)
+    if (std::strcmp(l.layerName, name) == 0) return true;
+  return false;
+}
+
 } // namespace
 
 std::shared_ptr<Context> Context::get(const char* backend, bool ray_query) {
@@ -75,10 +123,35 @@ void Context::create(const char* backend, bool want_ray_query) {
   app.apiVersion = VK_API_VERSION_1_2;
   VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   ici.pApplicationInfo = &app;
+  VkDebugUtilsMessengerCreateInfoEXT mci{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  mci.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+  mci.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
+  mci.pfnUserCallback = on_validation_message;
+  const char* const layers[] = {kValidationLayer};
+  const char* const extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  const bool validate = validation_requested();
+  if (validate) {
+    // A missing layer is an error, not a silent run without checks.
+    if (!instance_has_layer(kValidationLayer))
+      unavailable(fmt::format("MASQ_VK_VALIDATION is set but the layer {} is not installed "
+                              "(Debian: vulkan-validationlayers)", kValidationLayer));
+    ici.enabledLayerCount = 1;
+    ici.ppEnabledLayerNames = layers;
+    ici.enabledExtensionCount = 1;
+    ici.ppEnabledExtensionNames = extensions;
+    ici.pNext = &mci; // also reports errors of vkCreateInstance/vkDestroyInstance
+  }
   VkResult r = vkCreateInstance(&ici, nullptr, &instance);
   if (r != VK_SUCCESS) {
     instance = VK_NULL_HANDLE;
     unavailable(fmt::format("no Vulkan driver (vkCreateInstance: {})", result_name(r)));
+  }
+  if (validate) {
+    auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+    if (!create_messenger) unavailable("MASQ_VK_VALIDATION: no vkCreateDebugUtilsMessengerEXT");
+    MASQ_VK_CHECK(create_messenger(instance, &mci, nullptr, &messenger_));
+    validation_errors_seen_ = g_validation_errors.load();
   }
 
   std::uint32_t n = 0;
@@ -178,7 +251,24 @@ Context::~Context() {
     if (command_pool) vkDestroyCommandPool(device, command_pool, nullptr);
     vkDestroyDevice(device, nullptr);
   }
+  if (messenger_) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+    if (destroy) destroy(instance, messenger_, nullptr);
+  }
   if (instance) vkDestroyInstance(instance, nullptr);
+}
+
+std::uint64_t Context::validation_error_count() { return g_validation_errors.load(); }
+
+void Context::check_validation() {
+  if (!messenger_) return;
+  std::uint64_t now = g_validation_errors.load();
+  if (now == validation_errors_seen_) return;
+  std::uint64_t fresh = now - validation_errors_seen_;
+  validation_errors_seen_ = now;
+  std::lock_guard<std::mutex> lock(g_last_error_mutex);
+  throw Error(fmt::format("vulkan: {} validation error(s) (MASQ_VK_VALIDATION), the last: {}", fresh, g_last_error));
 }
 
 std::string Context::device_name() const {
@@ -193,6 +283,7 @@ std::uint64_t Context::max_storage_buffer_range() const {
 }
 
 VkCommandBuffer Context::begin_commands() {
+  std::unique_lock<std::mutex> lock(submit_mutex_);
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   ai.commandPool = command_pool;
   ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -206,6 +297,7 @@ VkCommandBuffer Context::begin_commands() {
     vkFreeCommandBuffers(device, command_pool, 1, &cmd);
     throw_vk_error("vkBeginCommandBuffer", r, __FILE__, __LINE__);
   }
+  lock.release(); // held until submit_and_wait returns
   return cmd;
 }
 
@@ -217,6 +309,7 @@ void Context::submit_and_wait(VkCommandBuffer cmd) {
     ~Free() {
       if (f) vkDestroyFence(c->device, f, nullptr);
       vkFreeCommandBuffers(c->device, c->command_pool, 1, &b);
+      c->submit_mutex_.unlock(); // taken by begin_commands
     }
   } guard{this, cmd};
   MASQ_VK_CHECK(vkEndCommandBuffer(cmd));
@@ -227,6 +320,7 @@ void Context::submit_and_wait(VkCommandBuffer cmd) {
   si.pCommandBuffers = &cmd;
   MASQ_VK_CHECK(vkQueueSubmit(queue, 1, &si, guard.f));
   MASQ_VK_CHECK(vkWaitForFences(device, 1, &guard.f, VK_TRUE, UINT64_MAX));
+  check_validation();
 }
 
 } // namespace masq::vk

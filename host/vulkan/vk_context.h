@@ -5,7 +5,9 @@
 #include "host/vulkan/vk_check.h"
 #include <vulkan/vulkan.h>
 #include <cstdint>
+#include <atomic>
 #include <memory>
+#include <mutex>
 #include <string>
 
 namespace masq::vk {
@@ -46,13 +48,29 @@ class Context {
   std::uint64_t max_storage_buffer_range() const;
 
   // One-shot command buffer: begin, record, then submit_and_wait (blocks, frees it).
+  // Backends on several threads share this context's command pool and queue, which
+  // Vulkan requires to be externally synchronised: begin_commands takes a lock that
+  // submit_and_wait releases, so recording in between must not throw, and a thread
+  // must not begin a second command buffer before submitting the first.
   VkCommandBuffer begin_commands();
   void submit_and_wait(VkCommandBuffer cmd);
+
+  // MASQ_VK_VALIDATION=1: VK_LAYER_KHRONOS_validation is enabled with a debug messenger
+  // that prints every error and counts it; submit_and_wait then throws masq::Error
+  // naming the first new error, so a test cannot pass over a validation error.
+  bool validation() const { return messenger_ != VK_NULL_HANDLE; }
+  // Validation errors reported by any context of this process.
+  static std::uint64_t validation_error_count();
 
  private:
   Context() = default;
   void create(const char* backend, bool want_ray_query);
+  void enable_validation(VkInstanceCreateInfo& ici);
+  void check_validation();
   std::string driver_info_;
+  std::mutex submit_mutex_;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  std::uint64_t validation_errors_seen_ = 0;
 };
 
 } // namespace masq::vk

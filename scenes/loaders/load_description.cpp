@@ -306,6 +306,10 @@ Scene load_description_text(const std::string& text, const std::string& name, co
     root = json::parse(text);
   } catch (const json::parse_error& e) {
     throw Error(name + ": JSON syntax error at byte " + std::to_string(e.byte) + ": " + e.what());
+  } catch (const json::exception& e) {
+    // Found by fuzzing: a number out of double range ("1E319") is out_of_range, not a
+    // parse_error, and escaped as a non-masq exception.
+    throw Error(name + ": bad JSON: " + e.what());
   }
   if (!root.is_object()) throw Error(name + ": expected a JSON object at the top level");
   check_keys(c, root, "", {"name", "camera", "objects"});

@@ -151,9 +151,11 @@ Scene load_nff(std::span<const std::byte> data, const std::string& name, const L
       double n = tk.number(L, "polygon vertex count");
       if (n != std::floor(n) || n < 3)
         tk.fail(L, "polygon with " + std::to_string(n) + " vertices (needs an integer >= 3)");
+      // Range-check before the cast (found by fuzzing: "p 3.9e29" or "p inf" made the
+      // double -> integer conversion undefined).
+      if (!(n + double(tris.vertices.size()) <= 4294967295.0)) tk.fail(L, "too many polygon vertices");
       const auto count = static_cast<std::uint64_t>(n);
       const auto first = static_cast<std::uint32_t>(tris.vertices.size());
-      if (tris.vertices.size() + count > 0xffffffffull) tk.fail(L, "too many polygon vertices");
       for (std::uint64_t i = 0; i < count; ++i) {  // grows as vertices are actually read
         tris.vertices.push_back(glm::vec3(vec(L, "polygon vertex " + std::to_string(i))));
         if (normals) vec(L, "polygon normal " + std::to_string(i));

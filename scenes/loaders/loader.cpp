@@ -4,12 +4,19 @@
 #include <cmath>
 #include <sstream>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 
 namespace masq {
 
 std::vector<std::byte> read_file_bytes(const std::string& path) {
+  // A directory, FIFO or device (/dev/zero, a path in a scene description) would be
+  // read forever or give a meaningless size: only regular files are scene files.
+  std::error_code ec;
+  auto st = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+    throw Error(path + ": not a regular file");
   std::ifstream f(path, std::ios::binary | std::ios::ate);
   if (!f) throw Error(path + ": cannot open (" + std::strerror(errno) + ")");
   std::streamoff n = f.tellg();

@@ -1,0 +1,20 @@
+// The private halves of the public API's pimpl classes (include/masq/). Only api/*.cpp
+// include this; it is not installed.
+#pragma once
+#include "bvh/build_accel.h"
+#include "masq/context.h"
+#include "scenes/scene.h"
+
+namespace masq::api {
+
+struct Scene::Impl {
+  masq::Scene scene;
+  bool has_camera = false; // a loaded description's own camera; else camera_rays frames the scene
+};
+
+struct Accel::Impl {
+  masq::PackedScene packed;
+  AccelOptions options;
+};
+
+} // namespace masq::api

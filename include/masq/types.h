@@ -1,0 +1,104 @@
+/// @file masq/types.h
+/// Plain value types of the public API: vectors, rays, hits, primitives, transforms.
+/// Rays, hits and counters have the same 32/48/16-byte layouts as the kernels' own
+/// structs, so a batch crosses into a backend with one copy.
+#pragma once
+#include <array>
+#include <cstdint>
+
+namespace masq::api {
+
+/// A point or direction in single precision.
+struct Vec3 {
+  float x = 0, y = 0, z = 0;
+};
+
+/// How thin primitives are bounded in the acceleration structure.
+enum class Method {
+  Ref,  ///< one BLAS of primitive AABBs per geometry (the paper's reference method)
+  Masq, ///< one TLAS instance per thin primitive, its transform mapping the unit box onto the primitive's OBB
+  Cluster, ///< one TLAS instance per cluster of similarly oriented thin primitives, its BLAS built in the cluster's frame
+  Auto, ///< per cluster, the cheapest of a plain BLAS leaf, masquerade instances or a cluster (a cost model)
+};
+
+/// Which intersectors and box test the kernels use.
+enum class Mode {
+  Robust, ///< fp32-hardened intersectors and a conservatively padded box test (default)
+  Fast,   ///< the intersectors as their papers write them; can miss silhouette hits
+};
+
+/// A ray. dir need not be unit length; t is measured in units of dir. Only hits with
+/// tmin <= t <= tmax count.
+struct Ray {
+  Vec3 org;
+  float tmin = 0.0f;
+  Vec3 dir{0, 0, 1};
+  float tmax = 3.0e38f;
+};
+
+/// The closest hit of one ray. prim < 0 means no hit.
+struct Hit {
+  float t = 0;
+  std::int32_t prim = -1;     ///< primitive index within its geometry
+  std::int32_t geometry = -1; ///< geometry id (as returned by Scene::add_*)
+  std::int32_t instance = -1; ///< instance id (as returned by Scene::add_instance)
+  Vec3 normal;                ///< unit geometric normal in world space
+  float u = 0, v = 0;         ///< triangle barycentrics; strands: axial/curve parameter in u
+  float reserved[3] = {0, 0, 0};
+  bool hit() const { return prim >= 0; }
+};
+
+/// Per-ray traversal counters (filled only when asked for; costs some speed).
+struct RayStats {
+  std::int32_t tlas_nodes = 0;  ///< TLAS wide-node visits
+  std::int32_t blas_nodes = 0;  ///< BLAS wide-node visits, masquerade unit-box tests included
+  std::int32_t transforms = 0;  ///< instance ray transforms
+  std::int32_t isect_calls = 0; ///< primitive intersector calls
+};
+
+/// Capsule: the points within radius of the segment a-b.
+struct Capsule {
+  Vec3 a, b;
+  float radius = 0;
+};
+
+/// Round cone (Han et al.'s "link"): convex hull of the spheres (a, ra) and (b, rb).
+struct RoundCone {
+  Vec3 a;
+  float ra = 0;
+  Vec3 b;
+  float rb = 0;
+};
+
+struct Sphere {
+  Vec3 center;
+  float radius = 0;
+};
+
+/// Cubic Bezier curve (control points p[0..3]) swept by a ball of constant radius.
+struct Curve {
+  std::array<Vec3, 4> p{};
+  float radius = 0;
+};
+
+/// Affine object-to-world transform, row-major 3x4: world = m[.][0..2] * p + m[.][3].
+struct Transform {
+  double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+  static Transform identity() { return {}; }
+  static Transform translation(double x, double y, double z) {
+    Transform t;
+    t.m[0][3] = x;
+    t.m[1][3] = y;
+    t.m[2][3] = z;
+    return t;
+  }
+  static Transform scale(double sx, double sy, double sz) {
+    Transform t;
+    t.m[0][0] = sx;
+    t.m[1][1] = sy;
+    t.m[2][2] = sz;
+    return t;
+  }
+};
+
+} // namespace masq::api

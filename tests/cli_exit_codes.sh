@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The CLI's documented exit codes and per-subcommand examples (ctest: cli_exit_codes).
+# Usage: cli_exit_codes.sh path/to/masq
+set -uo pipefail
+masq=$1
+fail=0
+expect() { # expect CODE ARGS...: run masq ARGS, check its exit code
+  local want=$1; shift
+  "$masq" "$@" >/tmp/masq_cli_out.$$ 2>&1
+  local got=$?
+  if [ "$got" -ne "$want" ]; then
+    echo "FAIL: masq $* exited $got, expected $want"; sed 's/^/  | /' /tmp/masq_cli_out.$$ | tail -5; fail=1
+  fi
+}
+expect 0 --help
+for sub in info render bench stress; do
+  expect 0 "$sub" --help
+  # Captured first: `masq ... | grep -q` under pipefail fails when grep stops reading early.
+  help=$("$masq" "$sub" --help)
+  if ! grep -q '^Examples:' <<<"$help"; then echo "FAIL: masq $sub --help shows no examples"; fail=1; fi
+done
+help=$("$masq" --help)
+grep -q 'Exit codes' <<<"$help" || { echo "FAIL: masq --help does not document exit codes"; fail=1; }
+expect 2                                   # no subcommand
+expect 2 frobnicate
+expect 2 bench --backend nope
+expect 2 render --method nope
+expect 2 stress --rays 1
+expect 2 render --width 0
+expect 1 render --backend cpu --file /nonexistent/scene.obj --out /tmp/masq_cli_exit
+expect 1 render --backend cpu --file "$0" --out /tmp/masq_cli_exit   # unknown extension .sh
+rm -f /tmp/masq_cli_out.$$
+[ $fail -eq 0 ] && echo "cli exit codes: ok"
+exit $fail

@@ -1,0 +1,242 @@
+// The public API (include/masq/) on its own: only masq/*.h is included, the test links
+// masq::masq alone. Scenes from arrays and files, both methods, every backend, errors,
+// and two contexts on two threads at once.
+#include "masq/masq.h"
+#include <gtest/gtest.h>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <thread>
+
+using namespace masq::api;
+
+namespace {
+
+bool allow_missing() {
+  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
+  return v && *v && std::string(v) != "0";
+}
+
+// A context on `name`, or nullopt (test skipped) where the backend is missing and that
+// is allowed. A missing backend fails otherwise: setup installs all of them.
+std::unique_ptr<Context> open(const std::string& name) {
+  try {
+    return std::make_unique<Context>(name);
+  } catch (const masq::BackendUnavailable& e) {
+    if (!allow_missing()) ADD_FAILURE() << e.what();
+    return nullptr;
+  }
+}
+
+// Rays along +z from z = -5 on a 32 x 32 grid over [-1, 1]^2.
+std::vector<Ray> grid_rays(int n = 32) {
+  std::vector<Ray> rays;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      Ray r;
+      r.org = {-1.0f + 2.0f * (i + 0.5f) / n, -1.0f + 2.0f * (j + 0.5f) / n, -5.0f};
+      r.dir = {0, 0, 1};
+      rays.push_back(r);
+    }
+  return rays;
+}
+
+// One capsule along x at y = 0 of radius 0.1, one round cone, one sphere at (0.5,0.5,0)
+// and two triangles at z = 2 behind everything.
+Scene mixed_scene() {
+  Scene s;
+  Capsule c{{-0.8f, 0, 0}, {0.8f, 0, 0}, 0.1f};
+  s.add_capsules({&c, 1});
+  RoundCone rc{{-0.5f, -0.6f, 0}, 0.05f, {-0.5f, -0.9f, 0}, 0.02f};
+  s.add_round_cones({&rc, 1});
+  Sphere sp{{0.5f, 0.5f, 0}, 0.2f};
+  s.add_spheres({&sp, 1});
+  Curve cu{{{{0.2f, -0.5f, 0}, {0.4f, -0.3f, 0}, {0.6f, -0.7f, 0}, {0.8f, -0.5f, 0}}}, 0.03f};
+  s.add_curves({&cu, 1});
+  Vec3 v[] = {{-2, -2, 2}, {2, -2, 2}, {2, 2, 2}, {-2, 2, 2}};
+  std::uint32_t idx[] = {0, 1, 2, 0, 2, 3};
+  s.add_triangles(v, idx);
+  return s;
+}
+
+int count_geometry(const std::vector<Hit>& hits, int g) {
+  int n = 0;
+  for (const Hit& h : hits) n += h.geometry == g;
+  return n;
+}
+
+} // namespace
+
+TEST(Api, EveryBackendAndMethodAgreeOnAMixedScene) {
+  Scene scene = mixed_scene();
+  std::vector<Ray> rays = grid_rays();
+  std::vector<Hit> reference;
+  for (Method m : {Method::Ref, Method::Masq}) {
+    Accel accel = Accel::build(scene, {m, Mode::Robust});
+    EXPECT_EQ(accel.stats().instances, 5u); // ref: 5 scene instances; masq: 4 thin prims + the triangle BLAS
+    for (const std::string& b : Context::backends()) {
+      auto ctx = open(b);
+      if (!ctx) continue;
+      SCOPED_TRACE(b + " " + (m == Method::Ref ? "ref" : "masq"));
+      std::vector<Hit> hits = ctx->trace(accel, rays);
+      // Every ray ends on the triangles at worst. The capsule (|x| < 0.8, radius 0.1)
+      // covers the rows y = +-1/32 and +-3/32 over 26 columns (|x| <= 0.78125); the
+      // round caps add the columns x = +-0.84375 on the two rows y = +-1/32
+      // (distance 0.054 from the end points), so 4 * 26 + 2 * 2 hits.
+      for (const Hit& h : hits) ASSERT_TRUE(h.hit());
+      EXPECT_EQ(count_geometry(hits, 0), 4 * 26 + 4);
+      EXPECT_GT(count_geometry(hits, 1), 0);
+      EXPECT_GT(count_geometry(hits, 2), 0);
+      EXPECT_GT(count_geometry(hits, 3), 0);
+      if (reference.empty()) {
+        reference = hits;
+        continue;
+      }
+      for (std::size_t i = 0; i < hits.size(); ++i) {
+        ASSERT_EQ(hits[i].geometry, reference[i].geometry) << "ray " << i;
+        ASSERT_NEAR(hits[i].t, reference[i].t, 1e-4f) << "ray " << i;
+      }
+    }
+  }
+}
+
+TEST(Api, InstancesTransformsStatsAndOcclusion) {
+  Scene s;
+  Sphere sp{{0, 0, 0}, 0.25f};
+  std::uint32_t g = s.add_spheres({&sp, 1});
+  s.add_instance(g, Transform::translation(-0.5, 0, 0));
+  s.add_instance(g, Transform::translation(0.5, 0, 0));
+  EXPECT_EQ(s.instance_count(), 2u);
+  Accel accel = Accel::build(s);
+  Context ctx("cpu");
+  Ray rays[3];
+  rays[0].org = {-0.5f, 0, -5};
+  rays[1].org = {0.5f, 0, -5};
+  rays[2].org = {0, 0, -5};
+  std::vector<Hit> hits(3);
+  std::vector<RayStats> stats(3);
+  ctx.trace(accel, rays, hits, stats);
+  EXPECT_EQ(hits[0].instance, 0);
+  EXPECT_EQ(hits[1].instance, 1);
+  EXPECT_FALSE(hits[2].hit());
+  EXPECT_NEAR(hits[0].t, 4.75f, 1e-5f);
+  EXPECT_NEAR(hits[0].normal.z, -1.0f, 1e-5f);
+  EXPECT_GT(stats[0].isect_calls, 0);
+  // Occlusion honours tmax: the sphere at t = 4.75 is beyond tmax = 4.
+  rays[0].tmax = 4.0f;
+  std::uint8_t occ[3];
+  ctx.occluded(accel, rays, occ);
+  EXPECT_EQ(occ[0], 0);
+  EXPECT_EQ(occ[1], 1);
+  EXPECT_EQ(occ[2], 0);
+}
+
+TEST(Api, LoadsFilesAndFramesACamera) {
+  std::string path = ::testing::TempDir() + "masq_api_test.obj";
+  {
+    std::ofstream f(path);
+    f << "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
+  }
+  Scene s = Scene::load(path);
+  EXPECT_EQ(s.primitive_count(), 1u);
+  std::vector<Ray> rays = s.camera_rays(16, 16);
+  ASSERT_EQ(rays.size(), 256u);
+  Context ctx("cpu");
+  std::vector<Hit> hits = ctx.trace(Accel::build(s, {Method::Ref}), rays);
+  int n = 0;
+  for (const Hit& h : hits) n += h.hit();
+  EXPECT_GT(n, 20); // the framed triangle covers a good part of the view
+  std::remove(path.c_str());
+  EXPECT_THROW(Scene::load("/nonexistent/x.obj"), masq::Error);
+  EXPECT_THROW(Scene::load("scene.unknown"), masq::Error);
+}
+
+TEST(Api, BadInputAndMisuseThrowErrorsNamingTheCause) {
+  auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const masq::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  Scene s;
+  Vec3 v[] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  std::uint32_t bad[] = {0, 1, 7};
+  s.add_triangles(v, bad);
+  EXPECT_NE(message([&] { Accel::build(s); }).find("geometry 0 triangle 0"), std::string::npos);
+  std::uint32_t two[] = {0, 1};
+  EXPECT_NE(message([&] { s.add_triangles(v, two); }).find("multiple of 3"), std::string::npos);
+  EXPECT_NE(message([&] { s.add_instance(5); }).find("geometry 5"), std::string::npos);
+  EXPECT_NE(message([] { Accel::build(Scene{}); }), "(no error)");
+  Capsule nan{{0, 0, 0}, {std::nanf(""), 0, 0}, 0.1f};
+  Scene sn;
+  sn.add_capsules({&nan, 1});
+  EXPECT_NE(message([&] { sn.validate(); }), "(no error)");
+  EXPECT_NE(message([] { Context("nonsense"); }).find("nonsense"), std::string::npos);
+
+  Scene ok;
+  Sphere sp{{0, 0, 0}, 1};
+  ok.add_spheres({&sp, 1});
+  Accel accel = Accel::build(ok);
+  Context ctx("cpu");
+  std::vector<Ray> rays(4);
+  std::vector<Hit> hits(3);
+  EXPECT_NE(message([&] { ctx.trace(accel, rays, hits); }).find("4 rays"), std::string::npos);
+  EXPECT_NE(message([&] { ctx.trace(Accel{}, rays); }).find("not built"), std::string::npos);
+}
+
+// Two contexts on two threads at once give the same hits as one context alone: per
+// backend (two contexts on the same backend share the device and queue) and mixed.
+TEST(Api, TwoContextsOnTwoThreadsMatchOneContext) {
+  Scene scene = mixed_scene();
+  Accel masq_accel = Accel::build(scene, {Method::Masq});
+  Accel ref_accel = Accel::build(scene, {Method::Ref});
+  std::vector<Ray> rays = grid_rays(64);
+  std::vector<Hit> expected = Context("cpu").trace(masq_accel, rays);
+  std::vector<std::pair<std::string, std::string>> pairs = {
+      {"cpu", "cpu"}, {"vulkan", "vulkan"}, {"opencl", "opencl"}, {"rayquery", "vulkan"}, {"cpu", "opencl"}};
+  for (auto [a, b] : pairs) {
+    SCOPED_TRACE(a + " + " + b);
+    auto ca = open(a), cb = open(b);
+    if (!ca || !cb) continue;
+    std::vector<Hit> ha, hb;
+    std::string err_a, err_b;
+    // Several rounds, alternating the two Accels, so uploads and traces interleave.
+    auto work = [&rays, &masq_accel, &ref_accel](Context& c, std::vector<Hit>& out, std::string& err) {
+      try {
+        for (int round = 0; round < 4; ++round) {
+          const Accel& acc = round % 2 ? ref_accel : masq_accel;
+          out = c.trace(acc, rays);
+        }
+        out = c.trace(masq_accel, rays);
+      } catch (const std::exception& e) {
+        err = e.what();
+      }
+    };
+    std::thread ta(work, std::ref(*ca), std::ref(ha), std::ref(err_a));
+    std::thread tb(work, std::ref(*cb), std::ref(hb), std::ref(err_b));
+    ta.join();
+    tb.join();
+    ASSERT_EQ(err_a, "");
+    ASSERT_EQ(err_b, "");
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(ha[i].geometry, expected[i].geometry) << a << " ray " << i;
+      ASSERT_EQ(hb[i].geometry, expected[i].geometry) << b << " ray " << i;
+      ASSERT_NEAR(ha[i].t, expected[i].t, 1e-4f);
+      ASSERT_NEAR(hb[i].t, expected[i].t, 1e-4f);
+    }
+  }
+}
+
+TEST(Api, BestContextOpensAndReportsItself) {
+  auto ctx = open("best");
+  if (!ctx) return;
+  EXPECT_FALSE(ctx->backend().empty());
+  EXPECT_FALSE(ctx->device().empty());
+  EXPECT_FALSE(std::string(version()).empty());
+  std::vector<std::string> avail = Context::available_backends();
+  EXPECT_FALSE(avail.empty());
+}
