@@ -241,8 +241,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
                                 : "Embree: " + embree_why,
              "oracle: of the differing rays (at most 300, evenly spread), how many masq and Embree answer as the "
              "long-double oracle does",
-             "masq best: the fastest of masq's own tracers (cpu, vulkan, opencl x ref, masq); rayquery: the driver's "
-             "BVH with masq's intersectors, best of ref and masq"};
+             "masq best: the fastest of masq's own tracers (cpu, vulkan, opencl x ref, masq, cluster, auto); rayquery: "
+             "the driver's BVH with masq's intersectors, best of its four methods"};
   build.notes = {"masq: host build + upload (first backend), nodes + instances + primitives; Embree: rtcCommitScene, "
                  "memory from Embree's device memory monitor"};
   res.tables = {t, build};
