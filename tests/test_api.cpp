@@ -9,15 +9,13 @@
 #include <fstream>
 #include <string>
 #include <thread>
+#include "tests/test_env.h"
 
 using namespace masq::api;
 
 namespace {
 
-bool allow_missing() {
-  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-  return v && *v && std::string(v) != "0";
-}
+bool allow_missing() { return masq::test::missing_backends_allowed(); }
 
 // A context on `name`, or nullopt (test skipped) where the backend is missing and that
 // is allowed. A missing backend fails otherwise: setup installs all of them.

@@ -21,27 +21,17 @@
 #include <map>
 #include <random>
 #include <tuple>
+#include "tests/random_affine.h"
+#include "tests/test_env.h"
 
 using namespace masq;
+using masq::test::random_affine;
 namespace kv = masq::kernel::v_bv_test;
 
 namespace {
 
 constexpr BvType kTypes[] = {BvType::Aabb, BvType::Sphere, BvType::Obb, BvType::Scb};
 
-Affine3 random_affine(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  glm::dvec3 axis = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
-  double angle = 3.0 * u(rng);
-  glm::dmat3 k(0, axis.z, -axis.y, -axis.z, 0, axis.x, axis.y, -axis.x, 0);
-  glm::dmat3 rot = glm::dmat3(1.0) + std::sin(angle) * k + (1 - std::cos(angle)) * (k * k);
-  glm::dmat3 scale(1.0);
-  for (int i = 0; i < 3; ++i) scale[i][i] = 0.5 + std::abs(u(rng));
-  Affine3 a;
-  a.linear = rot * scale;
-  a.translation = glm::dvec3(u(rng), u(rng), u(rng));
-  return a;
-}
 
 // Every primitive type, thin and dense, plus a mesh; the second instance of the thin
 // geometries is rotated and non-uniformly scaled.
@@ -55,7 +45,7 @@ Scene mixed_scene(std::uint64_t seed) {
   s.geometries.push_back(make_random_curves(30, 0.003f, 0.01f, 1.5, seed + 4));
   std::mt19937_64 rng(seed);
   for (std::uint32_t g = 0; g < 5; ++g) s.instances.push_back({g, {}});
-  for (std::uint32_t g = 1; g < 5; ++g) s.instances.push_back({g, random_affine(rng)});
+  for (std::uint32_t g = 1; g < 5; ++g) s.instances.push_back({g, random_affine(rng, 1.0, 0.5, 1.0)});
   frame_scene(s);
   return s;
 }
@@ -266,14 +256,7 @@ TEST(BvRayTests, ConservativeForPointsInside) {
 namespace {
 
 std::unique_ptr<BvTracer> tracer_or_fail(const std::string& name) {
-  try {
-    return make_bv_tracer(name);
-  } catch (const BackendUnavailable& e) {
-    const char* allow = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-    if (allow != nullptr && std::string(allow) == "1") return nullptr;
-    ADD_FAILURE() << e.what() << " (set MASQ_ALLOW_MISSING_BACKENDS=1 to skip)";
-    return nullptr;
-  }
+  return masq::test::open_or_fail(name, [](const std::string& n) { return make_bv_tracer(n); });
 }
 
 } // namespace

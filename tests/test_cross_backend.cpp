@@ -22,10 +22,12 @@
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
 #include <cmath>
-#include <cstdlib>
 #include <random>
+#include "tests/random_affine.h"
+#include "tests/test_env.h"
 
 using namespace masq;
+using masq::test::random_affine;
 
 namespace {
 
@@ -82,14 +84,7 @@ Tally compare(const Scene& scene, const std::vector<kernel::Ray>& rays, const st
 }
 
 std::unique_ptr<Backend> backend_or_fail(const std::string& name) {
-  try {
-    return make_backend(name);
-  } catch (const BackendUnavailable& e) {
-    const char* allow = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-    if (allow != nullptr && std::string(allow) == "1") return nullptr;
-    ADD_FAILURE() << e.what() << " (scripts/setup.sh installs every backend; set MASQ_ALLOW_MISSING_BACKENDS=1 to skip)";
-    return nullptr;
-  }
+  return masq::test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
 }
 
 void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays, const AccelOptions& opt = {}) {
@@ -124,19 +119,6 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
   }
 }
 
-Affine3 random_affine(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  glm::dvec3 axis = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
-  double angle = 3.0 * u(rng);
-  glm::dmat3 k(0, axis.z, -axis.y, -axis.z, 0, axis.x, axis.y, -axis.x, 0);
-  glm::dmat3 rot = glm::dmat3(1.0) + std::sin(angle) * k + (1 - std::cos(angle)) * (k * k);
-  glm::dmat3 scale(1.0);
-  for (int i = 0; i < 3; ++i) scale[i][i] = 0.4 + 1.2 * std::abs(u(rng));
-  Affine3 a;
-  a.linear = rot * scale;
-  a.translation = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
-  return a;
-}
 
 } // namespace
 

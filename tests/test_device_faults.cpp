@@ -13,15 +13,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include "tests/test_env.h"
 
 namespace api = masq::api;
 
 namespace {
 
-bool allow_missing() {
-  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-  return v && *v && std::string(v) != "0";
-}
+bool allow_missing() { return masq::test::missing_backends_allowed(); }
 
 std::string env(const char* name) {
   const char* v = std::getenv(name);

@@ -13,8 +13,10 @@
 #include <random>
 #include <string>
 #include <vector>
+#include "tests/random_affine.h"
 
 using namespace masq;
+using masq::test::random_affine;
 
 namespace {
 
@@ -38,19 +40,6 @@ std::vector<kernel::Ray> random_rays(std::mt19937_64& rng, int n) {
   return rays;
 }
 
-Affine3 random_affine(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  glm::dvec3 axis = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
-  double angle = 3.0 * u(rng);
-  glm::dmat3 k(0, axis.z, -axis.y, -axis.z, 0, axis.x, axis.y, -axis.x, 0);
-  glm::dmat3 rot = glm::dmat3(1.0) + std::sin(angle) * k + (1 - std::cos(angle)) * (k * k);
-  glm::dmat3 scale(1.0);
-  for (int i = 0; i < 3; ++i) scale[i][i] = 0.4 + 1.2 * std::abs(u(rng));
-  Affine3 a;
-  a.linear = rot * scale;
-  a.translation = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
-  return a;
-}
 
 // The length |dt| is measured against: the primitive's radius (object space), or for
 // triangles the hit distance.

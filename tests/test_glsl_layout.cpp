@@ -18,6 +18,7 @@
 #include <cstring>
 #include <string>
 #include <vector>
+#include "tests/test_env.h"
 
 namespace {
 
@@ -53,10 +54,7 @@ std::uint32_t word(std::uint32_t k, bool negative) {
   return std::bit_cast<std::uint32_t>(f);
 }
 
-bool allow_no_vulkan() {
-  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-  return v != nullptr && std::string(v) == "1";
-}
+bool allow_no_vulkan() { return masq::test::missing_backends_allowed(); }
 
 TEST(GlslLayout, Std430MatchesCpp) {
   std::shared_ptr<vk::Context> ctx;

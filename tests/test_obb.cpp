@@ -3,28 +3,10 @@
 #include "bvh/obb.h"
 #include <gtest/gtest.h>
 #include <random>
+#include "tests/random_affine.h"
 
 using namespace masq;
-
-namespace {
-Affine3 random_affine(std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Affine3 a;
-  glm::dvec3 axis = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
-  double angle = 3.0 * u(rng);
-  glm::dmat3 rot = glm::dmat3(glm::cos(angle)) + glm::dmat3(0.0);
-  // Rodrigues rotation.
-  glm::dmat3 k(0, axis.z, -axis.y, -axis.z, 0, axis.x, axis.y, -axis.x, 0);
-  rot = glm::dmat3(1.0) + std::sin(angle) * k + (1 - std::cos(angle)) * (k * k);
-  glm::dmat3 scale(1.0);
-  scale[0][0] = 0.5 + std::abs(u(rng)) * 3;
-  scale[1][1] = 0.5 + std::abs(u(rng)) * 3;
-  scale[2][2] = 0.5 + std::abs(u(rng)) * 3;
-  a.linear = rot * scale;
-  a.translation = glm::dvec3(u(rng), u(rng), u(rng)) * 1000.0;
-  return a;
-}
-} // namespace
+using masq::test::random_affine;
 
 TEST(Obb, CapsuleMapsInsideUnitBoxAndTouchesIt) {
   std::mt19937_64 rng(3);
@@ -33,7 +15,7 @@ TEST(Obb, CapsuleMapsInsideUnitBoxAndTouchesIt) {
     CapsulePrim c{glm::vec3(u(rng), u(rng), u(rng)) * 100.0f, glm::vec3(u(rng), u(rng), u(rng)) * 100.0f,
                   float(std::pow(10.0, -4.0 + 4.0 * std::abs(u(rng))))};
     if (trial % 7 == 0) c.b = c.a; // zero length: a sphere
-    Affine3 xf = trial % 2 ? random_affine(rng) : Affine3{};
+    Affine3 xf = trial % 2 ? random_affine(rng, 1000.0, 0.5, 3.0) : Affine3{};
     MasqueradeBox mb = capsule_masquerade_box(c, xf);
     Affine3 stored = from_mat3x4f(mb.world_to_unit);
     double reach = 0.0;
@@ -129,7 +111,7 @@ TEST(Obb, EveryThinPrimitiveMapsInsideUnitBox) {
         g.curves.push_back(c);
       }
     }
-    Affine3 xf = trial % 2 ? random_affine(rng) : Affine3{};
+    Affine3 xf = trial % 2 ? random_affine(rng, 1000.0, 0.5, 3.0) : Affine3{};
     for (CurveObb mode : {CurveObb::Tight, CurveObb::Paper}) {
       MasqueradeBox mb = masquerade_box(g, 0, xf, mode);
       Affine3 stored = from_mat3x4f(mb.world_to_unit);

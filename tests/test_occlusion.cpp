@@ -8,23 +8,16 @@
 #include "oracle/oracle.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"
-#include <cstdlib>
 #include <ostream>
 #include <gtest/gtest.h>
+#include "tests/test_env.h"
 
 using namespace masq;
 
 namespace {
 
 std::unique_ptr<Backend> backend_or_fail(const std::string& name) {
-  try {
-    return make_backend(name);
-  } catch (const BackendUnavailable& e) {
-    const char* allow = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-    if (allow != nullptr && std::string(allow) == "1") return nullptr;
-    ADD_FAILURE() << e.what() << " (scripts/setup.sh installs every backend; set MASQ_ALLOW_MISSING_BACKENDS=1 to skip)";
-    return nullptr;
-  }
+  return masq::test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
 }
 
 double mean_calls(const std::vector<kernel::RayStats>& s) {

@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <string>
 #include <vector>
+#include "tests/test_env.h"
 
 namespace {
 
@@ -30,8 +31,7 @@ std::unique_ptr<Backend> open_or_skip(std::size_t chunk = kOpenClChunkRays) {
   try {
     return make_opencl_backend(chunk);
   } catch (const BackendUnavailable& e) {
-    const char* allow = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-    if (allow != nullptr && std::string(allow) == "1") return nullptr;
+    if (masq::test::missing_backends_allowed()) return nullptr;
     ADD_FAILURE() << e.what() << " (MASQ_ALLOW_MISSING_BACKENDS=1 skips)";
     return nullptr;
   }
@@ -224,8 +224,7 @@ TEST(OpenClBackend, BuildFailureNamesFileAndLine) {
   try {
     rt = opencl::open_runtime();
   } catch (const BackendUnavailable& e) {
-    const char* allow = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-    if (allow != nullptr && std::string(allow) == "1") GTEST_SKIP() << e.what();
+    if (masq::test::missing_backends_allowed()) GTEST_SKIP() << e.what();
     FAIL() << e.what();
   }
   const std::string broken = "#line 7 \"kernels/broken.h\"\n__kernel void k(__global int* p) { p[0] = ; }\n";

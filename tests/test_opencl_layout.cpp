@@ -17,16 +17,14 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include "tests/test_env.h"
 
 namespace {
 
 using namespace masq;
 using namespace masq::kernel;
 
-bool allow_no_opencl() {
-  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-  return v != nullptr && std::string(v) == "1";
-}
+bool allow_no_opencl() { return masq::test::missing_backends_allowed(); }
 
 struct Entry {
   std::string what;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <cstdlib>
 #include <iostream>
+#include "tests/test_env.h"
 
 using namespace masq;
 using namespace masq::stress;
@@ -21,9 +22,8 @@ TEST(Stress, QuickSuiteOnEveryBackend) {
             << stress_summary(r);
 
   // Every backend ran (or the machine opted out of the missing ones).
-  const char* allow = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
   for (const auto& [b, why] : r.unavailable) {
-    if (allow && std::string(allow) == "1") std::cout << "skipping " << b << ": " << why << "\n";
+    if (masq::test::missing_backends_allowed()) std::cout << "skipping " << b << ": " << why << "\n";
     else ADD_FAILURE() << b << " unavailable: " << why << " (set MASQ_ALLOW_MISSING_BACKENDS=1 to allow)";
   }
   ASSERT_FALSE(r.results.empty());

@@ -18,6 +18,7 @@
 #include <functional>
 #include <string>
 #include <vector>
+#include "tests/test_env.h"
 
 namespace {
 
@@ -26,10 +27,7 @@ using kernel::Hit;
 using kernel::Ray;
 using kernel::RayStats;
 
-bool allow_no_vulkan() {
-  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-  return v != nullptr && std::string(v) == "1";
-}
+bool allow_no_vulkan() { return masq::test::missing_backends_allowed(); }
 
 // Null (and the test skips) only when Vulkan is missing and MASQ_ALLOW_MISSING_BACKENDS=1.
 std::unique_ptr<Backend> make_or_fail(const std::function<std::unique_ptr<Backend>()>& make) {

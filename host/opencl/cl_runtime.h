@@ -7,6 +7,7 @@
 #ifndef CL_HPP_MINIMUM_OPENCL_VERSION
 #define CL_HPP_MINIMUM_OPENCL_VERSION 120
 #endif
+#include "bvh/packed_scene.h"
 #include <CL/opencl.hpp>
 #include <cstddef>
 #include <string>
@@ -46,5 +47,10 @@ BuiltProgram build_program(const Runtime& rt, const std::string& source, const s
 // The options every masq program is built with (OpenCL C 1.2; never relaxed math:
 // the intersectors' error bounds assume IEEE single precision).
 std::string base_build_options();
+
+// The -D switches of one kernel variant (kernels/variants.h) for clBuildProgram: the
+// primitive types present, intersector mode, iteration limit, counters, any-hit and
+// single-BLAS. Shared by the trace and bv programs so both compile the same variants.
+std::string variant_build_options(const KernelFeatures& f, bool stats, bool any_hit);
 
 } // namespace masq::opencl

@@ -181,12 +181,7 @@ class OpenClBackend final : public Backend {
   // The program variant for the current scene's features, built on first use.
   Variant& variant(bool want_stats, bool any_hit) {
     const KernelFeatures& f = scene_->features;
-    auto flag = [](const char* name, bool on) { return std::string(" -D ") + name + (on ? "=1" : "=0"); };
-    std::string options = opencl::base_build_options() + flag("MASQ_STATS", want_stats) +
-                          flag("MASQ_HAVE_TRIANGLES", f.triangles) + flag("MASQ_HAVE_CAPSULES", f.capsules) +
-                          flag("MASQ_HAVE_CONES", f.cones) + flag("MASQ_HAVE_SPHERES", f.spheres) +
-                          flag("MASQ_HAVE_CURVES", f.curves) + flag("MASQ_ROBUST", f.mode == Mode::Robust) +
-                          flag("MASQ_ANY_HIT", any_hit) + flag("MASQ_SINGLE_BLAS", f.single_blas) + " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters);
+    std::string options = opencl::base_build_options() + opencl::variant_build_options(f, want_stats, any_hit);
     auto it = variants_.find(options);
     if (it != variants_.end()) return it->second;
     opencl::BuiltProgram built = opencl::build_program(rt_, opencl::trace_source(), options, "kernels/trace.cl");

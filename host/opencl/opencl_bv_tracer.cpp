@@ -44,6 +44,7 @@ class OpenClBvTracer final : public BvTracer {
     type_ = scene.type;
     node_count_ = int(scene.node_count());
     features_ = p.features;
+    features_.mode = Mode::Robust; // the bv kernels use the robust intersectors
     have_scene_ = true;
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
@@ -110,13 +111,8 @@ class OpenClBvTracer final : public BvTracer {
 
   cl::Kernel& kernel(bool want_stats) {
     const KernelFeatures& f = features_;
-    auto flag = [](const char* name, bool on) { return std::string(" -D ") + name + (on ? "=1" : "=0"); };
     std::string options = opencl::base_build_options() + " -D MASQ_BV_TYPE=" +
-                          std::to_string(bv_type_kernel_id(type_)) + flag("MASQ_STATS", want_stats) +
-                          flag("MASQ_HAVE_TRIANGLES", f.triangles) + flag("MASQ_HAVE_CAPSULES", f.capsules) +
-                          flag("MASQ_HAVE_CONES", f.cones) + flag("MASQ_HAVE_SPHERES", f.spheres) +
-                          flag("MASQ_HAVE_CURVES", f.curves) + flag("MASQ_ROBUST", true) +
-                          " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters);
+                          std::to_string(bv_type_kernel_id(type_)) + opencl::variant_build_options(f, want_stats, false);
     auto it = kernels_.find(options);
     if (it != kernels_.end()) {
       timing_.compile_seconds = it->second.second;
