@@ -13,27 +13,59 @@ std::string rays_label(const BenchRow& r) {
 }
 } // namespace
 
-const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set) {
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set,
+                         std::optional<NodeFormat> nodes) {
   for (const BenchRow& r : rows)
-    if (r.backend == backend && r.method == m && r.ray_set == set && r.unavailable.empty()) return &r;
+    if (r.backend == backend && r.method == m && r.ray_set == set && r.unavailable.empty() &&
+        (!nodes || r.nodes == *nodes))
+      return &r;
   return nullptr;
+}
+
+Table bench_node_ratios(const std::vector<BenchRow>& rows) {
+  Table t;
+  t.header = {"backend", "method", "nodes", "rays", "speed vs w4", "node visits/r", "vs w4", "node MiB", "vs w4",
+              "node B/prim"};
+  t.left_columns = 4;
+  for (const BenchRow& r : rows) {
+    if (!r.unavailable.empty()) continue;
+    const BenchRow* w4 = find_row(rows, r.backend, r.method, r.ray_set, NodeFormat::W4);
+    double visits = r.tlas_nodes + r.blas_nodes;
+    bool counted = r.tlas_nodes >= 0 && r.blas_nodes >= 0;
+    double w4_visits = w4 ? w4->tlas_nodes + w4->blas_nodes : 0;
+    t.add({r.backend, method_name(r.method), node_format_name(r.nodes), rays_label(r),
+           w4 ? fmt::format("{:.2f}x", r.mrays_per_s() / w4->mrays_per_s()) : "-",
+           counted ? fmt::format("{:.2f}", visits) : "n/a",
+           counted && w4 && w4_visits > 0 ? fmt::format("{:.2f}x", visits / w4_visits) : "-",
+           fmt::format("{:.3f}", r.build.node_bytes / 1048576.0),
+           w4 && w4->build.node_bytes > 0 ? fmt::format("{:.2f}x", double(r.build.node_bytes) / double(w4->build.node_bytes))
+                                          : "-",
+           fmt::format("{:.1f}", double(r.build.node_bytes) / double(std::max<std::size_t>(1, r.primitives)))});
+  }
+  t.notes = {"node visits/r: TLAS + BLAS node visits per ray (masquerade unit-box tests included, as in blas/r); "
+             "node MiB / B/prim: the TLAS and BLAS nodes alone, in the row's format (refs, instances and frames "
+             "are the same for every format)",
+             "speed vs w4: Mrays/s of this row over the w4 row of the same backend, method and rays (one run, "
+             "same rays)"};
+  return t;
 }
 
 Table bench_table(const std::vector<BenchRow>& rows) {
   Table t;
-  t.header = {"backend", "method", "rays",   "Mrays/s", "(min-max)", "tlas/r", "blas/r",   "xf/r",
+  t.header = {"backend", "method", "nodes", "rays",   "Mrays/s", "(min-max)", "tlas/r", "blas/r",   "xf/r",
               "isect/r", "hit%",   "accel MiB", "B/prim", "dev MiB", "build ms", "compile ms"};
-  t.left_columns = 3;
+  t.left_columns = 4;
   std::vector<std::string> why; // one note per distinct reason, so the columns stay narrow
   for (const BenchRow& r : rows) {
     if (!r.unavailable.empty()) {
       auto it = std::find(why.begin(), why.end(), r.unavailable);
       std::size_t k = std::size_t(it - why.begin()) + 1;
       if (it == why.end()) why.push_back(r.unavailable);
-      t.add({r.backend, method_name(r.method), rays_label(r), fmt::format("unavailable [{}]", k)});
+      t.add({r.backend, method_name(r.method), node_format_name(r.nodes), rays_label(r),
+             fmt::format("unavailable [{}]", k)});
       continue;
     }
-    t.add({r.backend, method_name(r.method), rays_label(r), fmt::format("{:.3f}", r.mrays_per_s()),
+    t.add({r.backend, method_name(r.method), node_format_name(r.nodes), rays_label(r), fmt::format("{:.3f}", r.mrays_per_s()),
            fmt::format("({:.3f}-{:.3f})", r.rays / r.max_s * 1e-6, r.rays / r.min_s * 1e-6), per_ray(r.tlas_nodes),
            per_ray(r.blas_nodes), per_ray(r.transforms), per_ray(r.isect_calls), fmt::format("{:.1f}", 100.0 * r.hit_fraction),
            fmt::format("{:.3f}", r.accel_bytes / 1048576.0),
@@ -52,15 +84,15 @@ Table bench_table(const std::vector<BenchRow>& rows) {
 
 Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) {
   Table t;
-  t.header = {"backend", "method", "rays", "speedup", "vs masq", "isect calls ref/this", "accel memory this/ref",
+  t.header = {"backend", "method", "nodes", "rays", "speedup", "vs masq", "isect calls ref/this", "accel memory this/ref",
               "OBB/AABB area", "RT model speedup"};
-  t.left_columns = 3;
+  t.left_columns = 4;
   for (const BenchRow& m : rows) {
     if (m.method == Method::Ref || !m.unavailable.empty()) continue;
-    const BenchRow* r = find_row(rows, m.backend, Method::Ref, m.ray_set);
+    const BenchRow* r = find_row(rows, m.backend, Method::Ref, m.ray_set, m.nodes);
     if (!r) continue;
-    const BenchRow* q = m.method == Method::Masq ? nullptr : find_row(rows, m.backend, Method::Masq, m.ray_set);
-    t.add({m.backend, method_name(m.method), rays_label(m),
+    const BenchRow* q = m.method == Method::Masq ? nullptr : find_row(rows, m.backend, Method::Masq, m.ray_set, m.nodes);
+    t.add({m.backend, method_name(m.method), node_format_name(m.nodes), rays_label(m),
            fmt::format("{:.2f}x", m.mrays_per_s() / r->mrays_per_s()),
            q ? fmt::format("{:.2f}x", m.mrays_per_s() / q->mrays_per_s()) : "-",
            fmt::format("{:.2f}x ({:.2f} vs {:.2f})", r->isect_calls / m.isect_calls, r->isect_calls, m.isect_calls),
@@ -75,12 +107,13 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) 
 }
 
 nlohmann::json bench_row_json(const BenchRow& r) {
-  nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},
+  nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"nodes", node_format_name(r.nodes)},
+                      {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},
                       {"device", r.device}};
   e["bytes"] = {{"acceleration", r.accel_bytes}, {"primitives", r.prim_bytes}, {"device", r.device_bytes}};
   e["primitives"] = r.primitives;
   e["build"] = {{"tlas_sah", r.build.sah_cost}, {"blas_sah", r.build.blas_sah_cost},
-                {"tlas_nodes", r.build.tlas_nodes}, {"blas_nodes", r.build.blas_nodes},
+                {"tlas_nodes", r.build.tlas_nodes}, {"blas_nodes", r.build.blas_nodes}, {"node_bytes", r.build.node_bytes},
                 {"instances", r.build.instances}, {"max_depth", r.build.max_depth},
                 {"obb_area", r.build.obb_area},   {"aabb_area", r.build.aabb_area},
                 {"clusters", r.build.clusters},   {"masq_prims", r.build.masq_prims}};

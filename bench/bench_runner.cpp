@@ -117,6 +117,7 @@ std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::s
         BenchRow row;
         row.backend = name;
         row.method = m;
+        row.nodes = ps.features.nodes;
         row.ray_set = batch.set;
         row.query = batch.set == RaySet::Shadow && opt.shadow_any_hit ? Query::Any : Query::Closest;
         row.rays = double(batch.rays.size());

@@ -37,6 +37,7 @@ struct BenchRow {
   std::string backend;
   std::string device;
   Method method = Method::Ref;
+  NodeFormat nodes = NodeFormat::W4;
   RaySet ray_set = RaySet::Primary;
   Query query = Query::Closest;
   std::string unavailable; // non-empty: the backend could not run (why)

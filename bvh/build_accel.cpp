@@ -136,6 +136,7 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
   pack_primitives(scene, ps);
   ps.features.mode = opt.mode;
   ps.features.curve_iters = opt.curve_iters;
+  ps.features.nodes = opt.nodes; // before any node is appended (cluster BLAS read it)
   for (const Instance& inst : scene.instances) {
     PrimType t = scene.geometries[inst.geometry].type;
     note_feature(ps.features, t);
@@ -173,7 +174,7 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
       boxes.push_back(g.type == PrimType::Triangle ? triangle_box(g, g.triangles[std::size_t(p)])
                                                    : hull_box(ball_hull(g, std::size_t(p))));
     BinaryBvh bvh = build_binned_sah(boxes, opt.sah);
-    WideBvhInfo info = append_wide_bvh(bvh, ids, ps.nodes, ps.refs);
+    WideBvhInfo info = append_bvh_nodes(bvh, ids, opt.nodes, ps);
     blas_root[gi] = info.root;
     blas_box[gi] = bvh.nodes[0].box;
     for (int i : bvh.order) ps.geometry_leaf_order[gi].push_back(ids[std::size_t(i)]);
@@ -215,7 +216,7 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
     BinaryBvh tlas = build_binned_sah(inst_boxes, opt.sah);
     std::vector<std::int32_t> ids(inst_boxes.size());
     for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
-    WideBvhInfo info = append_wide_bvh(tlas, ids, ps.nodes, ps.refs);
+    WideBvhInfo info = append_bvh_nodes(tlas, ids, opt.nodes, ps);
     ps.tlas_root = info.root;
     ps.tlas_leaf_order.assign(tlas.order.begin(), tlas.order.end());
     ps.stats.tlas_nodes = info.nodes;
@@ -229,6 +230,7 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
   ps.features.single_blas = ps.instances.size() == 1 && ps.instances[0].blas_root >= 0 &&
                             ps.instances[0].prim != MASQ_INST_CLUSTER &&
                             scene.instances[ps.instances[0].scene_inst].object_to_world.is_identity();
+  ps.stats.node_bytes = ps.node_bytes();
   ps.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return ps;
 }

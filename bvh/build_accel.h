@@ -22,6 +22,7 @@ struct AccelOptions {
   int curve_iters = 24;                 // phantom iteration limit (1..64; 24: see docs/robustness.md)
   ClusterOptions cluster;               // cluster, auto: cluster size and orientation classes
   CostPrices prices;                    // auto: the cost model's prices
+  NodeFormat nodes = NodeFormat::W4;    // BVH node layout of the TLAS and every BLAS
 };
 
 PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt = {});

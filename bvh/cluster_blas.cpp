@@ -69,7 +69,7 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
     SahOptions leaf_sah = sah;
     leaf_sah.traversal_cost = std::max(sah.traversal_cost, 4.0 * sah.intersection_cost);
     BinaryBvh bvh = build_binned_sah(local, leaf_sah);
-    WideBvhInfo info = append_wide_bvh(bvh, c.members, ps.nodes, ps.refs);
+    WideBvhInfo info = append_bvh_nodes(bvh, c.members, ps.features.nodes, ps);
     ps.stats.blas_nodes += info.nodes;
     ps.stats.blas_leaves += info.leaves;
     ps.stats.blas_sah_cost += info.sah_cost;

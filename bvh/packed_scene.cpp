@@ -27,8 +27,59 @@ Mode parse_mode(const std::string& name) {
   throw Error("unknown mode '" + name + "' (expected robust or fast)");
 }
 
+const char* node_format_name(NodeFormat f) {
+  switch (f) {
+    case NodeFormat::W4: return "w4";
+    case NodeFormat::W8: return "w8";
+    case NodeFormat::Q8: return "q8";
+  }
+  return "?";
+}
+
+NodeFormat parse_node_format(const std::string& name) {
+  for (NodeFormat f : {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8})
+    if (name == node_format_name(f)) return f;
+  throw Error("unknown node format '" + name + "' (expected w4, w8 or q8)");
+}
+
+int node_format_id(NodeFormat f) {
+  switch (f) {
+    case NodeFormat::W4: return MASQ_NODES_W4;
+    case NodeFormat::W8: return MASQ_NODES_W8;
+    case NodeFormat::Q8: return MASQ_NODES_Q8;
+  }
+  return MASQ_NODES_W4;
+}
+
+std::size_t node_format_bytes(NodeFormat f) {
+  switch (f) {
+    case NodeFormat::W4: return sizeof(kernel::WideNode);
+    case NodeFormat::W8: return sizeof(kernel::WideNode8);
+    case NodeFormat::Q8: return sizeof(kernel::QuantNode8);
+  }
+  return 0;
+}
+
+const void* PackedScene::node_data() const {
+  switch (features.nodes) {
+    case NodeFormat::W8: return nodes8.data();
+    case NodeFormat::Q8: return qnodes.data();
+    default: return nodes.data();
+  }
+}
+
+std::size_t PackedScene::node_count() const {
+  switch (features.nodes) {
+    case NodeFormat::W8: return nodes8.size();
+    case NodeFormat::Q8: return qnodes.size();
+    default: return nodes.size();
+  }
+}
+
+std::size_t PackedScene::node_bytes() const { return node_count() * node_format_bytes(features.nodes); }
+
 std::size_t PackedScene::acceleration_bytes() const {
-  return nodes.size() * sizeof(kernel::WideNode) + refs.size() * sizeof(std::int32_t) +
+  return node_bytes() + refs.size() * sizeof(std::int32_t) +
          instances.size() * sizeof(kernel::Instance) + frames.size() * sizeof(kernel::Frame);
 }
 

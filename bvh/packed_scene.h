@@ -25,6 +25,15 @@ enum class Mode { Robust, Fast };
 const char* mode_name(Mode m);
 Mode parse_mode(const std::string& name); // throws masq::Error
 
+// BVH node layout of the TLAS and every BLAS (docs/kernels.md, "Node formats"):
+// w4: 4-wide float boxes (128 B); w8: 8-wide float boxes (256 B); q8: 8-wide with
+// child boxes quantised to 8 bits per plane (80 B). The rayquery backend ignores it.
+enum class NodeFormat { W4, W8, Q8 };
+const char* node_format_name(NodeFormat f);
+NodeFormat parse_node_format(const std::string& name); // throws masq::Error
+int node_format_id(NodeFormat f);                      // MASQ_NODES_* of kernels/layout.h
+std::size_t node_format_bytes(NodeFormat f);           // one node
+
 // The kernel variant a scene needs: the primitive types present (the others are
 // compiled out), the intersector mode and the phantom-curve iteration limit. Every
 // backend maps this onto its variant mechanism (spec constants, -D, C++ TUs).
@@ -37,6 +46,7 @@ struct KernelFeatures {
   Mode mode = Mode::Robust;
   int curve_iters = 24;
   bool single_blas = false; // one BLAS instance, identity transform: no TLAS stage
+  NodeFormat nodes = NodeFormat::W4;
   bool operator==(const KernelFeatures&) const = default;
 };
 
@@ -45,6 +55,7 @@ struct BuildStats {
   double blas_sah_cost = 0;    // sum over BLAS, each relative to its own root box
   std::size_t tlas_nodes = 0;  // wide nodes
   std::size_t blas_nodes = 0;  // wide nodes, all BLAS
+  std::size_t node_bytes = 0;  // TLAS and BLAS nodes in the scene's node format
   std::size_t tlas_leaves = 0;
   std::size_t blas_leaves = 0;
   std::size_t instances = 0;   // TLAS entries
@@ -60,7 +71,10 @@ struct BuildStats {
 
 struct PackedScene {
   Method method = Method::Ref;
-  std::vector<kernel::WideNode> nodes;   // TLAS and all BLAS nodes
+  // TLAS and all BLAS nodes: one of the three arrays, by features.nodes (the others empty).
+  std::vector<kernel::WideNode> nodes;     // w4
+  std::vector<kernel::WideNode8> nodes8;   // w8
+  std::vector<kernel::QuantNode8> qnodes;  // q8
   std::vector<std::int32_t> refs;        // leaf references: instance ids (TLAS), prim ids (BLAS)
   std::vector<kernel::Instance> instances;
   std::vector<kernel::Frame> frames;     // one per scene instance
@@ -82,6 +96,10 @@ struct PackedScene {
 
   BuildStats stats;
 
+  // The node array of the scene's format, as the kernels' node binding receives it.
+  const void* node_data() const;
+  std::size_t node_count() const;
+  std::size_t node_bytes() const;
   std::size_t acceleration_bytes() const; // nodes + refs + instances + frames
   std::size_t primitive_bytes() const;    // geoms + all primitive arrays
 };

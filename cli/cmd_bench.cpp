@@ -8,6 +8,7 @@
 #include "cli/scene_options.h"
 #include "scenes/error.h"
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <algorithm>
 #include <chrono>
 #include <functional>
@@ -125,7 +126,10 @@ int bench(BenchCli& c) {
   if (!c.suites.empty()) return bench_suites(c);
   if (c.error_mode) return bench_error(c);
   Scene scene = make_scene(c.scene);
-  c.bench.accel = accel_options(c.scene);
+  const std::vector<NodeFormat> formats = node_formats(c.scene);
+  SceneOptions one_format = c.scene;
+  one_format.nodes = {node_format_name(formats.front())};
+  c.bench.accel = accel_options(one_format);
   if (!c.backends.empty()) c.bench.backends = c.backends;
   if (!c.methods.empty()) {
     c.bench.methods.clear();
@@ -138,19 +142,27 @@ int bench(BenchCli& c) {
   c.bench.shadow_any_hit = c.shadow_query == "any";
   c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
-  fmt::print("scene '{}': {} primitives{}, {} mode, {}x{} camera rays; ray sets: {}; {} warm-up + {} timed traces, "
+  fmt::print("scene '{}': {} primitives{}, {} mode, nodes {}, {}x{} camera rays; ray sets: {}; {} warm-up + {} timed traces, "
              "median (min-max) of device time\n",
              scene.name, scene.primitive_count(),
              bundle ? fmt::format(" ({} {} strands r={} tilt {} deg + ground plane)", c.scene.bundle.count, c.scene.prim,
                                   c.scene.bundle.radius, c.scene.bundle.tilt_deg)
                     : std::string(),
-             c.scene.mode, c.bench.width, c.bench.height, ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup,
+             c.scene.mode, fmt::join(c.scene.nodes, ","), c.bench.width, c.bench.height, ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup,
              c.bench.repetitions);
-  std::vector<BenchRow> rows = run_bench(scene, c.bench);
+  // Node formats side by side: the same scene and rays, one build and measurement each.
+  std::vector<BenchRow> rows;
+  BackendPool pool;
+  for (NodeFormat f : formats) {
+    c.bench.accel.nodes = f;
+    std::vector<BenchRow> part = run_bench(scene, c.bench, pool);
+    rows.insert(rows.end(), std::make_move_iterator(part.begin()), std::make_move_iterator(part.end()));
+  }
   clear_progress(c.quiet);
   Table ratios = bench_ratios(rows);
   fmt::print("{}\n{}", bench_table(rows).text(),
              ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n") : ratios.text());
+  if (formats.size() > 1) fmt::print("\n{}", bench_node_ratios(rows).text());
   if (c.fit_prices) {
     // The auto method's cost-model prices for each backend, fitted to these rows.
     for (const std::string& b : c.bench.backends) {
@@ -209,6 +221,7 @@ Action add_bench(CLI::App& app) {
   cmd->footer("Examples:\n"
               "  masq bench                                   default bundle, every backend x method x ray set\n"
               "  masq bench --file bear.tfx --prim curve --subdiv 4 --backend cpu --rays primary\n"
+              "  masq bench --nodes w4,w8,q8 --method ref masq   node formats side by side (speed, visits, bytes)\n"
               "  masq bench --error --json error.json         run time against error of the curve variants\n"
               "  masq bench --suite all --quick               the papers' tables in < 3 minutes -> bench/results-quick/\n"
               "  bash scripts/results.sh                      the full results document with plots");

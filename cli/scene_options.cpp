@@ -1,6 +1,8 @@
 #include "cli/scene_options.h"
 #include "scenes/curve_tools.h"
 #include "scenes/loaders/load_any.h"
+#include "scenes/error.h"
+#include <algorithm>
 #include <cstdio>
 
 namespace masq::cli {
@@ -43,6 +45,12 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
   cmd.add_option("--cluster-classes", opt.cluster_classes, "Methods cluster/auto: orientation classes (hemisphere bins)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1024));
+  cmd.add_option("--nodes", opt.nodes,
+                 "BVH node format of the TLAS and every BLAS: w4 (4-wide float boxes), w8 (8-wide float boxes) or q8 "
+                 "(8-wide, boxes quantised to 8 bits per plane); bench takes a list (w4,w8,q8) and runs each")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::IsMember({"w4", "w8", "q8"}));
   cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (docs/methods.md)")
       ->expected(3)
       ->check(CLI::PositiveNumber);
@@ -93,8 +101,23 @@ Scene make_scene(const SceneOptions& opt) {
   return s;
 }
 
+std::vector<NodeFormat> node_formats(const SceneOptions& opt) {
+  std::vector<NodeFormat> out;
+  for (const std::string& n : opt.nodes) {
+    NodeFormat f = parse_node_format(n);
+    if (std::find(out.begin(), out.end(), f) != out.end()) throw Error("--nodes: '" + n + "' is given twice");
+    out.push_back(f);
+  }
+  if (out.empty()) throw Error("--nodes: no node format given (expected w4, w8 or q8)");
+  return out;
+}
+
 AccelOptions accel_options(const SceneOptions& opt) {
   AccelOptions a;
+  std::vector<NodeFormat> formats = node_formats(opt);
+  if (formats.size() != 1)
+    throw Error("--nodes: this command builds one scene; give one node format (masq bench runs several)");
+  a.nodes = formats.front();
   a.mode = parse_mode(opt.mode);
   a.curve_obb = parse_curve_obb(opt.curve_obb);
   a.curve_iters = opt.curve_iters;

@@ -24,8 +24,11 @@ struct SceneOptions {
   int cluster_size = 32;     // cluster, auto
   int cluster_classes = 32;  // cluster, auto
   std::vector<double> prices; // auto: node transform isect (empty: defaults)
+  std::vector<std::string> nodes{"w4"}; // BVH node formats (bench runs each; others take one)
 };
 void add_scene_options(CLI::App& cmd, SceneOptions& opt);
 Scene make_scene(const SceneOptions& opt);
+// Throws masq::Error when opt.nodes names more than one format (only bench runs several).
 AccelOptions accel_options(const SceneOptions& opt);
+std::vector<NodeFormat> node_formats(const SceneOptions& opt); // throws on an unknown or repeated one
 } // namespace masq::cli

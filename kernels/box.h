@@ -1,14 +1,19 @@
-// Conservative ray/box tests: the 4-wide node test and the masquerade unit-box test.
+// Conservative ray/box tests: the 4-wide node test and the masquerade unit-box test
+// (the 8-wide formats are in node_formats.h).
 #ifndef MASQ_KERNEL_BOX_H
 #define MASQ_KERNEL_BOX_H
 #include "math.h"
 
 KERNEL_NS_BEGIN
 
-// Entry distance of each child box, or +inf when the ray misses it within [tmin, tmax].
+// Entry distance of each child box, or +inf when the ray misses it within [tmin, tmax],
+// with the slot's child and count decoded (the WideNode slot rules) whatever the node
+// format. Slots beyond the format's width are not set.
 STRUCT_BEGIN(WideHits)
-  float tnear[MASQ_WIDTH];
-  float tfar[MASQ_WIDTH];
+  float tnear[MASQ_WIDTH8];
+  float tfar[MASQ_WIDTH8];
+  int child[MASQ_WIDTH8];
+  int count[MASQ_WIDTH8];
 STRUCT_END(WideHits)
 
 // Widen a slab interval outward by the rounding bound (sign-independent).
@@ -29,6 +34,8 @@ FN WideHits intersect_wide_node(WideNode n, vec3 o, vec3 inv_d, float tmin, floa
     bool hit = n.count[i] >= 0 && tn <= tf && tf >= tmin && tn <= tmax;
     r.tnear[i] = hit ? max(tn, tmin) : inf_();
     r.tfar[i] = tf;
+    r.child[i] = n.child[i];
+    r.count[i] = n.count[i];
   }
   return r;
 }
@@ -91,6 +98,8 @@ FN WideHits intersect_wide_node_padded(WideNode n, vec3 o, vec3 inv_d, vec3 pad,
     bool hit = n.count[i] >= 0 && tn <= tf && tf >= tmin && tn <= tmax;
     r.tnear[i] = hit ? max(tn, tmin) : inf_();
     r.tfar[i] = tf;
+    r.child[i] = n.child[i];
+    r.count[i] = n.count[i];
   }
   return r;
 }

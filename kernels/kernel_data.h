@@ -27,6 +27,7 @@
 
 #if defined(MASQ_LANG_GLSL)
 layout(std430, binding = MASQ_BINDING_NODES) readonly buffer NodesBuf { WideNode nodes[]; };
+layout(std430, binding = MASQ_BINDING_NODES) readonly buffer NodeWordsBuf { uint node_words[]; }; // w8, q8 alias
 layout(std430, binding = MASQ_BINDING_REFS) readonly buffer RefsBuf { int refs[]; };
 layout(std430, binding = MASQ_BINDING_INSTANCES) readonly buffer InstancesBuf { Instance instances[]; };
 layout(std430, binding = MASQ_BINDING_FRAMES) readonly buffer FramesBuf { Frame frames[]; };
@@ -45,6 +46,7 @@ layout(std430, binding = MASQ_BINDING_CURVES) readonly buffer CurvesBuf { Curve 
 LAYOUT_NS_BEGIN
 STRUCT_BEGIN(KernelData)
   MASQ_GLOBAL const WideNode* nodes;
+  MASQ_GLOBAL const uint* node_words; // the same array as words (node formats w8, q8)
   MASQ_GLOBAL const int* refs;
   MASQ_GLOBAL const Instance* instances;
   MASQ_GLOBAL const Frame* frames;

@@ -8,7 +8,14 @@
 
 LAYOUT_NS_BEGIN
 
-#define MASQ_WIDTH 4 // children per wide BVH node
+#define MASQ_WIDTH 4 // children per wide BVH node (node format w4)
+#define MASQ_WIDTH8 8 // children per 8-wide node (formats w8 and q8)
+
+// Node formats (docs/kernels.md, "Node formats"): one per scene, for the TLAS and every
+// BLAS alike; the kernels are compiled for one (MASQ_NODE_FORMAT, kernels/variants.h).
+#define MASQ_NODES_W4 0
+#define MASQ_NODES_W8 1
+#define MASQ_NODES_Q8 2
 
 // Primitive types. A geometry holds primitives of one type.
 #define MASQ_PRIM_TRIANGLE 0
@@ -31,6 +38,68 @@ STRUCT_BEGIN(WideNode)
   int child[MASQ_WIDTH];
   int count[MASQ_WIDTH];
 STRUCT_END(WideNode)
+
+// The 8-wide float node (format w8): WideNode with 8 slots, same slot rules. 256 bytes.
+STRUCT_BEGIN(WideNode8)
+  float lo_x[MASQ_WIDTH8];
+  float hi_x[MASQ_WIDTH8];
+  float lo_y[MASQ_WIDTH8];
+  float hi_y[MASQ_WIDTH8];
+  float lo_z[MASQ_WIDTH8];
+  float hi_z[MASQ_WIDTH8];
+  int child[MASQ_WIDTH8];
+  int count[MASQ_WIDTH8];
+STRUCT_END(WideNode8)
+
+// The quantised 8-wide node (format q8, after Ylitie, Karras and Laine 2017). Child
+// boxes are 8-bit grid coordinates against the node's own frame: on axis k, plane q
+// lies at origin[k] + q * 2^(e_k - 127), which fp32 evaluates exactly up to the one
+// rounding of the sum (q * 2^e is exact), so fma or not gives the same value; the host
+// (bvh/quant_node.cpp) rounds lo down and hi up and checks that decode. Bytes are packed
+// into uints, byte j of a pair of words being slot j (slot j: word j / 4, bits 8 (j % 4)).
+//  exps: bytes 0..2 the biased exponents e_x, e_y, e_z (1..254); byte 3 unused.
+//  meta: per slot 0 = empty, 0x80 = inner node, 1..127 = leaf of that many references.
+//  Inner children are the nodes child_base, child_base + 1, ... in slot order; leaf
+//  references are contiguous from ref_base in slot order. 80 bytes.
+#define MASQ_Q8_INNER 128u
+#define MASQ_Q8_MAX_LEAF 127
+STRUCT_BEGIN(QuantNode8)
+  float origin[3];
+  uint exps;
+  int child_base;
+  int ref_base;
+  uint meta[2];
+  uint qlo_x[2];
+  uint qhi_x[2];
+  uint qlo_y[2];
+  uint qhi_y[2];
+  uint qlo_z[2];
+  uint qhi_z[2];
+STRUCT_END(QuantNode8)
+
+// Word offsets of the node formats read as raw words (kernels/node_formats.h; GLSL
+// binds the node array once, as words). Checked against the structs below.
+#define MASQ_W8_WORDS 64
+#define MASQ_W8_LO_X 0
+#define MASQ_W8_HI_X 8
+#define MASQ_W8_LO_Y 16
+#define MASQ_W8_HI_Y 24
+#define MASQ_W8_LO_Z 32
+#define MASQ_W8_HI_Z 40
+#define MASQ_W8_CHILD 48
+#define MASQ_W8_COUNT 56
+#define MASQ_Q8_WORDS 20
+#define MASQ_Q8_ORIGIN 0
+#define MASQ_Q8_EXPS 3
+#define MASQ_Q8_CHILD_BASE 4
+#define MASQ_Q8_REF_BASE 5
+#define MASQ_Q8_META 6
+#define MASQ_Q8_QLO_X 8
+#define MASQ_Q8_QHI_X 10
+#define MASQ_Q8_QLO_Y 12
+#define MASQ_Q8_QHI_Y 14
+#define MASQ_Q8_QLO_Z 16
+#define MASQ_Q8_QHI_Z 18
 
 // One entry of the top-level structure (what a hardware TLAS instance is).
 // world_to_object is a row-major 3x4 affine map (rows 0..2: x, y, z; column 3 the
@@ -148,6 +217,8 @@ STRUCT_BEGIN(TraceParams)
 STRUCT_END(TraceParams)
 
 STATIC_ASSERT(sizeof(WideNode) == 128, wide_node_size);
+STATIC_ASSERT(sizeof(WideNode8) == 4 * MASQ_W8_WORDS, wide_node8_size);
+STATIC_ASSERT(sizeof(QuantNode8) == 4 * MASQ_Q8_WORDS, quant_node8_size);
 STATIC_ASSERT(sizeof(Instance) == 64, instance_size);
 STATIC_ASSERT(sizeof(Frame) == 64, frame_size);
 STATIC_ASSERT(sizeof(Geometry) == 16, geometry_size);

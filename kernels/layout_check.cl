@@ -9,12 +9,20 @@
 
 #define MASQ_LAYOUT_STRUCTS(S) \
   S(WideNode) S(Instance) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(RoundCone) S(Sphere) S(Curve) S(Ray) \
-  S(Hit) S(RayStats) S(TraceParams) S(BvNodeAabb) S(BvNodeSphere) S(BvNodeObb) S(BvNodeScb) S(BvPrimRef)
+  S(Hit) S(RayStats) S(TraceParams) S(WideNode8) S(QuantNode8) S(BvNodeAabb) S(BvNodeSphere) S(BvNodeObb) S(BvNodeScb) S(BvPrimRef)
 
 #define MASQ_LAYOUT_WideNode(F, A) \
   A(WideNode, lo_x, MASQ_WIDTH) A(WideNode, hi_x, MASQ_WIDTH) A(WideNode, lo_y, MASQ_WIDTH) \
   A(WideNode, hi_y, MASQ_WIDTH) A(WideNode, lo_z, MASQ_WIDTH) A(WideNode, hi_z, MASQ_WIDTH) \
   A(WideNode, child, MASQ_WIDTH) A(WideNode, count, MASQ_WIDTH)
+#define MASQ_LAYOUT_WideNode8(F, A) \
+  A(WideNode8, lo_x, MASQ_WIDTH8) A(WideNode8, hi_x, MASQ_WIDTH8) A(WideNode8, lo_y, MASQ_WIDTH8) \
+  A(WideNode8, hi_y, MASQ_WIDTH8) A(WideNode8, lo_z, MASQ_WIDTH8) A(WideNode8, hi_z, MASQ_WIDTH8) \
+  A(WideNode8, child, MASQ_WIDTH8) A(WideNode8, count, MASQ_WIDTH8)
+#define MASQ_LAYOUT_QuantNode8(F, A) \
+  A(QuantNode8, origin, 3) F(QuantNode8, exps) F(QuantNode8, child_base) F(QuantNode8, ref_base) \
+  A(QuantNode8, meta, 2) A(QuantNode8, qlo_x, 2) A(QuantNode8, qhi_x, 2) A(QuantNode8, qlo_y, 2) \
+  A(QuantNode8, qhi_y, 2) A(QuantNode8, qlo_z, 2) A(QuantNode8, qhi_z, 2)
 #define MASQ_LAYOUT_Instance(F, A) \
   A(Instance, world_to_object, 12) F(Instance, blas_root) F(Instance, geom) F(Instance, prim) F(Instance, scene_inst)
 #define MASQ_LAYOUT_Frame(F, A) A(Frame, world_to_object, 12) A(Frame, pad, 4)

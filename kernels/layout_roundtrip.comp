@@ -26,21 +26,25 @@ layout(std430, binding = 9) readonly buffer In9 { Ray in_rays[]; };
 layout(std430, binding = 10) readonly buffer In10 { Hit in_hits[]; };
 layout(std430, binding = 11) readonly buffer In11 { RayStats in_stats[]; };
 layout(std430, binding = 12) readonly buffer In12 { TraceParams in_params[]; };
-layout(std430, binding = 13) writeonly buffer FlatOut { uint flat_out[]; };
-layout(std430, binding = 14) readonly buffer FlatIn { uint flat_in[]; };
-layout(std430, binding = 15) writeonly buffer Out0 { WideNode out_nodes[]; };
-layout(std430, binding = 16) writeonly buffer Out1 { Instance out_instances[]; };
-layout(std430, binding = 17) writeonly buffer Out2 { Frame out_frames[]; };
-layout(std430, binding = 18) writeonly buffer Out3 { Geometry out_geoms[]; };
-layout(std430, binding = 19) writeonly buffer Out4 { Triangle out_triangles[]; };
-layout(std430, binding = 20) writeonly buffer Out5 { Capsule out_capsules[]; };
-layout(std430, binding = 21) writeonly buffer Out6 { RoundCone out_round_cones[]; };
-layout(std430, binding = 22) writeonly buffer Out7 { Sphere out_spheres[]; };
-layout(std430, binding = 23) writeonly buffer Out8 { Curve out_curves[]; };
-layout(std430, binding = 24) writeonly buffer Out9 { Ray out_rays[]; };
-layout(std430, binding = 25) writeonly buffer Out10 { Hit out_hits[]; };
-layout(std430, binding = 26) writeonly buffer Out11 { RayStats out_stats[]; };
-layout(std430, binding = 27) writeonly buffer Out12 { TraceParams out_params[]; };
+layout(std430, binding = 13) readonly buffer In13 { WideNode8 in_nodes8[]; };
+layout(std430, binding = 14) readonly buffer In14 { QuantNode8 in_qnodes[]; };
+layout(std430, binding = 15) writeonly buffer FlatOut { uint flat_out[]; };
+layout(std430, binding = 16) readonly buffer FlatIn { uint flat_in[]; };
+layout(std430, binding = 17) writeonly buffer Out0 { WideNode out_nodes[]; };
+layout(std430, binding = 18) writeonly buffer Out1 { Instance out_instances[]; };
+layout(std430, binding = 19) writeonly buffer Out2 { Frame out_frames[]; };
+layout(std430, binding = 20) writeonly buffer Out3 { Geometry out_geoms[]; };
+layout(std430, binding = 21) writeonly buffer Out4 { Triangle out_triangles[]; };
+layout(std430, binding = 22) writeonly buffer Out5 { Capsule out_capsules[]; };
+layout(std430, binding = 23) writeonly buffer Out6 { RoundCone out_round_cones[]; };
+layout(std430, binding = 24) writeonly buffer Out7 { Sphere out_spheres[]; };
+layout(std430, binding = 25) writeonly buffer Out8 { Curve out_curves[]; };
+layout(std430, binding = 26) writeonly buffer Out9 { Ray out_rays[]; };
+layout(std430, binding = 27) writeonly buffer Out10 { Hit out_hits[]; };
+layout(std430, binding = 28) writeonly buffer Out11 { RayStats out_stats[]; };
+layout(std430, binding = 29) writeonly buffer Out12 { TraceParams out_params[]; };
+layout(std430, binding = 30) writeonly buffer Out13 { WideNode8 out_nodes8[]; };
+layout(std430, binding = 31) writeonly buffer Out14 { QuantNode8 out_qnodes[]; };
 layout(push_constant) uniform Params { uint n; } pc;
 
 // Words per struct, and the running start of each section (in units of n).
@@ -57,6 +61,8 @@ layout(push_constant) uniform Params { uint n; } pc;
 #define W_HIT 12u
 #define W_STATS 4u
 #define W_PARAMS 4u
+#define W_NODE8 64u
+#define W_QNODE 20u
 
 uint w; // next flat word
 #define PUTF(x) flat_out[w++] = floatBitsToUint(x)
@@ -294,4 +300,58 @@ void main() {
   pb.ray_offset = GETI;
   pb.pad = GETI;
   out_params[i] = pb;
+  base += pc.n * W_PARAMS;
+
+  // WideNode8
+  w = base + i * W_NODE8;
+  WideNode8 n8a = in_nodes8[i];
+  for (j = 0; j < 8; ++j) PUTF(n8a.lo_x[j]);
+  for (j = 0; j < 8; ++j) PUTF(n8a.hi_x[j]);
+  for (j = 0; j < 8; ++j) PUTF(n8a.lo_y[j]);
+  for (j = 0; j < 8; ++j) PUTF(n8a.hi_y[j]);
+  for (j = 0; j < 8; ++j) PUTF(n8a.lo_z[j]);
+  for (j = 0; j < 8; ++j) PUTF(n8a.hi_z[j]);
+  for (j = 0; j < 8; ++j) PUTI(n8a.child[j]);
+  for (j = 0; j < 8; ++j) PUTI(n8a.count[j]);
+  w = base + i * W_NODE8;
+  WideNode8 n8b;
+  for (j = 0; j < 8; ++j) n8b.lo_x[j] = GETF;
+  for (j = 0; j < 8; ++j) n8b.hi_x[j] = GETF;
+  for (j = 0; j < 8; ++j) n8b.lo_y[j] = GETF;
+  for (j = 0; j < 8; ++j) n8b.hi_y[j] = GETF;
+  for (j = 0; j < 8; ++j) n8b.lo_z[j] = GETF;
+  for (j = 0; j < 8; ++j) n8b.hi_z[j] = GETF;
+  for (j = 0; j < 8; ++j) n8b.child[j] = GETI;
+  for (j = 0; j < 8; ++j) n8b.count[j] = GETI;
+  out_nodes8[i] = n8b;
+  base += pc.n * W_NODE8;
+
+  // QuantNode8
+  w = base + i * W_QNODE;
+  QuantNode8 qa = in_qnodes[i];
+  for (j = 0; j < 3; ++j) PUTF(qa.origin[j]);
+  PUTI(qa.exps);
+  PUTI(qa.child_base);
+  PUTI(qa.ref_base);
+  for (j = 0; j < 2; ++j) PUTI(qa.meta[j]);
+  for (j = 0; j < 2; ++j) PUTI(qa.qlo_x[j]);
+  for (j = 0; j < 2; ++j) PUTI(qa.qhi_x[j]);
+  for (j = 0; j < 2; ++j) PUTI(qa.qlo_y[j]);
+  for (j = 0; j < 2; ++j) PUTI(qa.qhi_y[j]);
+  for (j = 0; j < 2; ++j) PUTI(qa.qlo_z[j]);
+  for (j = 0; j < 2; ++j) PUTI(qa.qhi_z[j]);
+  w = base + i * W_QNODE;
+  QuantNode8 qb;
+  for (j = 0; j < 3; ++j) qb.origin[j] = GETF;
+  qb.exps = flat_in[w++];
+  qb.child_base = GETI;
+  qb.ref_base = GETI;
+  for (j = 0; j < 2; ++j) qb.meta[j] = flat_in[w++];
+  for (j = 0; j < 2; ++j) qb.qlo_x[j] = flat_in[w++];
+  for (j = 0; j < 2; ++j) qb.qhi_x[j] = flat_in[w++];
+  for (j = 0; j < 2; ++j) qb.qlo_y[j] = flat_in[w++];
+  for (j = 0; j < 2; ++j) qb.qhi_y[j] = flat_in[w++];
+  for (j = 0; j < 2; ++j) qb.qlo_z[j] = flat_in[w++];
+  for (j = 0; j < 2; ++j) qb.qhi_z[j] = flat_in[w++];
+  out_qnodes[i] = qb;
 }

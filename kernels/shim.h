@@ -9,6 +9,7 @@
 #if defined(__cplusplus)
 // ---------------------------------------------------------------- C++ (cpu backend)
 #include <glm/glm.hpp>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -43,6 +44,10 @@ inline vec3 vabs_(vec3 v) { return glm::abs(v); }
 inline float inf_() { return std::numeric_limits<float>::infinity(); }
 inline bool isnan_(float x) { return std::isnan(x); }
 inline bool isfinite_(float x) { return std::isfinite(x); }
+// Bit and value conversions of 32-bit words (node formats read raw words).
+inline float as_float_(uint u) { return std::bit_cast<float>(u); }
+inline int u2i_(uint u) { return std::bit_cast<int>(u); }
+inline float u2f_(uint u) { return float(u); }
 } // namespace masq::kernel
 
 #elif defined(__OPENCL_VERSION__)
@@ -64,6 +69,9 @@ typedef float3 vec3;
 #define inf_() INFINITY
 #define isnan_(x) isnan(x)
 #define isfinite_(x) isfinite(x)
+#define as_float_(u) as_float(u)
+#define u2i_(u) as_int(u)
+#define u2f_(u) convert_float(u)
 
 #else
 // ---------------------------------------------------------------- GLSL 4.60 (Vulkan)
@@ -82,6 +90,9 @@ typedef float3 vec3;
 #define inf_() uintBitsToFloat(0x7f800000u)
 #define isnan_(x) isnan(x)
 #define isfinite_(x) (!isnan(x) && !isinf(x))
+#define as_float_(u) uintBitsToFloat(u)
+#define u2i_(u) int(u)
+#define u2f_(u) float(u)
 #endif
 
 // Buffer access. GLSL binds each array as a global SSBO; OpenCL and C++ pass one struct

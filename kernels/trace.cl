@@ -11,6 +11,7 @@ __kernel void trace(__global const WideNode* nodes, __global const int* refs,
   if (i >= ray_count) return;
   KernelData kd;
   kd.nodes = nodes;
+  kd.node_words = (__global const uint*)nodes; // node formats w8 and q8 read words
   kd.refs = refs;
   kd.instances = instances;
   kd.frames = frames;

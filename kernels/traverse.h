@@ -5,7 +5,7 @@
 // nearest hit are skipped when popped.
 #ifndef MASQ_KERNEL_TRAVERSE_H
 #define MASQ_KERNEL_TRAVERSE_H
-#include "box.h"
+#include "node_formats.h"
 #include "intersect_primitive.h"
 
 KERNEL_NS_BEGIN
@@ -31,16 +31,16 @@ STRUCT_BEGIN(BlasOut)
   int isect_calls;
 STRUCT_END(BlasOut)
 
-// Sort up to MASQ_WIDTH child slots by entry distance (insertion sort on indices).
+// Sort the `width` child slots by entry distance (insertion sort on indices; up to 8).
 STRUCT_BEGIN(ChildOrder)
-  int slot[MASQ_WIDTH];
+  int slot[MASQ_WIDTH8];
   int n;
 STRUCT_END(ChildOrder)
 
-FN ChildOrder order_children(WideHits wh) {
+FN ChildOrder order_children(WideHits wh, int width) {
   ChildOrder co;
   co.n = 0;
-  for (int i = 0; i < MASQ_WIDTH; ++i) {
+  for (int i = 0; i < width; ++i) {
     if (wh.tnear[i] == inf_()) continue;
     int j = co.n;
     while (j > 0 && wh.tnear[co.slot[j - 1]] > wh.tnear[i]) {
@@ -99,17 +99,15 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
   while (sp > 0) {
     sp = sp - 1;
     if (stack_t[sp] > res.nearest.t) continue;
-    WideNode n = KD(nodes)[stack_node[sp]];
     if (MASQ_STATS) res.nodes = res.nodes + 1;
-    WideHits wh = padded != 0 ? intersect_wide_node_padded(n, o, inv_d, pad, tmin, res.nearest.t)
-                              : intersect_wide_node(n, o, inv_d, tmin, res.nearest.t);
-    ChildOrder co = order_children(wh);
+    WideHits wh = node_hits(KD_ARG stack_node[sp], o, inv_d, padded, pad, tmin, res.nearest.t);
+    ChildOrder co = order_children(wh, node_width());
     // Leaves now (nearest first), inner nodes pushed farthest first so nearest pops next.
     for (int k = 0; k < co.n; ++k) {
       int i = co.slot[k];
-      if (n.count[i] <= 0 || wh.tnear[i] > res.nearest.t) continue;
-      for (int j = 0; j < n.count[i]; ++j) {
-        int prim = KD(refs)[n.child[i] + j];
+      if (wh.count[i] <= 0 || wh.tnear[i] > res.nearest.t) continue;
+      for (int j = 0; j < wh.count[i]; ++j) {
+        int prim = KD(refs)[wh.child[i] + j];
         if (MASQ_STATS) res.isect_calls = res.isect_calls + 1;
         PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, res.nearest.t);
         res.nearest = nearest_take(res.nearest, ph, prim, geom_id, inst_id);
@@ -118,8 +116,8 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
     }
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
-      if (n.count[i] != 0 || sp >= MASQ_STACK_SIZE) continue;
-      stack_node[sp] = n.child[i];
+      if (wh.count[i] != 0 || sp >= MASQ_STACK_SIZE) continue;
+      stack_node[sp] = wh.child[i];
       stack_t[sp] = wh.tnear[i];
       sp = sp + 1;
     }
@@ -191,15 +189,14 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
   while (sp > 0) {
     sp = sp - 1;
     if (stack_t[sp] > best.t) continue;
-    WideNode n = KD(nodes)[stack_node[sp]];
     if (MASQ_STATS) res.stats.tlas_nodes = res.stats.tlas_nodes + 1;
-    WideHits wh = intersect_wide_node(n, wo, inv_d, tmin, best.t);
-    ChildOrder co = order_children(wh);
+    WideHits wh = node_hits(KD_ARG stack_node[sp], wo, inv_d, 0, VEC3(0.0f, 0.0f, 0.0f), tmin, best.t);
+    ChildOrder co = order_children(wh, node_width());
     for (int k = 0; k < co.n; ++k) {
       int i = co.slot[k];
-      if (n.count[i] <= 0 || wh.tnear[i] > best.t) continue;
-      for (int j = 0; j < n.count[i]; ++j) {
-        Instance inst = KD(instances)[KD(refs)[n.child[i] + j]];
+      if (wh.count[i] <= 0 || wh.tnear[i] > best.t) continue;
+      for (int j = 0; j < wh.count[i]; ++j) {
+        Instance inst = KD(instances)[KD(refs)[wh.child[i] + j]];
         Affine m = affine_from_instance(inst);
         vec3 oo = affine_point(m, wo);
         vec3 od = affine_vector(m, wd);
@@ -249,8 +246,8 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
     }
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
-      if (n.count[i] != 0 || sp >= MASQ_STACK_SIZE) continue;
-      stack_node[sp] = n.child[i];
+      if (wh.count[i] != 0 || sp >= MASQ_STACK_SIZE) continue;
+      stack_node[sp] = wh.child[i];
       stack_t[sp] = wh.tnear[i];
       sp = sp + 1;
     }

@@ -18,6 +18,7 @@ layout(constant_id = 7) const bool MASQ_ROBUST = true;
 layout(constant_id = 8) const int MASQ_CURVE_ITERS = 24;
 layout(constant_id = 9) const bool MASQ_ANY_HIT = false;
 layout(constant_id = 10) const bool MASQ_SINGLE_BLAS = false;
+layout(constant_id = 11) const int MASQ_NODE_FORMAT = 0;
 #else
 #ifndef MASQ_STATS
 #define MASQ_STATS 0
@@ -78,6 +79,18 @@ inline thread_local bool single_blas_runtime = false;
 #define MASQ_SINGLE_BLAS (::masq::kernel::single_blas_runtime)
 #else
 #define MASQ_SINGLE_BLAS 0
+#endif
+#endif
+// The scene's BVH node format (MASQ_NODES_* in kernels/layout.h): each variant carries
+// only its own node test. Run time on cpu (one branch per node visit), -D on OpenCL.
+#ifndef MASQ_NODE_FORMAT
+#if defined(MASQ_LANG_CPP)
+namespace masq::kernel {
+inline thread_local int node_format_runtime = 0;
+}
+#define MASQ_NODE_FORMAT (::masq::kernel::node_format_runtime)
+#else
+#define MASQ_NODE_FORMAT 0
 #endif
 #endif
 #endif

@@ -31,6 +31,7 @@ class CpuBackend final : public Backend {
     auto start = std::chrono::steady_clock::now();
     scene_ = scene; // own a copy: the caller's scene may go away
     kd_.nodes = scene_.nodes.data();
+    kd_.node_words = static_cast<const std::uint32_t*>(scene_.node_data()); // w8, q8
     kd_.refs = scene_.refs.data();
     kd_.instances = scene_.instances.data();
     kd_.frames = scene_.frames.data();
@@ -60,10 +61,12 @@ class CpuBackend final : public Backend {
     std::atomic<int> next{0};
     const bool any_hit = query == Query::Any;
     const bool single_blas = scene_.features.single_blas;
+    const int node_format = node_format_id(scene_.features.nodes);
     auto worker = [&] {
       kernel::curve_iters_runtime = curve_iters; // per thread (see kernels/variants.h)
       kernel::any_hit_runtime = any_hit;
       kernel::single_blas_runtime = single_blas;
+      kernel::node_format_runtime = node_format;
       for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
         fn(kd_, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
            scene_.tlas_root);

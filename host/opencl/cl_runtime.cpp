@@ -138,7 +138,8 @@ std::string variant_build_options(const KernelFeatures& f, bool stats, bool any_
   return flag("MASQ_STATS", stats) + flag("MASQ_HAVE_TRIANGLES", f.triangles) + flag("MASQ_HAVE_CAPSULES", f.capsules) +
          flag("MASQ_HAVE_CONES", f.cones) + flag("MASQ_HAVE_SPHERES", f.spheres) + flag("MASQ_HAVE_CURVES", f.curves) +
          flag("MASQ_ROBUST", f.mode == Mode::Robust) + flag("MASQ_ANY_HIT", any_hit) +
-         flag("MASQ_SINGLE_BLAS", f.single_blas) + " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters);
+         flag("MASQ_SINGLE_BLAS", f.single_blas) + " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters) +
+         " -D MASQ_NODE_FORMAT=" + std::to_string(node_format_id(f.nodes));
 }
 
 BuiltProgram build_program(const Runtime& rt, const std::string& source, const std::string& options,

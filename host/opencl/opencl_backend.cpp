@@ -47,12 +47,12 @@ class OpenClBackend final : public Backend {
 
   void set_scene(const PackedScene& scene) override {
     auto start = std::chrono::steady_clock::now();
-    if (scene.tlas_root >= static_cast<std::int64_t>(scene.nodes.size()))
+    if (scene.tlas_root >= static_cast<std::int64_t>(scene.node_count()))
       throw Error("opencl: tlas_root " + std::to_string(scene.tlas_root) + " is outside the " +
-                  std::to_string(scene.nodes.size()) + " nodes");
+                  std::to_string(scene.node_count()) + " nodes");
     scene_.reset(); // free the previous scene's device memory first
     SceneBuffers sb;
-    sb.nodes = upload("nodes", scene.nodes, sb.bytes);
+    sb.nodes = upload_bytes("nodes", scene.node_data(), scene.node_bytes(), sb.bytes); // any node format
     sb.refs = upload("refs", scene.refs, sb.bytes);
     sb.instances = upload("instances", scene.instances, sb.bytes);
     sb.frames = upload("frames", scene.frames, sb.bytes);
@@ -150,7 +150,10 @@ class OpenClBackend final : public Backend {
  private:
   template <class T>
   cl::Buffer upload(const char* what, const std::vector<T>& data, std::size_t& total) {
-    const std::size_t bytes = data.size() * sizeof(T);
+    return upload_bytes(what, data.data(), data.size() * sizeof(T), total);
+  }
+
+  cl::Buffer upload_bytes(const char* what, const void* data, std::size_t bytes, std::size_t& total) {
     if (bytes > rt_.max_alloc)
       throw Error("opencl: scene array '" + std::string(what) + "' needs " + std::to_string(bytes) +
                   " bytes, more than the device's largest allocation (CL_DEVICE_MAX_MEM_ALLOC_SIZE = " +
@@ -160,8 +163,7 @@ class OpenClBackend final : public Backend {
     cl::Buffer buf(rt_.context, CL_MEM_READ_ONLY, size, nullptr, &err);
     check(err, "clCreateBuffer(" + std::string(what) + ", " + std::to_string(size) + " bytes)");
     if (bytes > 0)
-      check(rt_.queue.enqueueWriteBuffer(buf, CL_FALSE, 0, bytes, data.data()),
-            "clEnqueueWriteBuffer(" + std::string(what) + ")");
+      check(rt_.queue.enqueueWriteBuffer(buf, CL_FALSE, 0, bytes, data), "clEnqueueWriteBuffer(" + std::string(what) + ")");
     total += size;
     return buf;
   }

@@ -17,6 +17,7 @@
 #include "bvh/cluster_blas.h"
 #include "bvh/obb.h"
 #include "bvh/prim_bounds.h"
+#include "bvh/wide_bvh.h"
 #include "host/vulkan/acceleration_structures.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vulkan_backends.h"
@@ -225,11 +226,11 @@ class RayQueryBackend final : public Backend {
     std::vector<std::int32_t> out;
     std::vector<int> stack{root};
     while (!stack.empty()) {
-      const kernel::WideNode& n = s.nodes.at(static_cast<std::size_t>(stack.back()));
+      std::vector<NodeSlot> slots = node_slots(s, stack.back()); // any node format
       stack.pop_back();
-      for (int i = 0; i < MASQ_WIDTH; ++i) {
-        if (n.count[i] == 0) stack.push_back(n.child[i]);
-        for (int j = 0; j < n.count[i]; ++j) out.push_back(s.refs.at(static_cast<std::size_t>(n.child[i] + j)));
+      for (const NodeSlot& n : slots) {
+        if (n.count == 0) stack.push_back(n.child);
+        for (int j = 0; j < n.count; ++j) out.push_back(s.refs.at(static_cast<std::size_t>(n.child + j)));
       }
     }
     return out;

@@ -6,14 +6,18 @@
 namespace masq::vk {
 namespace {
 
+void upload_bytes(Context& ctx, const char* backend, const char* what, const void* data, std::uint64_t bytes,
+                  Buffer& out, std::size_t& total) {
+  check_storage_range(ctx, backend, what, bytes);
+  out = Buffer(ctx, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  out.upload(data, bytes);
+  total += bytes;
+}
+
 template <class T>
 void upload_array(Context& ctx, const char* backend, const char* what, const std::vector<T>& v, Buffer& out,
                   std::size_t& total) {
-  std::uint64_t bytes = v.size() * sizeof(T);
-  check_storage_range(ctx, backend, what, bytes);
-  out = Buffer(ctx, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  out.upload(v.data(), bytes);
-  total += bytes;
+  upload_bytes(ctx, backend, what, v.data(), v.size() * sizeof(T), out, total);
 }
 
 } // namespace
@@ -34,7 +38,8 @@ void SceneBuffers::bind(KernelLayout& layout) const {
 SceneBuffers upload_scene_arrays(Context& ctx, const char* backend, const PackedScene& s, bool with_bvh) {
   SceneBuffers b;
   if (with_bvh) {
-    upload_array(ctx, backend, "scene nodes", s.nodes, b.arrays[MASQ_BINDING_NODES], b.bytes);
+    // Whatever the node format: the kernels read w8 and q8 through an alias of this binding.
+    upload_bytes(ctx, backend, "scene nodes", s.node_data(), s.node_bytes(), b.arrays[MASQ_BINDING_NODES], b.bytes);
     upload_array(ctx, backend, "scene refs", s.refs, b.arrays[MASQ_BINDING_REFS], b.bytes);
   } else {
     b.arrays[MASQ_BINDING_NODES] = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -53,7 +58,8 @@ SceneBuffers upload_scene_arrays(Context& ctx, const char* backend, const Packed
 
 std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, bool any_hit, std::uint32_t local_size) {
   return {stats,     f.triangles, f.capsules, local_size, f.cones, f.spheres, f.curves, f.mode == Mode::Robust,
-          static_cast<std::uint32_t>(f.curve_iters), any_hit, f.single_blas};
+          static_cast<std::uint32_t>(f.curve_iters), any_hit, f.single_blas,
+          static_cast<std::uint32_t>(node_format_id(f.nodes))};
 }
 
 void RayBatch::ensure(std::size_t capacity, KernelLayout& layout) {

@@ -1,0 +1,123 @@
+// The 8-wide node formats (w8: float boxes; q8: 8-bit quantised boxes) and the one
+// entry the traversal calls for every format. Both are read from the node array as raw
+// words (KD(node_words); GLSL binds that array once, under two names), at the word
+// offsets that kernels/layout.h checks against the structs.
+#ifndef MASQ_KERNEL_NODE_FORMATS_H
+#define MASQ_KERNEL_NODE_FORMATS_H
+#include "box.h"
+#include "kernel_data.h"
+#include "variants.h"
+
+KERNEL_NS_BEGIN
+
+STRUCT_BEGIN(SlabHit)
+  float tn; // entry distance (clamped to tmin), +inf when missed within [tmin, tmax]
+  float tf;
+STRUCT_END(SlabHit)
+
+// The slab test of intersect_wide_node on one child box; padded != 0 grows it first as
+// intersect_wide_node_padded does (by pad, and by 2u of each bound's magnitude since the
+// subtraction rounds).
+FN SlabHit slab_hit(vec3 lo, vec3 hi, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  vec3 a = lo;
+  vec3 b = hi;
+  if (padded != 0) {
+    a = lo - (pad + vabs_(lo) * (2.0f * MASQ_U));
+    b = hi + (pad + vabs_(hi) * (2.0f * MASQ_U));
+  }
+  float tx0 = (a.x - o.x) * inv_d.x;
+  float tx1 = (b.x - o.x) * inv_d.x;
+  float ty0 = (a.y - o.y) * inv_d.y;
+  float ty1 = (b.y - o.y) * inv_d.y;
+  float tz0 = (a.z - o.z) * inv_d.z;
+  float tz1 = (b.z - o.z) * inv_d.z;
+  float tn = widen_lo(vmax3_(min(tx0, tx1), min(ty0, ty1), min(tz0, tz1)));
+  float tf = widen_hi(vmin3_(max(tx0, tx1), max(ty0, ty1), max(tz0, tz1)));
+  SlabHit h;
+  h.tn = (tn <= tf && tf >= tmin && tn <= tmax) ? max(tn, tmin) : inf_();
+  h.tf = tf;
+  return h;
+}
+
+FN float node_word_f(KD_PARAM int w) { return as_float_(KD(node_words)[w]); }
+
+// Byte `slot` of the pair of words at w (slot j: word j / 4, bits 8 (j % 4)).
+FN uint node_byte(KD_PARAM int w, int slot) { return (KD(node_words)[w + (slot >> 2)] >> ((slot & 3) * 8)) & 255u; }
+
+FN WideHits hits_w8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  WideHits r;
+  int b = node * MASQ_W8_WORDS;
+  for (int i = 0; i < MASQ_WIDTH8; ++i) {
+    r.child[i] = u2i_(KD(node_words)[b + MASQ_W8_CHILD + i]);
+    r.count[i] = u2i_(KD(node_words)[b + MASQ_W8_COUNT + i]);
+    r.tnear[i] = inf_();
+    r.tfar[i] = 0.0f;
+    if (r.count[i] < 0) continue;
+    vec3 lo = VEC3(node_word_f(KD_ARG b + MASQ_W8_LO_X + i), node_word_f(KD_ARG b + MASQ_W8_LO_Y + i),
+                   node_word_f(KD_ARG b + MASQ_W8_LO_Z + i));
+    vec3 hi = VEC3(node_word_f(KD_ARG b + MASQ_W8_HI_X + i), node_word_f(KD_ARG b + MASQ_W8_HI_Y + i),
+                   node_word_f(KD_ARG b + MASQ_W8_HI_Z + i));
+    SlabHit h = slab_hit(lo, hi, o, inv_d, padded, pad, tmin, tmax);
+    r.tnear[i] = h.tn;
+    r.tfar[i] = h.tf;
+  }
+  return r;
+}
+
+// Decodes each child box as origin + q * 2^e per plane (exact product, one rounding of
+// the sum: the host proved that value lies outside the true box), then the float test.
+FN WideHits hits_q8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  WideHits r;
+  int b = node * MASQ_Q8_WORDS;
+  vec3 p = VEC3(node_word_f(KD_ARG b + MASQ_Q8_ORIGIN), node_word_f(KD_ARG b + MASQ_Q8_ORIGIN + 1),
+                node_word_f(KD_ARG b + MASQ_Q8_ORIGIN + 2));
+  uint ex = KD(node_words)[b + MASQ_Q8_EXPS];
+  vec3 s = VEC3(as_float_((ex & 255u) << 23), as_float_(((ex >> 8) & 255u) << 23), as_float_(((ex >> 16) & 255u) << 23));
+  int next_child = u2i_(KD(node_words)[b + MASQ_Q8_CHILD_BASE]);
+  int next_ref = u2i_(KD(node_words)[b + MASQ_Q8_REF_BASE]);
+  for (int i = 0; i < MASQ_WIDTH8; ++i) {
+    uint m = node_byte(KD_ARG b + MASQ_Q8_META, i);
+    r.tnear[i] = inf_();
+    r.tfar[i] = 0.0f;
+    r.child[i] = -1;
+    r.count[i] = -1;
+    if (m == 0u) continue;
+    if (m == MASQ_Q8_INNER) {
+      r.child[i] = next_child;
+      r.count[i] = 0;
+      next_child = next_child + 1;
+    } else {
+      r.child[i] = next_ref;
+      r.count[i] = u2i_(m);
+      next_ref = next_ref + u2i_(m);
+    }
+    vec3 lo = VEC3(p.x + u2f_(node_byte(KD_ARG b + MASQ_Q8_QLO_X, i)) * s.x,
+                   p.y + u2f_(node_byte(KD_ARG b + MASQ_Q8_QLO_Y, i)) * s.y,
+                   p.z + u2f_(node_byte(KD_ARG b + MASQ_Q8_QLO_Z, i)) * s.z);
+    vec3 hi = VEC3(p.x + u2f_(node_byte(KD_ARG b + MASQ_Q8_QHI_X, i)) * s.x,
+                   p.y + u2f_(node_byte(KD_ARG b + MASQ_Q8_QHI_Y, i)) * s.y,
+                   p.z + u2f_(node_byte(KD_ARG b + MASQ_Q8_QHI_Z, i)) * s.z);
+    SlabHit h = slab_hit(lo, hi, o, inv_d, padded, pad, tmin, tmax);
+    r.tnear[i] = h.tn;
+    r.tfar[i] = h.tf;
+  }
+  return r;
+}
+
+FN WideHits hits_w4(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  WideNode n = KD(nodes)[node];
+  return padded != 0 ? intersect_wide_node_padded(n, o, inv_d, pad, tmin, tmax)
+                     : intersect_wide_node(n, o, inv_d, tmin, tmax);
+}
+
+// The node test of the scene's format: child entry distances and the decoded slots.
+FN WideHits node_hits(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  if (MASQ_NODE_FORMAT == MASQ_NODES_W8) return hits_w8(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
+  if (MASQ_NODE_FORMAT == MASQ_NODES_Q8) return hits_q8(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
+  return hits_w4(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
+}
+
+FN int node_width() { return MASQ_NODE_FORMAT == MASQ_NODES_W4 ? MASQ_WIDTH : MASQ_WIDTH8; }
+
+KERNEL_NS_END
+#endif
