@@ -8,18 +8,22 @@ namespace masq {
 
 namespace {
 
-// Children of a wide node of `width`: repeatedly open the inner child of largest area.
-std::vector<int> gather(const BinaryBvh& bvh, int binary, int width) {
+// Children of a wide node of `width`: repeatedly open the inner child of largest area,
+// as long as the node keeps at most max_inner inner children (each one beyond the first
+// is a stack entry that waits while the nearest is traversed).
+std::vector<int> gather(const BinaryBvh& bvh, int binary, int width, int max_inner) {
   std::vector<int> kids{bvh.nodes[binary].left, bvh.nodes[binary].right};
+  auto is_inner = [&](int n) { return !bvh.nodes[n].is_leaf(); };
   while (int(kids.size()) < width) {
+    int inner = int(std::count_if(kids.begin(), kids.end(), is_inner));
     int best = -1;
     double best_area = -1.0;
     for (int i = 0; i < int(kids.size()); ++i) {
       const BinaryNode& n = bvh.nodes[kids[i]];
-      if (!n.is_leaf() && n.box.area() > best_area) {
-        best = i;
-        best_area = n.box.area();
-      }
+      if (n.is_leaf() || n.box.area() <= best_area) continue;
+      if (inner - 1 + int(is_inner(n.left)) + int(is_inner(n.right)) > max_inner) continue;
+      best = i;
+      best_area = n.box.area();
     }
     if (best < 0) break;
     int open = kids[best];
@@ -36,6 +40,7 @@ int stack_need(int inner, int deepest) { return inner == 0 ? 0 : inner - 1 + std
 
 struct Common {
   const BinaryBvh& bvh;
+  int max_inner; // inner children per node (gather)
   const std::vector<std::int32_t>& ref_ids;
   std::vector<std::int32_t>& refs;
   WideBvhInfo info;
@@ -84,7 +89,7 @@ struct FloatCollapser : Common {
         w.child[s] = emit_leaf_refs(c);
         w.count[s] = c.count;
       } else {
-        auto [child, need] = emit(gather(bvh, kids[s], Width), c.box, depth + 1);
+        auto [child, need] = emit(gather(bvh, kids[s], Width, max_inner), c.box, depth + 1);
         w.child[s] = child;
         w.count[s] = 0;
         ++inner;
@@ -129,7 +134,7 @@ struct QuantCollapser : Common {
     nodes.resize(nodes.size() + inner_kids.size());
     int deepest = 0;
     for (std::size_t j = 0; j < inner_kids.size(); ++j)
-      deepest = std::max(deepest, fill(child_base + int(j), gather(bvh, inner_kids[j], 8), depth + 1));
+      deepest = std::max(deepest, fill(child_base + int(j), gather(bvh, inner_kids[j], 8, max_inner), depth + 1));
     nodes[std::size_t(index)] = pack_quant_node(frame, qboxes, meta, child_base, ref_base);
     return stack_need(int(inner_kids.size()), deepest);
   }
@@ -142,34 +147,71 @@ void check_stack(WideBvhInfo& info, int need) {
                 " entries; the kernels have " + std::to_string(MASQ_STACK_SIZE));
 }
 
+// One collapse with at most max_inner inner children per node; {info, stack need}.
 template <class Node, int Width>
-WideBvhInfo append_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
-                         std::vector<std::int32_t>& refs) {
-  FloatCollapser<Node, Width> c{{bvh, ref_ids, refs, {}}, nodes};
-  if (bvh.nodes.empty()) return c.info;
+WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
+                           std::vector<std::int32_t>& refs, int max_inner, int& need) {
+  FloatCollapser<Node, Width> c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
   const BinaryNode& root = bvh.nodes[0];
   c.root_area = std::max(root.box.area(), 1e-300);
   // A root that is itself a leaf becomes a wide node with one leaf slot.
-  std::vector<int> kids = root.is_leaf() ? std::vector<int>{0} : gather(bvh, 0, Width);
-  auto [index, need] = c.emit(kids, root.box, 1);
+  std::vector<int> kids = root.is_leaf() ? std::vector<int>{0} : gather(bvh, 0, Width, max_inner);
+  auto [index, n] = c.emit(kids, root.box, 1);
   c.info.root = index;
-  check_stack(c.info, need);
+  need = n;
   return c.info;
+}
+
+WideBvhInfo collapse_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
+                           std::vector<kernel::QuantNode8>& nodes, std::vector<std::int32_t>& refs, int max_inner,
+                           int& need) {
+  QuantCollapser c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
+  const BinaryNode& root = bvh.nodes[0];
+  c.root_area = std::max(root.box.area(), 1e-300);
+  std::vector<int> kids = root.is_leaf() ? std::vector<int>{0} : gather(bvh, 0, 8, max_inner);
+  int index = int(nodes.size());
+  nodes.emplace_back();
+  need = c.fill(index, kids, 1);
+  c.info.root = index;
+  return c.info;
+}
+
+// Each waiting sibling is a stack entry, so a full 8-wide node on every level of a deep
+// tree needs up to 7 entries per level where a 4-wide one needs 3. When the worst case
+// exceeds the kernels' stack, the collapse is redone with fewer inner children per node
+// (6, then 4 like w4, 3, 2: leaf slots stay free); the node arrays are rolled back.
+template <class Node, class Collapse>
+WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, std::vector<Node>& nodes,
+                                  std::vector<std::int32_t>& refs, Collapse collapse) {
+  if (bvh.nodes.empty()) return {};
+  const std::size_t nodes0 = nodes.size(), refs0 = refs.size();
+  int need = 0;
+  WideBvhInfo info;
+  for (int max_inner : {8, 6, 4, 3, 2}) {
+    if (max_inner > width) continue;
+    nodes.resize(nodes0);
+    refs.resize(refs0);
+    info = collapse(max_inner, need);
+    info.max_inner = max_inner;
+    if (1 + need <= MASQ_STACK_SIZE) break;
+  }
+  check_stack(info, need);
+  return info;
+}
+
+template <class Node, int Width>
+WideBvhInfo append_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
+                         std::vector<std::int32_t>& refs) {
+  return collapse_within_stack(bvh, Width, nodes, refs, [&](int max_inner, int& need) {
+    return collapse_float<Node, Width>(bvh, ref_ids, nodes, refs, max_inner, need);
+  });
 }
 
 WideBvhInfo append_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
                          std::vector<kernel::QuantNode8>& nodes, std::vector<std::int32_t>& refs) {
-  QuantCollapser c{{bvh, ref_ids, refs, {}}, nodes};
-  if (bvh.nodes.empty()) return c.info;
-  const BinaryNode& root = bvh.nodes[0];
-  c.root_area = std::max(root.box.area(), 1e-300);
-  std::vector<int> kids = root.is_leaf() ? std::vector<int>{0} : gather(bvh, 0, 8);
-  int index = int(nodes.size());
-  nodes.emplace_back();
-  int need = c.fill(index, kids, 1);
-  c.info.root = index;
-  check_stack(c.info, need);
-  return c.info;
+  return collapse_within_stack(bvh, 8, nodes, refs, [&](int max_inner, int& need) {
+    return collapse_quant(bvh, ref_ids, nodes, refs, max_inner, need);
+  });
 }
 
 template <class Node, int Width>

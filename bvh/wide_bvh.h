@@ -17,12 +17,13 @@ struct WideBvhInfo {
   double sah_cost = 0;     // traversal 1 per wide node visit, intersection 1 per reference
   int depth = 0;           // wide levels
   int stack_need = 0;      // worst-case traversal stack entries (kernel has MASQ_STACK_SIZE)
+  int max_inner = 0;       // inner children per node the collapse allowed (< width: capped to fit the stack)
 };
 
 // Appends to the array of `format` in `ps` (ps.nodes, ps.nodes8 or ps.qnodes) and leaf
 // references to ps.refs as ref_ids[order[i]] (e.g. primitive or instance ids). Throws
-// masq::Error if traversal would need more than the kernel's fixed stack, or (q8) a
-// leaf holds more than MASQ_Q8_MAX_LEAF references.
+// masq::Error if traversal would need more than the kernel's fixed stack even with two
+// inner children per node, or (q8) a leaf holds more than MASQ_Q8_MAX_LEAF references.
 WideBvhInfo append_bvh_nodes(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, NodeFormat format,
                              PackedScene& ps);
 

@@ -1,0 +1,106 @@
+// The node formats change how the BVH is stored and tested, never what a ray hits: on
+// each backend, random instanced scenes holding every primitive type, built with every
+// method, traced in both modes for the closest hit and for occlusion, must give w8 and
+// q8 the hits of w4. Closest: the same primitive, geometry and instance, t within 1e-6
+// relative (the same intersector on the same ray; only the visiting order differs).
+// Any hit: the same occluded/unoccluded answer (which blocker is found first is up to
+// the traversal order, so the primitive may differ by design).
+#include "bvh/build_accel.h"
+#include "host/backend.h"
+#include "scenes/camera.h"
+#include "scenes/generators.h"
+#include <gtest/gtest.h>
+#include <cmath>
+#include <random>
+#include "tests/random_affine.h"
+#include "tests/test_env.h"
+
+using namespace masq;
+using masq::test::random_affine;
+
+namespace {
+
+constexpr double kRelT = 1e-6;
+
+Scene every_primitive_scene(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  Scene s;
+  s.name = "every primitive " + std::to_string(seed);
+  for (PrimType t : {PrimType::Triangle, PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve})
+    s.geometries.push_back(t == PrimType::Triangle ? make_random_mesh(96, 1.0, seed + 7)
+                                                   : make_random_geometry(t, 150, 0.004f, 0.05f, 1.0, seed + int(t)));
+  for (std::uint32_t g = 0; g < s.geometries.size(); ++g)
+    for (int i = 0; i < 2; ++i) s.instances.push_back({g, random_affine(rng)});
+  return s;
+}
+
+std::vector<kernel::Ray> random_rays(std::uint64_t seed, int n) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<kernel::Ray> rays;
+  for (int i = 0; i < n; ++i) {
+    glm::dvec3 from = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng))) * 5.0;
+    glm::dvec3 to = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
+    double scale = 0.3 + 2.0 * std::abs(u(rng)); // non-unit directions
+    rays.push_back(make_ray(from, (to - from) * (scale / glm::length(to - from))));
+  }
+  return rays;
+}
+
+std::vector<kernel::Hit> trace(Backend& be, const PackedScene& ps, const std::vector<kernel::Ray>& rays, Query q) {
+  be.set_scene(ps);
+  std::vector<kernel::Hit> hits(rays.size());
+  be.trace(rays, hits, {}, q);
+  return hits;
+}
+
+class NodeFormatsAgree : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(NodeFormatsAgree, EveryMethodModeAndQuery) {
+  std::unique_ptr<Backend> be =
+      masq::test::open_or_fail(GetParam(), [](const std::string& n) { return make_backend(n); });
+  if (!be) return;
+  Scene scene = every_primitive_scene(3);
+  std::vector<kernel::Ray> rays = random_rays(4, 2048);
+  for (Method method : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto})
+    for (Mode mode : {Mode::Robust, Mode::Fast}) {
+      AccelOptions opt;
+      opt.mode = mode;
+      opt.cluster.max_size = 8; // several members per cluster even in this small scene
+      std::vector<PackedScene> built;
+      for (NodeFormat f : {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8}) {
+        opt.nodes = f;
+        built.push_back(build_accel(scene, method, opt));
+      }
+      for (Query q : {Query::Closest, Query::Any}) {
+        std::vector<kernel::Hit> base = trace(*be, built[0], rays, q);
+        int hits = 0;
+        for (const kernel::Hit& h : base) hits += h.prim >= 0;
+        EXPECT_GT(hits, int(rays.size()) / 20) << "too few hits for the comparison to mean anything";
+        for (std::size_t k = 1; k < built.size(); ++k) {
+          std::vector<kernel::Hit> got = trace(*be, built[k], rays, q);
+          std::string what = std::string(method_name(method)) + " " + mode_name(mode) + " " +
+                             (q == Query::Any ? "any" : "closest") + " " + node_format_name(built[k].features.nodes);
+          int bad = 0;
+          for (std::size_t i = 0; i < rays.size(); ++i) {
+            const kernel::Hit& a = base[i];
+            const kernel::Hit& b = got[i];
+            bool same = (a.prim >= 0) == (b.prim >= 0);
+            if (same && q == Query::Closest && a.prim >= 0)
+              same = a.prim == b.prim && a.geom == b.geom && a.inst == b.inst &&
+                     std::abs(a.t - b.t) <= kRelT * std::abs(a.t);
+            if (!same && bad++ < 3)
+              ADD_FAILURE() << what << ": ray " << i << ": w4 prim " << a.prim << " geom " << a.geom << " inst "
+                            << a.inst << " t " << a.t << "; got prim " << b.prim << " geom " << b.geom << " inst "
+                            << b.inst << " t " << b.t;
+          }
+          EXPECT_EQ(bad, 0) << what;
+        }
+      }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, NodeFormatsAgree, ::testing::Values("cpu", "opencl", "vulkan"),
+                         [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
+
+} // namespace
