@@ -30,6 +30,9 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
   AccelOptions o = options;
   masq::AccelOptions ao;
   ao.mode = options.mode == Mode::Fast ? masq::Mode::Fast : masq::Mode::Robust;
+  ao.nodes = options.nodes == NodeFormat::W8   ? masq::NodeFormat::W8
+             : options.nodes == NodeFormat::Q8 ? masq::NodeFormat::Q8
+                                               : masq::NodeFormat::W4;
   auto impl = std::make_shared<Impl>();
   impl->packed = build_accel(s, internal_method(options.method), ao);
   impl->options = o;
@@ -42,7 +45,7 @@ AccelStats Accel::stats() const {
   if (!impl_) throw Error("Accel::stats: the Accel was not built (use Accel::build)");
   const PackedScene& p = impl_->packed;
   return {p.stats.instances, p.stats.tlas_nodes, p.stats.blas_nodes, p.acceleration_bytes() + p.primitive_bytes(),
-          p.stats.build_seconds};
+          p.stats.node_bytes, p.stats.build_seconds};
 }
 
 AccelOptions Accel::options() const {

@@ -14,6 +14,7 @@
 #include <functional>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <unistd.h>
 
@@ -150,14 +151,26 @@ int bench(BenchCli& c) {
                     : std::string(),
              c.scene.mode, fmt::join(c.scene.nodes, ","), c.bench.width, c.bench.height, ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup,
              c.bench.repetitions);
-  // Node formats side by side: the same scene and rays, one build and measurement each.
-  std::vector<BenchRow> rows;
-  BackendPool pool;
+  // Node formats side by side: one build per format, the same rays for all, and the
+  // formats measured one after the other for each backend and method, so that a shared
+  // machine's changing load falls alike on the rows that are compared.
+  std::vector<std::map<Method, PackedScene>> built;
   for (NodeFormat f : formats) {
     c.bench.accel.nodes = f;
-    std::vector<BenchRow> part = run_bench(scene, c.bench, pool);
-    rows.insert(rows.end(), std::make_move_iterator(part.begin()), std::make_move_iterator(part.end()));
+    built.push_back(build_methods(scene, c.bench));
   }
+  BackendPool pool;
+  std::vector<RayBatch> batches = make_ray_batches(scene, built.front(), c.bench, pool);
+  std::vector<BenchRow> rows;
+  for (const std::string& b : c.bench.backends)
+    for (Method m : c.bench.methods)
+      for (const auto& by_method : built) {
+        BenchOptions one = c.bench;
+        one.backends = {b};
+        one.methods = {m};
+        std::vector<BenchRow> part = measure(by_method, scene.primitive_count(), batches, one, pool);
+        rows.insert(rows.end(), std::make_move_iterator(part.begin()), std::make_move_iterator(part.end()));
+      }
   clear_progress(c.quiet);
   Table ratios = bench_ratios(rows);
   fmt::print("{}\n{}", bench_table(rows).text(),

@@ -100,6 +100,28 @@ TEST(Api, EveryBackendAndMethodAgreeOnAMixedScene) {
   }
 }
 
+TEST(Api, NodeFormatsGiveTheSameHitsInFewerBytes) {
+  Scene scene = mixed_scene();
+  std::vector<Ray> rays = grid_rays();
+  Context ctx("cpu");
+  Accel w4 = Accel::build(scene, {Method::Masq, Mode::Robust, NodeFormat::W4});
+  std::vector<Hit> expected = ctx.trace(w4, rays);
+  for (NodeFormat f : {NodeFormat::W8, NodeFormat::Q8}) {
+    Accel a = Accel::build(scene, {Method::Masq, Mode::Robust, f});
+    EXPECT_EQ(a.options().nodes, f);
+    std::vector<Hit> hits = ctx.trace(a, rays);
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      EXPECT_EQ(hits[i].prim, expected[i].prim) << i;
+      EXPECT_EQ(hits[i].geometry, expected[i].geometry) << i;
+      EXPECT_EQ(hits[i].instance, expected[i].instance) << i;
+      EXPECT_FLOAT_EQ(hits[i].t, expected[i].t) << i;
+    }
+    if (f == NodeFormat::Q8) {
+      EXPECT_LT(a.stats().node_bytes, w4.stats().node_bytes);
+    }
+  }
+}
+
 TEST(Api, InstancesTransformsStatsAndOcclusion) {
   Scene s;
   Sphere sp{{0, 0, 0}, 0.25f};

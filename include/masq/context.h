@@ -15,6 +15,7 @@ namespace masq::api {
 struct AccelOptions {
   Method method = Method::Masq;
   Mode mode = Mode::Robust;
+  NodeFormat nodes = NodeFormat::W4;
 };
 
 /// Figures of a built Accel.
@@ -23,6 +24,7 @@ struct AccelStats {
   std::size_t tlas_nodes = 0;  ///< wide TLAS nodes
   std::size_t blas_nodes = 0;  ///< wide BLAS nodes
   std::size_t bytes = 0;       ///< acceleration + primitive arrays as uploaded to a device
+  std::size_t node_bytes = 0;  ///< TLAS and BLAS nodes alone, in the Accel's node format
   double build_seconds = 0;
 };
 

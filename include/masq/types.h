@@ -27,6 +27,13 @@ enum class Mode {
   Fast,   ///< the intersectors as their papers write them; can miss silhouette hits
 };
 
+/// How the BVH nodes of the TLAS and every BLAS are stored (same hits either way).
+enum class NodeFormat {
+  W4, ///< 4 children, float boxes, 128 B per node (default)
+  W8, ///< 8 children, float boxes, 256 B per node
+  Q8, ///< 8 children, boxes quantised conservatively to 8 bits per plane, 80 B per node
+};
+
 /// A ray. dir need not be unit length; t is measured in units of dir. Only hits with
 /// tmin <= t <= tmax count.
 struct Ray {
