@@ -43,7 +43,7 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
   cmd.add_option("--cluster-classes", opt.cluster_classes, "Methods cluster/auto: orientation classes (hemisphere bins)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1024));
-  cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (docs/methods.md)")
+  cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (default 1 1.5 2.5; docs/methods.md)")
       ->expected(3)
       ->check(CLI::PositiveNumber);
 }
