@@ -9,13 +9,19 @@
 
 namespace masq {
 
+// auto builds the structure of the candidate it keeps (ref, masq or cluster) byte for
+// byte, so its speed can be read from that candidate's row as well as from its own: the
+// two readings differ only by timing noise. Both are tallied.
 struct MethodTally {
-  int cells = 0;      // (case, backend) pairs where all of ref, masq and auto ran
-  int auto_within = 0; // of them, auto >= 0.95 x best(ref, masq)
+  int cells = 0;       // (case, backend) pairs where all of ref, masq and auto ran
+  int auto_within = 0; // of them, auto's own row >= 0.95 x best(ref, masq)
   double worst = 0;    // smallest auto / best(ref, masq) seen (0: none)
+  int kept_within = 0; // by the kept candidate's row (auto's own row when it kept the mix)
+  double kept_worst = 0;
 };
 
-// "2.10x / 0.97x" or "n/a"; counts the cell into `tally`.
+// "2.10x / 0.97x (masq)" or "n/a": cluster/ref, auto/best(ref, masq), what auto kept;
+// counts the cell into `tally`.
 std::string method_cell(const std::vector<BenchRow>& rows, const std::string& backend, RaySet set, MethodTally& tally);
 
 // The note under such a table: what the cells mean and how often the target held.

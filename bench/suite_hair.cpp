@@ -166,7 +166,8 @@ SuiteResult table1_result(const SuiteContext& ctx) {
       mt.add(line);
     }
   mt.notes = {method_note(tally)};
-  res.data["auto_target"] = {{"cells", tally.cells}, {"within_5_percent", tally.auto_within}, {"worst", tally.worst}};
+  res.data["auto_target"] = {{"cells", tally.cells}, {"within_5_percent", tally.auto_within}, {"worst", tally.worst},
+                             {"kept_within_5_percent", tally.kept_within}, {"kept_worst", tally.kept_worst}};
   res.tables.push_back(mt);
   res.tables[2].notes = {"link = round cone (Han et al.), phantom xk = Reshetov's phantom cubic curve with each curve "
                              "pre-split into k; TressFX strands become Catmull-Rom cubics through the same points",

@@ -2,6 +2,7 @@
 #include "bvh/cluster_blas.h"
 #include "bvh/obb.h"
 #include "bvh/prim_bounds.h"
+#include "bvh/structure_cost.h"
 #include "bvh/wide_bvh.h"
 #include "scenes/error.h"
 #include <chrono>
@@ -122,15 +123,9 @@ void note_feature(KernelFeatures& f, PrimType t) {
   }
 }
 
-} // namespace
-
-PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt) {
-  if (opt.curve_iters < 1 || opt.curve_iters > 64)
-    throw Error("accel: curve_iters " + std::to_string(opt.curve_iters) + " outside 1..64");
+// One method's structure; for Method::Auto the per-cluster mix of bvh/method_plan.cpp.
+PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt) {
   auto start = std::chrono::steady_clock::now();
-  validate_scene(scene);
-  if (scene.primitive_count() > std::size_t(INT32_MAX) / 2)
-    throw Error("scene: " + std::to_string(scene.primitive_count()) + " primitives exceed the 32-bit index range");
   PackedScene ps;
   ps.method = method;
   pack_primitives(scene, ps);
@@ -152,7 +147,7 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
   PlanOptions plan_opt;
   plan_opt.cluster = opt.cluster;
   plan_opt.curve_obb = opt.curve_obb;
-  plan_opt.prices = opt.prices;
+  plan_opt.prices = kMixPlannerPrices;
   std::vector<std::vector<int>> insts_of(scene.geometries.size());
   for (std::size_t si = 0; si < scene.instances.size(); ++si) insts_of[scene.instances[si].geometry].push_back(int(si));
   std::vector<GeometryPlan> plans(scene.geometries.size());
@@ -231,8 +226,52 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
                             ps.instances[0].prim != MASQ_INST_CLUSTER &&
                             scene.instances[ps.instances[0].scene_inst].object_to_world.is_identity();
   ps.stats.node_bytes = ps.node_bytes();
+  StructureCost sc = structure_cost(ps, opt.prices);
+  ps.stats.model_cost = sc.total;
+  ps.stats.model_triangles = sc.triangles;
   ps.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return ps;
+}
+
+} // namespace
+
+PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt) {
+  if (opt.curve_iters < 1 || opt.curve_iters > 64)
+    throw Error("accel: curve_iters " + std::to_string(opt.curve_iters) + " outside 1..64");
+  validate_scene(scene);
+  if (scene.primitive_count() > std::size_t(INT32_MAX) / 2)
+    throw Error("scene: " + std::to_string(scene.primitive_count()) + " primitives exceed the 32-bit index range");
+  if (method != Method::Auto || opt.auto_select == AutoSelect::MixOnly) return build_planned(scene, method, opt);
+  // auto: build every candidate whole and keep the one the structure cost model prices
+  // lowest (ties to the earlier: ref, masq, cluster, mix). The per-cluster mix alone
+  // misjudges sparse scenes, where what an instance does to the TLAS decides
+  // (docs/methods.md); the whole structures show it.
+  // A candidate other than ref must be cheaper than ref by kAutoMargin: within that the
+  // model cannot tell them apart (docs/methods.md), and ref is the smaller structure.
+  constexpr double kAutoMargin = 0.10;
+  auto start = std::chrono::steady_clock::now();
+  std::array<double, 4> costs{};
+  PackedScene best;
+  int best_i = -1;
+  double best_key = 0;
+  for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
+    PackedScene cand = build_planned(scene, m, opt);
+    int i = int(m);
+    costs[std::size_t(i)] = cand.stats.model_cost;
+    // Compared without the triangles' share, which every candidate has alike.
+    double key = cand.stats.model_cost - cand.stats.model_triangles;
+    if (m != Method::Ref) key /= 1.0 - kAutoMargin;
+    if (best_i < 0 || key < best_key) {
+      best = std::move(cand);
+      best_i = i;
+      best_key = key;
+    }
+  }
+  best.method = Method::Auto;
+  best.stats.auto_choice = Method(best_i);
+  best.stats.auto_candidates = costs;
+  best.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return best;
 }
 
 } // namespace masq

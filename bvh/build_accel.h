@@ -15,13 +15,19 @@
 
 namespace masq {
 
+// How method auto decides: build ref, masq, cluster and its per-cluster mix whole and
+// keep the one bvh/structure_cost.h prices lowest, or build the mix alone (cheaper to
+// build; the tests use it to exercise TLASes that mix every instance kind).
+enum class AutoSelect { WholeStructure, MixOnly };
+
 struct AccelOptions {
   SahOptions sah;
   CurveObb curve_obb = CurveObb::Tight; // masq: how curve OBBs are oriented
   Mode mode = Mode::Robust;             // kernel intersectors and box test
   int curve_iters = 24;                 // phantom iteration limit (1..64; 24: see docs/robustness.md)
   ClusterOptions cluster;               // cluster, auto: cluster size and orientation classes
-  CostPrices prices;                    // auto: the cost model's prices
+  CostPrices prices;                    // auto: the whole-structure cost model's prices
+  AutoSelect auto_select = AutoSelect::WholeStructure;
   NodeFormat nodes = NodeFormat::W4;    // BVH node layout of the TLAS and every BLAS
 };
 

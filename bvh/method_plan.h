@@ -18,13 +18,20 @@ namespace masq {
 
 // Relative prices of the work a ray does, for method auto: one wide-node visit (box
 // tests of up to 4 children), one instance transform (with the masquerade unit-box
-// test), one intersector call. Only their ratios matter; docs/methods.md says where
-// the defaults come from.
+// test), one capsule intersector call (other types: isect_type_factor in
+// bvh/structure_cost.h). Only their ratios matter. The defaults are the whole-structure
+// model's, fitted on the cpu and opencl backends (docs/methods.md).
 struct CostPrices {
   double node = 1.0;
-  double transform = 10.0; // a TLAS entry also deepens and widens the TLAS: see docs/methods.md
-  double isect = 2.0;
+  double transform = 1.5;
+  double isect = 2.5;
 };
+
+// The per-cluster planner's prices (the "mix" candidate of auto). Its per-primitive
+// model cannot see that each new TLAS entry deepens and widens the TLAS, so it charges
+// a transform far above its measured price; the whole-structure comparison then judges
+// the mix against ref, masq and cluster with the real prices.
+inline constexpr CostPrices kMixPlannerPrices{1.0, 10.0, 2.0};
 
 struct GeometryPlan {
   std::vector<std::int32_t> blas_prims; // in the geometry's ordinary BLAS

@@ -66,6 +66,13 @@ struct BuildStats {
   double obb_area = 0, aabb_area = 0;
   std::size_t clusters = 0;     // cluster instances (cluster and auto)
   std::size_t masq_prims = 0;   // masquerade instances (masq and auto)
+  // Expected work per ray of this structure under the auto prices (bvh/structure_cost.h).
+  double model_cost = 0;
+  double model_triangles = 0; // its share spent in triangle geometries
+  // auto: the candidate it kept (ref, masq, cluster, or Auto for its per-cluster mix)
+  // and each candidate's model_cost, indexed by Method (Ref, Masq, Cluster, Auto = mix).
+  Method auto_choice = Method::Auto;
+  std::array<double, 4> auto_candidates{};
   double build_seconds = 0;
 };
 

@@ -176,6 +176,16 @@ int bench(BenchCli& c) {
   fmt::print("{}\n{}", bench_table(rows).text(),
              ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n") : ratios.text());
   if (formats.size() > 1) fmt::print("\n{}", bench_node_ratios(rows).text());
+  for (const BenchRow& r : rows)
+    if (r.method == Method::Auto && r.unavailable.empty()) {
+      // What auto kept, and why: each candidate's expected work per ray (bvh/structure_cost.h).
+      const auto& k = r.build.auto_candidates;
+      fmt::print("auto kept {}: model cost per ray ref {:.3g}, masq {:.3g}, cluster {:.3g}, mix {:.3g} (triangles' "
+                 "share {:.3g}; docs/methods.md)\n",
+                 r.build.auto_choice == Method::Auto ? "the mix" : method_name(r.build.auto_choice), k[0], k[1], k[2], k[3],
+                 r.build.model_triangles);
+      break;
+    }
   if (c.fit_prices) {
     // The auto method's cost-model prices for each backend, fitted to these rows.
     for (const std::string& b : c.bench.backends) {

@@ -51,7 +51,7 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->delimiter(',')
       ->capture_default_str()
       ->check(CLI::IsMember({"w4", "w8", "q8"}));
-  cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (docs/methods.md)")
+  cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (default 1 1.5 2.5; docs/methods.md)")
       ->expected(3)
       ->check(CLI::PositiveNumber);
 }

@@ -93,9 +93,15 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
   for (const std::string& name : backend_names()) {
     std::unique_ptr<Backend> be = backend_or_fail(name);
     if (!be) continue;
-    for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
-      SCOPED_TRACE(name + " " + method_name(m) + " " + mode_name(opt.mode) + " on " + scene.name);
-      be->set_scene(build_accel(scene, m, opt));
+    // Method auto twice: as it decides (one candidate's structure), and its per-cluster
+    // mix alone, whose TLAS holds BLAS, masquerade and cluster instances together.
+    for (int k = 0; k < 5; ++k) {
+      Method m = k < 4 ? Method(k) : Method::Auto;
+      AccelOptions o = opt;
+      if (k == 4) o.auto_select = AutoSelect::MixOnly;
+      std::string label = k == 4 ? "auto-mix" : method_name(m);
+      SCOPED_TRACE(name + " " + label + " " + mode_name(opt.mode) + " on " + scene.name);
+      be->set_scene(build_accel(scene, m, o));
       std::vector<kernel::Hit> hits(rays.size());
       be->trace(rays, hits, {});
       Tally t = compare(scene, rays, truth, hits);
@@ -113,8 +119,8 @@ void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays
         std::printf("  fast mode: %d hit/miss, %d primitive, %d t, %d normal differences\n", t.wrong_hit_miss,
                     t.wrong_prim, t.wrong_t, t.wrong_normal);
       }
-      std::printf("[ %-8s %-7s %-6s ] %s: %d rays compared, %d hits, %d ambiguous skipped\n", name.c_str(),
-                  method_name(m), mode_name(opt.mode), scene.name.c_str(), t.compared, t.hits, t.ambiguous);
+      std::printf("[ %-8s %-8s %-6s ] %s: %d rays compared, %d hits, %d ambiguous skipped\n", name.c_str(),
+                  label.c_str(), mode_name(opt.mode), scene.name.c_str(), t.compared, t.hits, t.ambiguous);
     }
   }
 }

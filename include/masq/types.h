@@ -18,7 +18,7 @@ enum class Method {
   Ref,  ///< one BLAS of primitive AABBs per geometry (the paper's reference method)
   Masq, ///< one TLAS instance per thin primitive, its transform mapping the unit box onto the primitive's OBB
   Cluster, ///< one TLAS instance per cluster of similarly oriented thin primitives, its BLAS built in the cluster's frame
-  Auto, ///< per cluster, the cheapest of a plain BLAS leaf, masquerade instances or a cluster (a cost model)
+  Auto, ///< builds Ref, Masq, Cluster and a per-cluster mix; keeps the one a whole-structure cost model prices lowest
 };
 
 /// Which intersectors and box test the kernels use.

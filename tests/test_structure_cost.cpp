@@ -1,0 +1,119 @@
+// The whole-structure cost model (bvh/structure_cost.h) and method auto's choice by it:
+// exact values on one-primitive scenes, the choice on bundles whose winner is clear
+// (axis-aligned: ref; dense and tilted: an oriented structure), and that auto's arrays
+// are byte for byte those of the candidate it reports keeping.
+#include "bvh/build_accel.h"
+#include "bvh/structure_cost.h"
+#include "scenes/generators.h"
+#include <gtest/gtest.h>
+#include <cstring>
+
+using namespace masq;
+
+namespace {
+
+Scene one_capsule() {
+  Geometry g;
+  g.type = PrimType::Capsule;
+  g.capsules.push_back({{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, 0.1f});
+  Scene s;
+  s.name = "one capsule";
+  s.geometries.push_back(g);
+  s.instances.push_back({0, {}});
+  return s;
+}
+
+Scene bundle(int count, float radius, double tilt) {
+  BundleParams p;
+  p.count = count;
+  p.radius = radius;
+  p.tilt_deg = tilt;
+  Scene s;
+  s.name = "bundle";
+  s.geometries.push_back(make_bundle(p));
+  s.instances.push_back({0, {}});
+  return s;
+}
+
+template <class T> bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+} // namespace
+
+TEST(StructureCost, OneCapsuleUnderRefIsRootVisitPlusOneCall) {
+  // Single BLAS, no TLAS stage: the root node is visited by every ray reaching the
+  // scene box, and its one leaf box is the scene box: 1 node visit + 1 capsule call.
+  PackedScene ps = build_accel(one_capsule(), Method::Ref);
+  ASSERT_TRUE(ps.features.single_blas);
+  CostPrices prices;
+  StructureCost c = structure_cost(ps, prices);
+  EXPECT_NEAR(c.nodes, 1.0, 1e-12);
+  EXPECT_NEAR(c.transforms, 0.0, 1e-12);
+  EXPECT_NEAR(c.isects, 1.0, 1e-6);
+  EXPECT_NEAR(c.total, prices.node + prices.isect, 1e-6);
+  EXPECT_EQ(c.triangles, 0.0);
+  EXPECT_EQ(ps.stats.model_cost, c.total);
+}
+
+TEST(StructureCost, OneCapsuleUnderMasqCallsOnlyInsideItsObb) {
+  // An axis-aligned capsule's OBB is its AABB: one TLAS visit, one transform, and the
+  // call whenever the unit box is hit (probability 1 here).
+  PackedScene ps = build_accel(one_capsule(), Method::Masq);
+  StructureCost c = structure_cost(ps, CostPrices{});
+  EXPECT_NEAR(c.nodes, 1.0, 1e-12);
+  EXPECT_NEAR(c.transforms, 1.0, 1e-6);
+  EXPECT_NEAR(c.isects, 1.0, 1e-3);
+}
+
+TEST(StructureCost, PricesScaleTheirTermsOnly) {
+  PackedScene ps = build_accel(bundle(200, 0.004f, 30.0), Method::Masq);
+  StructureCost a = structure_cost(ps, CostPrices{1.0, 1.0, 1.0});
+  StructureCost b = structure_cost(ps, CostPrices{2.0, 3.0, 5.0});
+  EXPECT_DOUBLE_EQ(a.nodes, b.nodes);
+  EXPECT_NEAR(b.total, 2.0 * a.nodes + 3.0 * a.transforms + 5.0 * a.isects, 1e-9 * b.total);
+}
+
+TEST(StructureCost, CurvesCostMoreCallsThanCapsules) {
+  EXPECT_GT(isect_type_factor(MASQ_PRIM_CURVE), isect_type_factor(MASQ_PRIM_CAPSULE));
+}
+
+TEST(AutoSelect, AxisAlignedBundleKeepsRef) {
+  // Tilt 0: every OBB is its AABB; nothing beats ref by the margin.
+  PackedScene ps = build_accel(bundle(1000, 0.002f, 0.0), Method::Auto);
+  EXPECT_EQ(ps.stats.auto_choice, Method::Ref);
+}
+
+TEST(AutoSelect, DenseTiltedBundleLeavesRef) {
+  // The paper's worst case for AABBs: 1000 strands at 45 degrees. Measured: cluster and
+  // masq several times faster than ref on every backend (docs/methods.md).
+  PackedScene ps = build_accel(bundle(1000, 0.002f, 45.0), Method::Auto);
+  EXPECT_NE(ps.stats.auto_choice, Method::Ref);
+  const auto& k = ps.stats.auto_candidates;
+  EXPECT_LT(ps.stats.model_cost, 0.5 * k[std::size_t(Method::Ref)]);
+}
+
+TEST(AutoSelect, KeepsTheCandidatesBytes) {
+  for (double tilt : {0.0, 15.0, 45.0}) {
+    Scene s = bundle(300, 0.003f, tilt);
+    PackedScene a = build_accel(s, Method::Auto);
+    ASSERT_EQ(a.method, Method::Auto);
+    Method kept = a.stats.auto_choice;
+    AccelOptions mix;
+    mix.auto_select = AutoSelect::MixOnly;
+    PackedScene c = kept == Method::Auto ? build_accel(s, Method::Auto, mix) : build_accel(s, kept);
+    SCOPED_TRACE("tilt " + std::to_string(tilt) + " kept " + method_name(kept));
+    EXPECT_TRUE(same_bytes(a.nodes, c.nodes));
+    EXPECT_TRUE(same_bytes(a.refs, c.refs));
+    EXPECT_TRUE(same_bytes(a.instances, c.instances));
+    EXPECT_EQ(a.tlas_root, c.tlas_root);
+    EXPECT_EQ(a.stats.model_cost, a.stats.auto_candidates[std::size_t(kept)]);
+  }
+}
+
+TEST(AutoSelect, TrianglesShareIsCountedApart) {
+  // The default scene's ground plane costs the same in every candidate.
+  PackedScene ps = build_accel(make_default_scene(), Method::Ref);
+  EXPECT_GT(ps.stats.model_triangles, 0.0);
+  EXPECT_LT(ps.stats.model_triangles, ps.stats.model_cost);
+}
