@@ -52,8 +52,14 @@ class CpuBackend final : public Backend {
       throw Error("cpu: hits/stats spans must have one entry per ray");
     if (rays.size() > std::size_t(INT32_MAX)) throw Error("cpu: more than 2^31-1 rays in one batch");
     const bool robust = scene_.features.mode == Mode::Robust;
-    cpu::TraceRangeFn fn = stats.empty() ? (robust ? cpu::trace_range_plain_robust : cpu::trace_range_plain_fast)
-                                         : (robust ? cpu::trace_range_stats_robust : cpu::trace_range_stats_fast);
+    cpu::TraceRangeFn fn = robust ? cpu::trace_range_stats_robust : cpu::trace_range_stats_fast;
+    if (stats.empty()) {
+      switch (scene_.features.nodes) {
+        case NodeFormat::W4: fn = robust ? cpu::trace_range_plain_robust : cpu::trace_range_plain_fast; break;
+        case NodeFormat::W8: fn = robust ? cpu::trace_range_plain_robust_w8 : cpu::trace_range_plain_fast_w8; break;
+        case NodeFormat::Q8: fn = robust ? cpu::trace_range_plain_robust_q8 : cpu::trace_range_plain_fast_q8; break;
+      }
+    }
     const int curve_iters = scene_.features.curve_iters;
     const int n = int(rays.size());
     // Small chunks handed out dynamically balance uneven rays across threads.
