@@ -2,6 +2,7 @@
 // uploads as-is (layouts from kernels/layout.h), plus what the rayquery backend needs
 // to hand the same scene to the driver's own acceleration-structure builder.
 #pragma once
+#include "bvh/builder_kind.h"
 #include "kernels/layout.h"
 #include <array>
 #include <cstdint>
@@ -55,11 +56,15 @@ struct BuildStats {
   double obb_area = 0, aabb_area = 0;
   std::size_t clusters = 0;     // cluster instances (cluster and auto)
   std::size_t masq_prims = 0;   // masquerade instances (masq and auto)
+  // Leaf references and primitives over every BLAS (cluster BLAS included): their
+  // ratio is 1 unless spatial splits (builder sbvh) put a primitive in several leaves.
+  std::size_t blas_references = 0, blas_primitives = 0;
   double build_seconds = 0;
 };
 
 struct PackedScene {
   Method method = Method::Ref;
+  Builder builder = Builder::Sah;
   std::vector<kernel::WideNode> nodes;   // TLAS and all BLAS nodes
   std::vector<std::int32_t> refs;        // leaf references: instance ids (TLAS), prim ids (BLAS)
   std::vector<kernel::Instance> instances;

@@ -1,0 +1,37 @@
+// Insertion-based optimisation of a binary BVH (Bittner, Hapala & Havran 2013, "Fast
+// Insertion-Based Optimization of Bounding Volume Hierarchies"): repeatedly take the
+// subtrees whose inner-node areas are largest relative to their children, remove each
+// from the tree (its parent is dropped, its sibling takes the parent's place) and put it
+// back as the sibling of the node where it adds the least SAH cost, found by a
+// branch-and-bound search over the tree. The original position is always a candidate,
+// so no move raises the cost; passes stop when one gains less than min_gain of the cost
+// or after max_passes. Leaves and their references are kept as they are: it works the
+// same for a TLAS over instance boxes and for a BLAS (SBVH's duplicate references
+// included).
+#pragma once
+#include "bvh/binned_sah.h"
+
+namespace masq {
+
+struct ReinsertOptions {
+  int max_passes = 8;         // rounds of remove-and-reinsert
+  double batch = 0.05;        // fraction of the inner nodes moved per pass (Bittner et al.: a few percent)
+  double min_gain = 1e-3;     // stop when a pass lowers the cost by less than this fraction
+};
+
+struct ReinsertStats {
+  double cost_before = 0, cost_after = 0; // binary SAH cost, as binary_sah_cost
+  int passes = 0;
+  std::size_t moves = 0; // subtrees put somewhere else
+};
+
+// SAH cost of a binary BVH relative to its root area: traversal_cost per inner node
+// visit, intersection_cost per reference in a leaf.
+double binary_sah_cost(const BinaryBvh& bvh, const SahOptions& sah = {});
+
+// The optimised tree: same leaves (first/count into the same `order` contents, which
+// is rewritten in depth-first leaf order), root at index 0, children after parents.
+BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah = {}, const ReinsertOptions& opt = {},
+                            ReinsertStats* stats = nullptr);
+
+} // namespace masq
