@@ -21,6 +21,7 @@ struct Tree {
   std::vector<BinaryNode> nodes;
   std::vector<int> parent;
   int root = 0;
+  double total = 0; // summed area of the inner nodes, kept up to date by every edit
 
   int sibling(int n) const {
     int p = parent[std::size_t(n)];
@@ -38,15 +39,17 @@ struct Tree {
       BinaryNode& x = nodes[std::size_t(n)];
       Aabb b = nodes[std::size_t(x.left)].box;
       b.grow(nodes[std::size_t(x.right)].box);
+      total += b.area() - x.box.area();
       x.box = b;
     }
   }
 
-  // Detach subtree n with its parent p; the sibling takes p's place. Returns p (free).
+  // Detach subtree n with its parent p; the sibling takes p's place. Returns p, now free.
   int remove(int n) {
     int p = parent[std::size_t(n)];
     int s = sibling(n);
     int g = parent[std::size_t(p)];
+    total -= nodes[std::size_t(p)].box.area();
     if (g < 0) {
       root = s;
       parent[std::size_t(s)] = -1;
@@ -54,44 +57,38 @@ struct Tree {
       replace_child(g, p, s);
       refit_from(g);
     }
+    parent[std::size_t(n)] = -1;
     return p;
   }
 
-  // Put n back as the sibling of x, with `p` as their new parent.
+  // Put n back as the sibling of x, with the free node p as their parent.
   void insert(int n, int x, int p) {
     int g = parent[std::size_t(x)];
     BinaryNode& pn = nodes[std::size_t(p)];
     pn.left = x;
     pn.right = n;
     pn.count = 0;
+    pn.box = nodes[std::size_t(x)].box;
+    pn.box.grow(nodes[std::size_t(n)].box);
+    total += pn.box.area();
     parent[std::size_t(x)] = p;
     parent[std::size_t(n)] = p;
     parent[std::size_t(p)] = g;
     if (g < 0) root = p;
-    else replace_child(g, x, p);
-    refit_from(p);
-  }
-
-  // Cost (in area units, times traversal cost) of putting a box b as the sibling of x:
-  // the new parent's area plus the growth of every ancestor of x.
-  double insertion_cost(int x, const Aabb& b) const {
-    Aabb u = nodes[std::size_t(x)].box;
-    u.grow(b);
-    double c = u.area();
-    for (int a = parent[std::size_t(x)]; a >= 0; a = parent[std::size_t(a)]) {
-      Aabb ua = nodes[std::size_t(a)].box;
-      ua.grow(b);
-      c += ua.area() - nodes[std::size_t(a)].box.area();
+    else {
+      replace_child(g, x, p);
+      refit_from(g);
     }
-    return c;
   }
 
-  // Branch and bound (Bittner et al. 2013, section 4.2): nodes in order of their
-  // induced cost (the ancestors' growth); a subtree is pruned once its induced cost
-  // plus the least possible direct cost (the area of b) reaches the best found.
-  int best_position(const Aabb& b, int start, double& best) const {
-    int best_x = start;
-    best = insertion_cost(start, b);
+  // Branch and bound (Bittner et al. 2013, section 4.2) for the node x where adding
+  // box b as x's sibling costs least: the new parent's area plus the growth of every
+  // ancestor. Nodes come in order of their induced cost (the ancestors' growth); a
+  // subtree is pruned once that plus the least possible direct cost (the area of b)
+  // reaches the best found.
+  int best_position(const Aabb& b) const {
+    int best_x = root;
+    double best = INFINITY;
     double ab = b.area();
     using Entry = std::pair<double, int>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
@@ -115,6 +112,48 @@ struct Tree {
       }
     }
     return best_x;
+  }
+
+  // Bittner et al.'s move: take inner node n and its parent out of the tree and
+  // reinsert n's two children (the larger first) where each costs least. Undone when
+  // the summed inner area went up, so no move raises the cost. Returns true when kept.
+  bool move(int n) {
+    const double before = total;
+    int p = parent[std::size_t(n)];
+    int g = parent[std::size_t(p)];
+    bool p_left = nodes[std::size_t(g)].left == p, n_left = nodes[std::size_t(p)].left == n;
+    int s = sibling(n);
+    const int orig_left = nodes[std::size_t(n)].left, orig_right = nodes[std::size_t(n)].right;
+    int a = orig_left, b = orig_right;
+    if (nodes[std::size_t(a)].box.area() < nodes[std::size_t(b)].box.area()) std::swap(a, b);
+    // Out: p goes (s takes its place), then n (its children are loose).
+    total -= nodes[std::size_t(p)].box.area() + nodes[std::size_t(n)].box.area();
+    replace_child(g, p, s);
+    refit_from(g);
+    parent[std::size_t(a)] = parent[std::size_t(b)] = -1;
+    insert(a, best_position(nodes[std::size_t(a)].box), n);
+    insert(b, best_position(nodes[std::size_t(b)].box), p);
+    if (total <= before) return true;
+    // Undo in reverse order: b and a out again, then n and p back as they were.
+    remove(b);
+    remove(a);
+    BinaryNode& nn = nodes[std::size_t(n)];
+    nn.left = orig_left;
+    nn.right = orig_right;
+    parent[std::size_t(a)] = parent[std::size_t(b)] = n;
+    nn.box = nodes[std::size_t(a)].box;
+    nn.box.grow(nodes[std::size_t(b)].box);
+    BinaryNode& pn = nodes[std::size_t(p)];
+    pn.left = n_left ? n : s;
+    pn.right = n_left ? s : n;
+    parent[std::size_t(n)] = parent[std::size_t(s)] = p;
+    pn.box = nodes[std::size_t(n)].box;
+    pn.box.grow(nodes[std::size_t(s)].box);
+    (p_left ? nodes[std::size_t(g)].left : nodes[std::size_t(g)].right) = p;
+    parent[std::size_t(p)] = g;
+    total += nn.box.area() + pn.box.area();
+    refit_from(g);
+    return false;
   }
 };
 
@@ -181,22 +220,18 @@ BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah, const R
       t.parent[std::size_t(t.nodes[i].left)] = int(i);
       t.parent[std::size_t(t.nodes[i].right)] = int(i);
     }
-  double cost = inner_area_sum(t);
+  t.total = inner_area_sum(t);
   std::vector<std::pair<double, int>> cand;
   for (int pass = 0; pass < opt.max_passes; ++pass) {
-    // Candidates (any node below the root's children): by Bittner et al.'s
-    // m_min x m_area measure, A(N) * A(N) / min(A(children)) for inner nodes, A(N) for
-    // leaves: large boxes, above all those over a small child, are the badly placed ones.
+    // Candidates: inner nodes with a grandparent, by Bittner et al.'s
+    // m_min x m_area measure A(N) * A(N) / min(A(children)): large boxes, above all
+    // those over a small child, are the badly placed ones.
     cand.clear();
     for (std::size_t i = 0; i < t.nodes.size(); ++i) {
       const BinaryNode& x = t.nodes[i];
       int p = t.parent[i];
-      if (p < 0 || t.parent[std::size_t(p)] < 0) continue;
+      if (x.is_leaf() || p < 0 || t.parent[std::size_t(p)] < 0) continue;
       double a = x.box.area();
-      if (x.is_leaf()) {
-        cand.push_back({a, int(i)});
-        continue;
-      }
       double kid = std::min(t.nodes[std::size_t(x.left)].box.area(), t.nodes[std::size_t(x.right)].box.area());
       cand.push_back({a * a / std::max(kid, 1e-300 * a + 1e-300), int(i)});
     }
@@ -204,21 +239,16 @@ BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah, const R
     std::size_t take = std::max<std::size_t>(1, std::size_t(opt.batch * double(cand.size())));
     take = std::min(take, cand.size());
     std::partial_sort(cand.begin(), cand.begin() + std::ptrdiff_t(take), cand.end(), std::greater<>());
-    double before = cost;
+    double before = t.total;
     for (std::size_t c = 0; c < take; ++c) {
       int n = cand[c].second;
       int p = t.parent[std::size_t(n)];
-      if (p < 0 || t.parent[std::size_t(p)] < 0) continue; // moved next to the root meanwhile
-      int s = t.sibling(n);
-      int freed = t.remove(n);
-      double best = 0;
-      int x = t.best_position(t.nodes[std::size_t(n)].box, s, best);
-      t.insert(n, x, freed);
-      if (x != s) ++st.moves;
+      if (t.nodes[std::size_t(n)].is_leaf() || p < 0 || t.parent[std::size_t(p)] < 0) continue; // moved meanwhile
+      st.moves += t.move(n);
     }
-    cost = inner_area_sum(t);
+    t.total = inner_area_sum(t); // re-anchor the running sum
     ++st.passes;
-    if (!(before - cost > opt.min_gain * before)) break;
+    if (!(before - t.total > opt.min_gain * before)) break;
   }
   BinaryBvh out = compact(t, bvh);
   st.cost_after = binary_sah_cost(out, sah);

@@ -1,13 +1,12 @@
 // Insertion-based optimisation of a binary BVH (Bittner, Hapala & Havran 2013, "Fast
-// Insertion-Based Optimization of Bounding Volume Hierarchies"): repeatedly take the
-// subtrees whose inner-node areas are largest relative to their children, remove each
-// from the tree (its parent is dropped, its sibling takes the parent's place) and put it
-// back as the sibling of the node where it adds the least SAH cost, found by a
-// branch-and-bound search over the tree. The original position is always a candidate,
-// so no move raises the cost; passes stop when one gains less than min_gain of the cost
-// or after max_passes. Leaves and their references are kept as they are: it works the
-// same for a TLAS over instance boxes and for a BLAS (SBVH's duplicate references
-// included).
+// Insertion-Based Optimization of Bounding Volume Hierarchies"): take the inner nodes
+// whose boxes are large over a small child, remove each with its parent (the sibling
+// takes the parent's place) and reinsert its two children, each as the sibling of the
+// node where it adds the least SAH cost, found by a branch-and-bound search over the
+// tree. A move that raised the cost is undone, so the cost never rises; passes stop
+// when one gains less than min_gain of the cost or after max_passes. Leaves and their
+// references are kept as they are: it works the same for a TLAS over instance boxes
+// and for a BLAS (SBVH's duplicate references included).
 #pragma once
 #include "bvh/binned_sah.h"
 
@@ -15,7 +14,7 @@ namespace masq {
 
 struct ReinsertOptions {
   int max_passes = 8;         // rounds of remove-and-reinsert
-  double batch = 0.05;        // fraction of the inner nodes moved per pass (Bittner et al.: a few percent)
+  double batch = 0.25;        // fraction of the inner nodes moved per pass, largest measure first
   double min_gain = 1e-3;     // stop when a pass lowers the cost by less than this fraction
 };
 
