@@ -49,24 +49,28 @@ Table bench_builders(const std::vector<BenchRow>& rows) {
       base = r.builder;
       break;
     }
-  t.header = {"backend", "method", "rays", "builder", "TLAS SAH", "BLAS SAH", "refs/prim", "build ms", "isect/r",
-              "Mrays/s", fmt::format("speed / {}", builder_name(base)), "isect/r ratio", "SAH ratio", "build ratio"};
+  t.header = {"backend", "method", "rays", "builder", "TLAS SAH", "BLAS SAH", "refs/prim", "build ms", "nodes/r", "isect/r",
+              "Mrays/s", fmt::format("speed / {}", builder_name(base)), "nodes/r ratio", "isect/r ratio", "SAH ratio",
+              "build ratio"};
   t.left_columns = 4;
   for (const BenchRow& r : rows) {
     if (!r.unavailable.empty()) continue;
     const BenchRow* b = find_row(rows, r.backend, r.method, r.ray_set, base);
-    auto ratio = [&](double x, double y) { return b && y > 0 ? fmt::format("{:.3f}", x / y) : std::string("-"); };
+    auto ratio = [&](double x, double y) { return b && y > 0 && x >= 0 ? fmt::format("{:.3f}", x / y) : std::string("-"); };
+    // Wide-node visits per ray, TLAS and BLAS (-1 where the backend cannot count them).
+    auto nodes = [](const BenchRow& x) { return x.tlas_nodes < 0 || x.blas_nodes < 0 ? -1.0 : x.tlas_nodes + x.blas_nodes; };
     double sah = r.build.sah_cost + r.build.blas_sah_cost;
     double base_sah = b ? b->build.sah_cost + b->build.blas_sah_cost : 0.0;
     t.add({r.backend, method_name(r.method), rays_label(r), builder_name(r.builder), fmt::format("{:.2f}", r.build.sah_cost),
            fmt::format("{:.2f}", r.build.blas_sah_cost), fmt::format("{:.3f}", refs_per_prim(r.build)),
-           fmt::format("{:.1f}", r.build.build_seconds * 1e3), per_ray(r.isect_calls), fmt::format("{:.3f}", r.mrays_per_s()),
-           ratio(r.mrays_per_s(), b ? b->mrays_per_s() : 0.0), ratio(r.isect_calls, b ? b->isect_calls : 0.0),
+           fmt::format("{:.1f}", r.build.build_seconds * 1e3), per_ray(nodes(r)), per_ray(r.isect_calls),
+           fmt::format("{:.3f}", r.mrays_per_s()), ratio(r.mrays_per_s(), b ? b->mrays_per_s() : 0.0),
+           ratio(nodes(r), b ? nodes(*b) : 0.0), ratio(r.isect_calls, b ? b->isect_calls : 0.0),
            ratio(sah, base_sah), ratio(r.build.build_seconds, b ? b->build.build_seconds : 0.0)});
   }
   t.notes = {"SAH: the wide BVH's cost (1 per node visit, 1 per reference, relative to the root area; BLAS summed over "
              "every BLAS, each relative to its own root); refs/prim: BLAS leaf references per primitive (> 1: spatial "
-             "splits); build ms: host build of the whole two-level structure",
+             "splits); build ms: host build of the whole two-level structure; nodes/r: wide-node visits per ray (TLAS + BLAS)",
              fmt::format("ratios: this builder over {} for the same backend, method and rays (SAH ratio: TLAS + BLAS "
                          "cost); the machine is shared and noisy, so speed ratios within ~5% are noise",
                          builder_name(base))};

@@ -156,17 +156,25 @@ std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::s
 
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool) {
   if (opt.builders.empty()) throw Error("bench: no builder to run");
-  // One builder at a time (its scenes are dropped before the next is built: the bear
-  // fur's four methods are several hundred MiB); the rays come from the first.
-  std::vector<RayBatch> batches;
-  std::vector<BenchRow> rows;
+  // Every builder's scenes first, then per backend each builder in turn: the builders'
+  // rows of one backend are measured close together in time, which matters on a
+  // shared machine. The rays come from the first builder's scenes.
+  std::vector<std::map<Method, PackedScene>> built;
+  std::vector<BenchOptions> per_builder;
   for (Builder b : opt.builders) {
     BenchOptions one = opt;
     one.accel.builder.kind = b;
-    std::map<Method, PackedScene> built = build_methods(scene, one);
-    if (batches.empty()) batches = make_ray_batches(scene, built, one, pool);
-    for (BenchRow& r : measure(built, scene.primitive_count(), batches, one, pool)) rows.push_back(std::move(r));
+    built.push_back(build_methods(scene, one));
+    per_builder.push_back(std::move(one));
   }
+  std::vector<RayBatch> batches = make_ray_batches(scene, built.front(), per_builder.front(), pool);
+  std::vector<BenchRow> rows;
+  for (const std::string& backend : opt.backends)
+    for (std::size_t k = 0; k < built.size(); ++k) {
+      BenchOptions one = per_builder[k];
+      one.backends = {backend};
+      for (BenchRow& r : measure(built[k], scene.primitive_count(), batches, one, pool)) rows.push_back(std::move(r));
+    }
   auto index = [](const auto& list, const auto& x) {
     return std::size_t(std::find(list.begin(), list.end(), x) - list.begin());
   };

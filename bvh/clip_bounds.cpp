@@ -2,7 +2,6 @@
 #include "scenes/error.h"
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 namespace masq {
 
@@ -73,28 +72,31 @@ Aabb clip_sphere(const glm::dvec3& c, double r, int axis, double lo, double hi) 
 
 Aabb clip_triangle(const std::array<glm::dvec3, 3>& v, int axis, double lo, double hi) {
   // Sutherland-Hodgman against the two planes; the polygon inside is convex with at
-  // most five vertices.
-  std::vector<glm::dvec3> poly(v.begin(), v.end()), next;
+  // most five vertices (fixed arrays: this runs for every straddling triangle in every
+  // spatial bin, and heap vectors made SBVH builds several times slower).
+  std::array<glm::dvec3, 8> poly{v[0], v[1], v[2]}, next{};
+  int n = 3;
   auto clip_plane = [&](double plane, bool keep_above) {
-    next.clear();
-    for (std::size_t i = 0; i < poly.size(); ++i) {
-      const glm::dvec3& p = poly[i];
-      const glm::dvec3& q = poly[(i + 1) % poly.size()];
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const glm::dvec3& p = poly[std::size_t(i)];
+      const glm::dvec3& q = poly[std::size_t((i + 1) % n)];
       double dp = keep_above ? p[axis] - plane : plane - p[axis];
       double dq = keep_above ? q[axis] - plane : plane - q[axis];
-      if (dp >= 0) next.push_back(p);
+      if (dp >= 0) next[std::size_t(m++)] = p;
       if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) {
         glm::dvec3 x = p + (dp / (dp - dq)) * (q - p);
         x[axis] = plane; // on the plane exactly; the other coordinates carry the rounding
-        next.push_back(x);
+        next[std::size_t(m++)] = x;
       }
     }
-    poly.swap(next);
+    poly = next;
+    n = m;
   };
   clip_plane(lo, true);
-  if (!poly.empty()) clip_plane(hi, false);
+  if (n > 0) clip_plane(hi, false);
   Aabb box;
-  for (const glm::dvec3& p : poly) box.grow(p);
+  for (int i = 0; i < n; ++i) box.grow(poly[std::size_t(i)]);
   return finish(box, axis, lo, hi);
 }
 
