@@ -157,6 +157,21 @@ struct Tree {
   }
 };
 
+int tree_depth(const Tree& t) {
+  int deepest = 0;
+  std::vector<std::pair<int, int>> stack{{t.root, 1}};
+  while (!stack.empty()) {
+    auto [n, d] = stack.back();
+    stack.pop_back();
+    deepest = std::max(deepest, d);
+    const BinaryNode& x = t.nodes[std::size_t(n)];
+    if (x.is_leaf()) continue;
+    stack.push_back({x.left, d + 1});
+    stack.push_back({x.right, d + 1});
+  }
+  return deepest;
+}
+
 double inner_area_sum(const Tree& t) {
   // Only inner nodes change: leaves keep their boxes and references.
   double s = 0;
@@ -204,6 +219,12 @@ BinaryBvh compact(const Tree& t, const BinaryBvh& in) {
 
 } // namespace
 
+int binary_depth_of(const BinaryBvh& bvh) {
+  if (bvh.nodes.empty()) return 0;
+  Tree t{bvh.nodes, {}, 0};
+  return tree_depth(t);
+}
+
 BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah, const ReinsertOptions& opt,
                             ReinsertStats* stats) {
   if (opt.max_passes < 0 || !(opt.batch > 0.0 && opt.batch <= 1.0))
@@ -211,6 +232,7 @@ BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah, const R
   ReinsertStats st;
   st.cost_before = st.cost_after = binary_sah_cost(bvh, sah);
   if (bvh.nodes.size() < 5) { // fewer than three levels: nothing can move
+    st.depth_before = st.depth_after = binary_depth_of(bvh);
     if (stats) *stats = st;
     return bvh;
   }
@@ -221,8 +243,12 @@ BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah, const R
       t.parent[std::size_t(t.nodes[i].right)] = int(i);
     }
   t.total = inner_area_sum(t);
+  st.depth_before = st.depth_after = tree_depth(t);
+  const int depth_cap = st.depth_before + std::max(0, opt.max_extra_depth);
   std::vector<std::pair<double, int>> cand;
+  Tree saved;
   for (int pass = 0; pass < opt.max_passes; ++pass) {
+    saved = t;
     // Candidates: inner nodes with a grandparent, by Bittner et al.'s
     // m_min x m_area measure A(N) * A(N) / min(A(children)): large boxes, above all
     // those over a small child, are the badly placed ones.
@@ -247,6 +273,12 @@ BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah, const R
       st.moves += t.move(n);
     }
     t.total = inner_area_sum(t); // re-anchor the running sum
+    int depth = tree_depth(t);
+    if (depth > depth_cap) {
+      t = std::move(saved);
+      break;
+    }
+    st.depth_after = depth;
     ++st.passes;
     if (!(before - t.total > opt.min_gain * before)) break;
   }
@@ -256,6 +288,7 @@ BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah, const R
   // tree that came out (however slightly) worse than the input.
   if (st.cost_after > st.cost_before) {
     st.cost_after = st.cost_before;
+    st.depth_after = st.depth_before;
     out = bvh;
   }
   if (stats) *stats = st;

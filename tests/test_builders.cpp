@@ -278,8 +278,17 @@ TEST(Reinsertion, NeverRaisesTheCostKeepsEveryItemOnceAndImprovesABadTree) {
       if (bins == 2) {
         EXPECT_LT(after, 0.95 * before) << "a 2-bin tree should improve by > 5%";
       }
-      std::printf("  seed %d bins %2d: SAH %.2f -> %.2f (%zu moves, %d passes)\n", int(seed), bins, before, after,
-                  st.moves, st.passes);
+      EXPECT_EQ(st.depth_before, binary_depth_of(in));
+      EXPECT_EQ(st.depth_after, binary_depth_of(out));
+      EXPECT_LE(st.depth_after, st.depth_before + ReinsertOptions{}.max_extra_depth);
+      ReinsertOptions flat;
+      flat.max_extra_depth = 0;
+      ReinsertStats fst;
+      BinaryBvh same_depth = reinsert_optimize(in, sah, flat, &fst);
+      EXPECT_LE(binary_depth_of(same_depth), binary_depth_of(in));
+      EXPECT_LE(binary_sah_cost(same_depth, sah), before);
+      std::printf("  seed %d bins %2d: SAH %.2f -> %.2f (%zu moves, %d passes, depth %d -> %d; depth kept: SAH %.2f)\n",
+                  int(seed), bins, before, after, st.moves, st.passes, st.depth_before, st.depth_after, fst.cost_after);
     }
   }
 }
