@@ -249,6 +249,7 @@ BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah, const R
   Tree saved;
   for (int pass = 0; pass < opt.max_passes; ++pass) {
     saved = t;
+    const std::size_t moves_before = st.moves;
     // Candidates: inner nodes with a grandparent, by Bittner et al.'s
     // m_min x m_area measure A(N) * A(N) / min(A(children)): large boxes, above all
     // those over a small child, are the badly placed ones.
@@ -276,6 +277,7 @@ BinaryBvh reinsert_optimize(const BinaryBvh& bvh, const SahOptions& sah, const R
     int depth = tree_depth(t);
     if (depth > depth_cap) {
       t = std::move(saved);
+      st.moves = moves_before;
       break;
     }
     st.depth_after = depth;
