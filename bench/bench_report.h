@@ -11,8 +11,14 @@ Table bench_table(const std::vector<BenchRow>& rows);
 // Per backend and ray set: masq vs ref (speedup, intersector calls, memory, OBB/AABB
 // area, and the RT cost model's predicted speedup).
 Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model = {});
+// Per backend, method and ray set with more than one builder: each builder's SAH
+// costs, references per primitive, build time, intersector calls and rays/s, and its
+// ratios to the first builder of the run (empty when only one builder ran).
+Table bench_builders(const std::vector<BenchRow>& rows);
 nlohmann::json bench_row_json(const BenchRow& row);
 nlohmann::json bench_json(const Scene& scene, const BenchOptions& opt, const std::vector<BenchRow>& rows);
-// The ref and masq rows of one backend and ray set (nullptr when missing or unavailable).
+// The ref and masq rows of one backend and ray set (nullptr when missing or unavailable):
+// the first builder's, or the given builder's.
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set);
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b);
 } // namespace masq

@@ -29,7 +29,10 @@ struct BenchOptions {
   // Shadow rays ask the occlusion question (any hit, early exit), as a renderer would;
   // false traces them for the closest hit like the other sets.
   bool shadow_any_hit = true;
-  AccelOptions accel;        // mode, curve OBB, phantom iterations
+  AccelOptions accel;        // mode, curve OBB, phantom iterations, builder options
+  // Binary BVH builders run side by side (each replaces accel.builder.kind in turn);
+  // the rays are the same for all.
+  std::vector<Builder> builders = {Builder::Sah};
   std::function<void(const std::string&)> progress; // one line per step, may be empty
 };
 
@@ -37,6 +40,7 @@ struct BenchRow {
   std::string backend;
   std::string device;
   Method method = Method::Ref;
+  Builder builder = Builder::Sah;
   RaySet ray_set = RaySet::Primary;
   Query query = Query::Closest;
   std::string unavailable; // non-empty: the backend could not run (why)
@@ -72,7 +76,8 @@ std::vector<RayBatch> make_ray_batches(const Scene& scene, const std::map<Method
 std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::size_t primitives,
                               const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool);
 
-// Everything: build, camera rays of opt.width x opt.height, each ray set of opt.
+// Everything: build, camera rays of opt.width x opt.height, each ray set of opt, for
+// each builder of opt.builders. Rows: backend, then method, then builder, then set.
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool);
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt);
 

@@ -8,6 +8,7 @@
 #include "cli/scene_options.h"
 #include "scenes/error.h"
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <algorithm>
 #include <chrono>
 #include <functional>
@@ -136,19 +137,21 @@ int bench(BenchCli& c) {
     for (const std::string& r : c.ray_sets) c.bench.ray_sets.push_back(parse_ray_set(r));
   }
   c.bench.shadow_any_hit = c.shadow_query == "any";
+  c.bench.builders = parse_builders(c.scene);
   c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
   fmt::print("scene '{}': {} primitives{}, {} mode, {}x{} camera rays; ray sets: {}; {} warm-up + {} timed traces, "
-             "median (min-max) of device time\n",
+             "median (min-max) of device time; builders: {}\n",
              scene.name, scene.primitive_count(),
              bundle ? fmt::format(" ({} {} strands r={} tilt {} deg + ground plane)", c.scene.bundle.count, c.scene.prim,
                                   c.scene.bundle.radius, c.scene.bundle.tilt_deg)
                     : std::string(),
              c.scene.mode, c.bench.width, c.bench.height, ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup,
-             c.bench.repetitions);
+             c.bench.repetitions, fmt::join(c.scene.builders, ", "));
   std::vector<BenchRow> rows = run_bench(scene, c.bench);
   clear_progress(c.quiet);
   Table ratios = bench_ratios(rows);
+  Table builders = bench_builders(rows);
   fmt::print("{}\n{}", bench_table(rows).text(),
              ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n") : ratios.text());
   for (const BenchRow& r : rows)
@@ -161,6 +164,7 @@ int bench(BenchCli& c) {
                  r.build.model_triangles);
       break;
     }
+  if (!builders.rows.empty()) fmt::print("\nbuilders side by side:\n{}", builders.text());
   if (c.fit_prices) {
     // The auto method's cost-model prices for each backend, fitted to these rows.
     for (const std::string& b : c.bench.backends) {
@@ -193,8 +197,8 @@ Action add_bench(CLI::App& app) {
   c->prim_opt = cmd->get_option("--prim");
   cmd->add_flag("--error", c->error_mode,
                 "Run time against error: every curve intersector variant vs the long-double oracle (Pareto table)");
-  cmd->add_option("--backend", c->backends, "Backends to run (default: all)")->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
-  cmd->add_option("--method", c->methods, "Methods to run: ref masq cluster auto (default: all four)")->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
+  cmd->add_option("--backend", c->backends, "Backends to run (default: all)")->delimiter(',')->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
+  cmd->add_option("--method", c->methods, "Methods to run: ref masq cluster auto (default: all four)")->delimiter(',')->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
   c->width_opt = cmd->add_option("--width", c->bench.width, "Rays per row")->capture_default_str()->check(CLI::Range(1, 16384));
   c->height_opt = cmd->add_option("--height", c->bench.height, "Rows of rays")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--warmup", c->bench.warmup, "Untimed traces first")->capture_default_str()->check(CLI::NonNegativeNumber);
@@ -220,6 +224,8 @@ Action add_bench(CLI::App& app) {
               "  masq bench                                   default bundle, every backend x method x ray set\n"
               "  masq bench --file bear.tfx --prim curve --subdiv 4 --backend cpu --rays primary\n"
               "  masq bench --error --json error.json         run time against error of the curve variants\n"
+              "  masq bench --builder sah,sbvh,sah+reinsert,sbvh+reinsert --method ref,masq --backend cpu,opencl\n"
+              "                                               the BVH builders side by side (SAH cost, refs/prim, speed)\n"
               "  masq bench --suite all --quick               the papers' tables in < 3 minutes -> bench/results-quick/\n"
               "  bash scripts/results.sh                      the full results document with plots");
   return [c] {

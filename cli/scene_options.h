@@ -24,8 +24,16 @@ struct SceneOptions {
   int cluster_size = 32;     // cluster, auto
   int cluster_classes = 32;  // cluster, auto
   std::vector<double> prices; // auto: node transform isect (empty: defaults)
+  // Binary BVH builders (bvh/builder_kind.h): bench runs each side by side; the other
+  // subcommands take one.
+  std::vector<std::string> builders{"sah"};
+  double sbvh_budget = 2.0;  // sbvh: at most this many references per primitive
+  double sbvh_alpha = 1e-5;  // sbvh: overlap / root area that makes a spatial split worth trying
 };
 void add_scene_options(CLI::App& cmd, SceneOptions& opt);
 Scene make_scene(const SceneOptions& opt);
+// The acceleration options with the first (or only) builder of opt.builders.
 AccelOptions accel_options(const SceneOptions& opt);
+// Every builder of opt.builders, parsed (throws masq::Error on an unknown name).
+std::vector<Builder> parse_builders(const SceneOptions& opt);
 } // namespace masq::cli

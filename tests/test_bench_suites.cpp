@@ -1,6 +1,7 @@
 // The bench harness's own logic: secondary ray sets, the RT cost model's calibration,
 // tables, and one real suite run (fig3 quick on cpu) whose figures must be consistent
 // with the counters it measured.
+#include "bench/bench_report.h"
 #include "bench/ray_sets.h"
 #include "bench/rt_cost_model.h"
 #include "bench/suite.h"
@@ -144,4 +145,41 @@ TEST(Suites, Fig3QuickOnCpuMeasuresEveryCell) {
   EXPECT_TRUE(out[0].data["rt_model"]["calibrated"].get<bool>());
   EXPECT_EQ(out[0].data["auto_target"]["cells"].get<int>(), 12); // cluster and auto ran in every cell
   EXPECT_FALSE(out[0].tables.empty());
+}
+
+// Several builders in one bench run: each (backend, method, builder) gets its row with
+// its own build figures, the same rays, and the builders table compares them.
+TEST(Bench, BuildersSideBySide) {
+  BundleParams bp;
+  bp.count = 200;
+  Scene scene = make_default_scene(bp);
+  BenchOptions opt;
+  opt.backends = {"cpu"};
+  opt.methods = {Method::Ref, Method::Masq};
+  opt.ray_sets = {RaySet::Primary};
+  opt.builders = {Builder::Sah, Builder::Sbvh, Builder::SahReinsert};
+  opt.width = 48;
+  opt.height = 48;
+  opt.warmup = 0;
+  opt.repetitions = 1;
+  std::vector<BenchRow> rows = run_bench(scene, opt);
+  ASSERT_EQ(rows.size(), 6u);
+  // Ordered backend, method, builder.
+  const Builder want[] = {Builder::Sah, Builder::Sbvh, Builder::SahReinsert};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_TRUE(rows[i].unavailable.empty()) << rows[i].unavailable;
+    EXPECT_EQ(rows[i].method, i < 3 ? Method::Ref : Method::Masq);
+    EXPECT_EQ(rows[i].builder, want[i % 3]);
+    EXPECT_GT(rows[i].build.sah_cost, 0.0);
+    EXPECT_EQ(rows[i].rays, rows[0].rays);
+  }
+  // ref's BLAS over the tilted strands is split: more references, lower BLAS SAH.
+  EXPECT_GT(rows[1].build.blas_references, rows[1].build.blas_primitives);
+  EXPECT_LT(rows[1].build.blas_sah_cost, rows[0].build.blas_sah_cost);
+  EXPECT_EQ(rows[0].build.blas_references, rows[0].build.blas_primitives);
+  Table t = bench_builders(rows);
+  EXPECT_EQ(t.rows.size(), 6u);
+  EXPECT_EQ(bench_row_json(rows[1])["builder"], "sbvh");
+  opt.builders = {Builder::Sah};
+  EXPECT_TRUE(bench_builders(run_bench(scene, opt)).rows.empty()) << "one builder: no builders table";
 }
