@@ -30,6 +30,13 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
   AccelOptions o = options;
   masq::AccelOptions ao;
   ao.mode = options.mode == Mode::Fast ? masq::Mode::Fast : masq::Mode::Robust;
+  switch (options.builder) {
+    case Builder::Sah: ao.builder.kind = masq::Builder::Sah; break;
+    case Builder::Sbvh: ao.builder.kind = masq::Builder::Sbvh; break;
+    case Builder::SahReinsert: ao.builder.kind = masq::Builder::SahReinsert; break;
+    case Builder::SbvhReinsert: ao.builder.kind = masq::Builder::SbvhReinsert; break;
+    default: throw Error("Accel::build: unknown builder");
+  }
   ao.nodes = options.nodes == NodeFormat::W8   ? masq::NodeFormat::W8
              : options.nodes == NodeFormat::Q8 ? masq::NodeFormat::Q8
                                                : masq::NodeFormat::W4;

@@ -13,13 +13,78 @@ std::string rays_label(const BenchRow& r) {
 }
 } // namespace
 
-const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set,
-                         std::optional<NodeFormat> nodes) {
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set) {
   for (const BenchRow& r : rows)
-    if (r.backend == backend && r.method == m && r.ray_set == set && r.unavailable.empty() &&
-        (!nodes || r.nodes == *nodes))
+    if (r.backend == backend && r.method == m && r.ray_set == set && r.unavailable.empty()) return &r;
+  return nullptr;
+}
+
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b) {
+  for (const BenchRow& r : rows)
+    if (r.backend == backend && r.method == m && r.ray_set == set && r.builder == b && r.unavailable.empty()) return &r;
+  return nullptr;
+}
+
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b,
+                         NodeFormat nodes) {
+  for (const BenchRow& r : rows)
+    if (r.backend == backend && r.method == m && r.ray_set == set && r.builder == b && r.nodes == nodes &&
+        r.unavailable.empty())
       return &r;
   return nullptr;
+}
+
+namespace {
+// "ref", or "ref [sbvh]" for a builder other than the default.
+std::string method_label(const BenchRow& r) {
+  return r.builder == Builder::Sah ? std::string(method_name(r.method))
+                                   : fmt::format("{} [{}]", method_name(r.method), builder_name(r.builder));
+}
+double refs_per_prim(const BuildStats& b) {
+  return b.blas_primitives ? double(b.blas_references) / double(b.blas_primitives) : 1.0;
+}
+} // namespace
+
+Table bench_builders(const std::vector<BenchRow>& rows) {
+  Table t;
+  std::vector<Builder> seen;
+  for (const BenchRow& r : rows)
+    if (std::find(seen.begin(), seen.end(), r.builder) == seen.end()) seen.push_back(r.builder);
+  if (seen.size() < 2) return t;
+  // The first builder of the run is the base (rows are ordered by builder within a method).
+  Builder base = seen.front();
+  for (const BenchRow& r : rows)
+    if (r.unavailable.empty()) {
+      base = r.builder;
+      break;
+    }
+  t.header = {"backend", "method", "rays", "builder", "nodes", "TLAS SAH", "BLAS SAH", "refs/prim", "build ms", "nodes/r", "isect/r",
+              "Mrays/s", fmt::format("speed / {}", builder_name(base)), "nodes/r ratio", "isect/r ratio", "SAH ratio",
+              "build ratio"};
+  t.left_columns = 5;
+  for (const BenchRow& r : rows) {
+    if (!r.unavailable.empty()) continue;
+    const BenchRow* b = find_row(rows, r.backend, r.method, r.ray_set, base, r.nodes);
+    auto ratio = [&](double x, double y) { return b && y > 0 && x >= 0 ? fmt::format("{:.3f}", x / y) : std::string("-"); };
+    // Wide-node visits per ray, TLAS and BLAS (-1 where the backend cannot count them).
+    auto nodes = [](const BenchRow& x) { return x.tlas_nodes < 0 || x.blas_nodes < 0 ? -1.0 : x.tlas_nodes + x.blas_nodes; };
+    double sah = r.build.sah_cost + r.build.blas_sah_cost;
+    double base_sah = b ? b->build.sah_cost + b->build.blas_sah_cost : 0.0;
+    t.add({r.backend, method_name(r.method), rays_label(r), builder_name(r.builder), node_format_name(r.nodes),
+           fmt::format("{:.2f}", r.build.sah_cost),
+           fmt::format("{:.2f}", r.build.blas_sah_cost), fmt::format("{:.3f}", refs_per_prim(r.build)),
+           fmt::format("{:.1f}", r.build.build_seconds * 1e3), per_ray(nodes(r)), per_ray(r.isect_calls),
+           fmt::format("{:.3f}", r.mrays_per_s()), ratio(r.mrays_per_s(), b ? b->mrays_per_s() : 0.0),
+           ratio(nodes(r), b ? nodes(*b) : 0.0), ratio(r.isect_calls, b ? b->isect_calls : 0.0),
+           ratio(sah, base_sah), ratio(r.build.build_seconds, b ? b->build.build_seconds : 0.0)});
+  }
+  t.notes = {"SAH: the wide BVH's cost (1 per node visit, 1 per reference, relative to the root area; BLAS summed over "
+             "every BLAS, each relative to its own root); refs/prim: BLAS leaf references per primitive (> 1: spatial "
+             "splits); build ms: host build of the whole two-level structure; nodes/r: wide-node visits per ray (TLAS + BLAS)",
+             fmt::format("ratios: this builder over {} for the same backend, method, node format and rays (SAH ratio: TLAS + BLAS "
+                         "cost); the machine is shared and noisy, so speed ratios within ~5% are noise",
+                         builder_name(base))};
+  return t;
 }
 
 Table bench_node_ratios(const std::vector<BenchRow>& rows) {
@@ -29,11 +94,11 @@ Table bench_node_ratios(const std::vector<BenchRow>& rows) {
   t.left_columns = 4;
   for (const BenchRow& r : rows) {
     if (!r.unavailable.empty()) continue;
-    const BenchRow* w4 = find_row(rows, r.backend, r.method, r.ray_set, NodeFormat::W4);
+    const BenchRow* w4 = find_row(rows, r.backend, r.method, r.ray_set, r.builder, NodeFormat::W4);
     double visits = r.tlas_nodes + r.blas_nodes;
     bool counted = r.tlas_nodes >= 0 && r.blas_nodes >= 0;
     double w4_visits = w4 ? w4->tlas_nodes + w4->blas_nodes : 0;
-    t.add({r.backend, method_name(r.method), node_format_name(r.nodes), rays_label(r),
+    t.add({r.backend, method_label(r), node_format_name(r.nodes), rays_label(r),
            w4 ? fmt::format("{:.2f}x", r.mrays_per_s() / w4->mrays_per_s()) : "-",
            counted ? fmt::format("{:.2f}", visits) : "n/a",
            counted && w4 && w4_visits > 0 ? fmt::format("{:.2f}x", visits / w4_visits) : "-",
@@ -61,11 +126,11 @@ Table bench_table(const std::vector<BenchRow>& rows) {
       auto it = std::find(why.begin(), why.end(), r.unavailable);
       std::size_t k = std::size_t(it - why.begin()) + 1;
       if (it == why.end()) why.push_back(r.unavailable);
-      t.add({r.backend, method_name(r.method), node_format_name(r.nodes), rays_label(r),
+      t.add({r.backend, method_label(r), node_format_name(r.nodes), rays_label(r),
              fmt::format("unavailable [{}]", k)});
       continue;
     }
-    t.add({r.backend, method_name(r.method), node_format_name(r.nodes), rays_label(r), fmt::format("{:.3f}", r.mrays_per_s()),
+    t.add({r.backend, method_label(r), node_format_name(r.nodes), rays_label(r), fmt::format("{:.3f}", r.mrays_per_s()),
            fmt::format("({:.3f}-{:.3f})", r.rays / r.max_s * 1e-6, r.rays / r.min_s * 1e-6), per_ray(r.tlas_nodes),
            per_ray(r.blas_nodes), per_ray(r.transforms), per_ray(r.isect_calls), fmt::format("{:.1f}", 100.0 * r.hit_fraction),
            fmt::format("{:.3f}", r.accel_bytes / 1048576.0),
@@ -89,10 +154,10 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) 
   t.left_columns = 4;
   for (const BenchRow& m : rows) {
     if (m.method == Method::Ref || !m.unavailable.empty()) continue;
-    const BenchRow* r = find_row(rows, m.backend, Method::Ref, m.ray_set, m.nodes);
+    const BenchRow* r = find_row(rows, m.backend, Method::Ref, m.ray_set, m.builder, m.nodes);
     if (!r) continue;
-    const BenchRow* q = m.method == Method::Masq ? nullptr : find_row(rows, m.backend, Method::Masq, m.ray_set, m.nodes);
-    t.add({m.backend, method_name(m.method), node_format_name(m.nodes), rays_label(m),
+    const BenchRow* q = m.method == Method::Masq ? nullptr : find_row(rows, m.backend, Method::Masq, m.ray_set, m.builder, m.nodes);
+    t.add({m.backend, method_label(m), node_format_name(m.nodes), rays_label(m),
            fmt::format("{:.2f}x", m.mrays_per_s() / r->mrays_per_s()),
            q ? fmt::format("{:.2f}x", m.mrays_per_s() / q->mrays_per_s()) : "-",
            fmt::format("{:.2f}x ({:.2f} vs {:.2f})", r->isect_calls / m.isect_calls, r->isect_calls, m.isect_calls),
@@ -107,8 +172,8 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) 
 }
 
 nlohmann::json bench_row_json(const BenchRow& r) {
-  nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"nodes", node_format_name(r.nodes)},
-                      {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},
+  nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"builder", builder_name(r.builder)},
+                      {"nodes", node_format_name(r.nodes)}, {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},
                       {"device", r.device}};
   e["bytes"] = {{"acceleration", r.accel_bytes}, {"primitives", r.prim_bytes}, {"device", r.device_bytes}};
   e["primitives"] = r.primitives;
@@ -116,7 +181,9 @@ nlohmann::json bench_row_json(const BenchRow& r) {
                 {"tlas_nodes", r.build.tlas_nodes}, {"blas_nodes", r.build.blas_nodes}, {"node_bytes", r.build.node_bytes},
                 {"instances", r.build.instances}, {"max_depth", r.build.max_depth},
                 {"obb_area", r.build.obb_area},   {"aabb_area", r.build.aabb_area},
-                {"clusters", r.build.clusters},   {"masq_prims", r.build.masq_prims}};
+                {"clusters", r.build.clusters},   {"masq_prims", r.build.masq_prims},
+                {"blas_references", r.build.blas_references}, {"blas_primitives", r.build.blas_primitives},
+                {"seconds", r.build.build_seconds}};
   if (!r.unavailable.empty()) {
     e["unavailable"] = r.unavailable;
     return e;

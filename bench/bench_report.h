@@ -4,7 +4,6 @@
 #include "bench/rt_cost_model.h"
 #include "bench/table.h"
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 
 namespace masq {
@@ -12,13 +11,20 @@ Table bench_table(const std::vector<BenchRow>& rows);
 // Per backend and ray set: masq vs ref (speedup, intersector calls, memory, OBB/AABB
 // area, and the RT cost model's predicted speedup).
 Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model = {});
+// Per backend, method and ray set with more than one builder: each builder's SAH
+// costs, references per primitive, build time, intersector calls and rays/s, and its
+// ratios to the first builder of the run (empty when only one builder ran).
+Table bench_builders(const std::vector<BenchRow>& rows);
 nlohmann::json bench_row_json(const BenchRow& row);
 nlohmann::json bench_json(const Scene& scene, const BenchOptions& opt, const std::vector<BenchRow>& rows);
+// The ref and masq rows of one backend and ray set (nullptr when missing or unavailable):
+// the first builder's and node format's, the given builder's (any format), or the given
+// builder's and node format's.
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set);
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b);
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b,
+                         NodeFormat nodes);
 // Node formats side by side (rows of several formats, `masq bench --nodes w4,w8,q8`):
-// each w8/q8 row against the w4 row of the same backend, method and ray set.
+// each w8/q8 row against the w4 row of the same backend, method, builder and ray set.
 Table bench_node_ratios(const std::vector<BenchRow>& rows);
-// The row of one backend, method and ray set (nullptr when missing or unavailable); of
-// node format `nodes` when given, else the first of any format.
-const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set,
-                         std::optional<NodeFormat> nodes = std::nullopt);
 } // namespace masq

@@ -3,6 +3,7 @@
 #include "scenes/camera.h"
 #include "scenes/error.h"
 #include <algorithm>
+#include <tuple>
 #include <fmt/format.h>
 
 namespace masq {
@@ -82,7 +83,8 @@ std::vector<kernel::Hit> primary_hits(const std::map<Method, PackedScene>& built
 std::map<Method, PackedScene> build_methods(const Scene& scene, const BenchOptions& opt) {
   std::map<Method, PackedScene> built;
   for (Method m : opt.methods) {
-    say(opt, std::string("building ") + method_name(m));
+    say(opt, std::string("building ") + method_name(m) + " (" + builder_name(opt.accel.builder.kind) + ", " +
+                 node_format_name(opt.accel.nodes) + ")");
     built[m] = build_accel(scene, m, opt.accel);
   }
   return built;
@@ -117,6 +119,7 @@ std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::s
         BenchRow row;
         row.backend = name;
         row.method = m;
+        row.builder = ps.builder;
         row.nodes = ps.features.nodes;
         row.ray_set = batch.set;
         row.query = batch.set == RaySet::Shadow && opt.shadow_any_hit ? Query::Any : Query::Closest;
@@ -154,8 +157,42 @@ std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::s
 }
 
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool) {
-  std::map<Method, PackedScene> built = build_methods(scene, opt);
-  return measure(built, scene.primitive_count(), make_ray_batches(scene, built, opt, pool), opt, pool);
+  if (opt.builders.empty()) throw Error("bench: no builder to run");
+  if (opt.node_formats.empty()) throw Error("bench: no node format to run");
+  // Every builder's and node format's scenes first, then per backend each of them in
+  // turn: the rows compared for one backend are measured close together in time, which
+  // matters on a shared machine. The rays come from the first one's scenes.
+  std::vector<std::map<Method, PackedScene>> built;
+  std::vector<BenchOptions> per_build;
+  for (Builder b : opt.builders)
+    for (NodeFormat f : opt.node_formats) {
+      BenchOptions one = opt;
+      one.accel.builder.kind = b;
+      one.accel.nodes = f;
+      built.push_back(build_methods(scene, one));
+      per_build.push_back(std::move(one));
+    }
+  std::vector<RayBatch> batches = make_ray_batches(scene, built.front(), per_build.front(), pool);
+  std::vector<BenchRow> rows;
+  for (const std::string& backend : opt.backends)
+    for (Method m : opt.methods)
+      for (std::size_t k = 0; k < built.size(); ++k) {
+        BenchOptions one = per_build[k];
+        one.backends = {backend};
+        one.methods = {m};
+        for (BenchRow& r : measure(built[k], scene.primitive_count(), batches, one, pool)) rows.push_back(std::move(r));
+      }
+  auto index = [](const auto& list, const auto& x) {
+    return std::size_t(std::find(list.begin(), list.end(), x) - list.begin());
+  };
+  std::stable_sort(rows.begin(), rows.end(), [&](const BenchRow& a, const BenchRow& b) {
+    auto key = [&](const BenchRow& r) {
+      return std::tuple(index(opt.backends, r.backend), index(opt.methods, r.method), index(opt.builders, r.builder),
+                        index(opt.node_formats, r.nodes), index(opt.ray_sets, r.ray_set));
+    };
+    return key(a) < key(b);
+  });
+  return rows;
 }
 
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt) {

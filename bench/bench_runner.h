@@ -29,7 +29,12 @@ struct BenchOptions {
   // Shadow rays ask the occlusion question (any hit, early exit), as a renderer would;
   // false traces them for the closest hit like the other sets.
   bool shadow_any_hit = true;
-  AccelOptions accel;        // mode, curve OBB, phantom iterations
+  AccelOptions accel;        // mode, curve OBB, phantom iterations, builder options
+  // Binary BVH builders run side by side (each replaces accel.builder.kind in turn);
+  // the rays are the same for all.
+  std::vector<Builder> builders = {Builder::Sah};
+  // Node formats run side by side the same way (each replaces accel.nodes in turn).
+  std::vector<NodeFormat> node_formats = {NodeFormat::W4};
   std::function<void(const std::string&)> progress; // one line per step, may be empty
 };
 
@@ -37,6 +42,7 @@ struct BenchRow {
   std::string backend;
   std::string device;
   Method method = Method::Ref;
+  Builder builder = Builder::Sah;
   NodeFormat nodes = NodeFormat::W4;
   RaySet ray_set = RaySet::Primary;
   Query query = Query::Closest;
@@ -73,7 +79,9 @@ std::vector<RayBatch> make_ray_batches(const Scene& scene, const std::map<Method
 std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::size_t primitives,
                               const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool);
 
-// Everything: build, camera rays of opt.width x opt.height, each ray set of opt.
+// Everything: build, camera rays of opt.width x opt.height, each ray set of opt, for
+// each builder of opt.builders and node format of opt.node_formats. Rows: backend, then
+// method, then builder, then node format, then set.
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool);
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt);
 

@@ -1,4 +1,6 @@
 #include "bvh/build_accel.h"
+#include "bvh/builder.h"
+#include "bvh/clip_bounds.h"
 #include "bvh/cluster_blas.h"
 #include "bvh/obb.h"
 #include "bvh/prim_bounds.h"
@@ -128,6 +130,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   auto start = std::chrono::steady_clock::now();
   PackedScene ps;
   ps.method = method;
+  ps.builder = opt.builder.kind;
   pack_primitives(scene, ps);
   ps.features.mode = opt.mode;
   ps.features.curve_iters = opt.curve_iters;
@@ -168,11 +171,25 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     for (std::int32_t p : ids)
       boxes.push_back(g.type == PrimType::Triangle ? triangle_box(g, g.triangles[std::size_t(p)])
                                                    : hull_box(ball_hull(g, std::size_t(p))));
-    BinaryBvh bvh = build_binned_sah(boxes, opt.sah);
+    // Spatial splits clip the primitive itself (object space), item i being ids[i].
+    PrimClipper clip = [&](int item, int axis, double lo, double hi) {
+      return clip_primitive(g, std::size_t(ids[std::size_t(item)]), axis, lo, hi);
+    };
+    std::size_t references = 0;
+    BinaryBvh bvh = build_blas_binary(boxes, clip, opt.sah, opt.builder, &references);
     WideBvhInfo info = append_bvh_nodes(bvh, ids, opt.nodes, ps);
     blas_root[gi] = info.root;
     blas_box[gi] = bvh.nodes[0].box;
-    for (int i : bvh.order) ps.geometry_leaf_order[gi].push_back(ids[std::size_t(i)]);
+    ps.stats.blas_references += references;
+    ps.stats.blas_primitives += ids.size();
+    // The driver's submission order (rayquery) names each primitive once: spatial
+    // splits may put one in several leaves; its first leaf decides.
+    std::vector<char> seen(ids.size(), 0);
+    for (int i : bvh.order)
+      if (!seen[std::size_t(i)]) {
+        seen[std::size_t(i)] = 1;
+        ps.geometry_leaf_order[gi].push_back(ids[std::size_t(i)]);
+      }
     ps.stats.blas_nodes += info.nodes;
     ps.stats.blas_leaves += info.leaves;
     ps.stats.blas_sah_cost += info.sah_cost;
@@ -205,10 +222,11 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   }
   for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
     if (!plans[gi].clusters.empty())
-      append_cluster_instances(scene, int(gi), plans[gi].clusters, insts_of[gi], opt.sah, ps, inst_boxes);
+      append_cluster_instances(scene, int(gi), plans[gi].clusters, insts_of[gi], opt.sah, opt.builder, ps,
+                               inst_boxes);
   ps.stats.instances = ps.instances.size();
   if (!inst_boxes.empty()) {
-    BinaryBvh tlas = build_binned_sah(inst_boxes, opt.sah);
+    BinaryBvh tlas = build_boxes_binary(inst_boxes, opt.sah, opt.builder);
     std::vector<std::int32_t> ids(inst_boxes.size());
     for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
     WideBvhInfo info = append_bvh_nodes(tlas, ids, opt.nodes, ps);

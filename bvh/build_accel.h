@@ -8,6 +8,7 @@
 //  cluster, auto: see bvh/method_plan.h and docs/methods.md.
 #pragma once
 #include "bvh/binned_sah.h"
+#include "bvh/builder.h"
 #include "bvh/method_plan.h"
 #include "bvh/obb.h"
 #include "bvh/packed_scene.h"
@@ -22,6 +23,7 @@ enum class AutoSelect { WholeStructure, MixOnly };
 
 struct AccelOptions {
   SahOptions sah;
+  BuilderOptions builder;               // binary BVH builder (bvh/builder.h); sah by default
   CurveObb curve_obb = CurveObb::Tight; // masq: how curve OBBs are oriented
   Mode mode = Mode::Robust;             // kernel intersectors and box test
   int curve_iters = 24;                 // phantom iteration limit (1..64; 24: see docs/robustness.md)

@@ -39,8 +39,8 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
 }
 
 void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
-                              const std::vector<int>& scene_insts, const SahOptions& sah, PackedScene& ps,
-                              std::vector<Aabb>& inst_boxes) {
+                              const std::vector<int>& scene_insts, const SahOptions& sah, const BuilderOptions& builder,
+                              PackedScene& ps, std::vector<Aabb>& inst_boxes) {
   const Geometry& g = scene.geometries.at(std::size_t(geom));
   for (const Cluster& c : clusters) {
     if (c.members.empty()) throw Error("cluster: an empty cluster in geometry " + std::to_string(geom));
@@ -68,8 +68,10 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
     // price of 4 fills the leaves (27 B) at ~2 more intersector calls per ray.
     SahOptions leaf_sah = sah;
     leaf_sah.traversal_cost = std::max(sah.traversal_cost, 4.0 * sah.intersection_cost);
-    BinaryBvh bvh = build_binned_sah(local, leaf_sah);
+    BinaryBvh bvh = build_boxes_binary(local, leaf_sah, builder);
     WideBvhInfo info = append_bvh_nodes(bvh, c.members, ps.features.nodes, ps);
+    ps.stats.blas_references += bvh.order.size();
+    ps.stats.blas_primitives += c.members.size();
     ps.stats.blas_nodes += info.nodes;
     ps.stats.blas_leaves += info.leaves;
     ps.stats.blas_sah_cost += info.sah_cost;

@@ -4,6 +4,7 @@
 // frame (kernels/layout.h: MASQ_INST_CLUSTER).
 #pragma once
 #include "bvh/binned_sah.h"
+#include "bvh/builder.h"
 #include "bvh/clusters.h"
 #include "bvh/packed_scene.h"
 #include "scenes/scene.h"
@@ -20,8 +21,11 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
 // instance in `scene_insts` (indices into scene.instances and ps.frames), to ps; the
 // entries' world boxes go to inst_boxes. The local boxes contain every member's hull
 // under realised_object_to_local for every one of those instances, rounded outward.
+// The cluster BLAS get no spatial splits (their members are parallel and side by side,
+// so their local boxes barely overlap; and a piece would have to be clipped under every
+// instance's realised map): reinsertion only, where the builder has it.
 void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
-                              const std::vector<int>& scene_insts, const SahOptions& sah, PackedScene& ps,
-                              std::vector<Aabb>& inst_boxes);
+                              const std::vector<int>& scene_insts, const SahOptions& sah, const BuilderOptions& builder,
+                              PackedScene& ps, std::vector<Aabb>& inst_boxes);
 
 } // namespace masq

@@ -26,7 +26,7 @@ glm::dvec3 hull_centroid(const BallHull& h) {
   return h.count > 0 ? c / double(h.count) : c;
 }
 
-struct Builder {
+struct SweepBuilder {
   const std::vector<BallHull>& hulls;
   const SahOptions& opt;
   BinaryBvh out;
@@ -126,7 +126,7 @@ int depth_of(const BinaryBvh& b, int node) {
 } // namespace
 
 BinaryBvh build_obb_sweep(const std::vector<BallHull>& hulls, const SahOptions& opt) {
-  Builder b{hulls, opt, {}, {}};
+  SweepBuilder b{hulls, opt, {}, {}};
   if (hulls.empty()) return {};
   b.out.order.resize(hulls.size());
   std::iota(b.out.order.begin(), b.out.order.end(), 0);

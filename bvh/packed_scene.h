@@ -2,6 +2,7 @@
 // uploads as-is (layouts from kernels/layout.h), plus what the rayquery backend needs
 // to hand the same scene to the driver's own acceleration-structure builder.
 #pragma once
+#include "bvh/builder_kind.h"
 #include "kernels/layout.h"
 #include <array>
 #include <cstdint>
@@ -73,11 +74,15 @@ struct BuildStats {
   // and each candidate's model_cost, indexed by Method (Ref, Masq, Cluster, Auto = mix).
   Method auto_choice = Method::Auto;
   std::array<double, 4> auto_candidates{};
+  // Leaf references and primitives over every BLAS (cluster BLAS included): their
+  // ratio is 1 unless spatial splits (builder sbvh) put a primitive in several leaves.
+  std::size_t blas_references = 0, blas_primitives = 0;
   double build_seconds = 0;
 };
 
 struct PackedScene {
   Method method = Method::Ref;
+  Builder builder = Builder::Sah;
   // TLAS and all BLAS nodes: one of the three arrays, by features.nodes (the others empty).
   std::vector<kernel::WideNode> nodes;     // w4
   std::vector<kernel::WideNode8> nodes8;   // w8

@@ -127,10 +127,7 @@ int bench(BenchCli& c) {
   if (!c.suites.empty()) return bench_suites(c);
   if (c.error_mode) return bench_error(c);
   Scene scene = make_scene(c.scene);
-  const std::vector<NodeFormat> formats = node_formats(c.scene);
-  SceneOptions one_format = c.scene;
-  one_format.nodes = {node_format_name(formats.front())};
-  c.bench.accel = accel_options(one_format);
+  c.bench.accel = accel_options(c.scene);
   if (!c.backends.empty()) c.bench.backends = c.backends;
   if (!c.methods.empty()) {
     c.bench.methods.clear();
@@ -141,41 +138,26 @@ int bench(BenchCli& c) {
     for (const std::string& r : c.ray_sets) c.bench.ray_sets.push_back(parse_ray_set(r));
   }
   c.bench.shadow_any_hit = c.shadow_query == "any";
+  c.bench.builders = parse_builders(c.scene);
+  c.bench.node_formats = node_formats(c.scene);
   c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
-  fmt::print("scene '{}': {} primitives{}, {} mode, nodes {}, {}x{} camera rays; ray sets: {}; {} warm-up + {} timed traces, "
-             "median (min-max) of device time\n",
+  fmt::print("scene '{}': {} primitives{}, {} mode, nodes {}, {}x{} camera rays; ray sets: {}; {} warm-up + {} timed "
+             "traces, median (min-max) of device time; builders: {}\n",
              scene.name, scene.primitive_count(),
              bundle ? fmt::format(" ({} {} strands r={} tilt {} deg + ground plane)", c.scene.bundle.count, c.scene.prim,
                                   c.scene.bundle.radius, c.scene.bundle.tilt_deg)
                     : std::string(),
-             c.scene.mode, fmt::join(c.scene.nodes, ","), c.bench.width, c.bench.height, ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup,
-             c.bench.repetitions);
-  // Node formats side by side: one build per format, the same rays for all, and the
-  // formats measured one after the other for each backend and method, so that a shared
-  // machine's changing load falls alike on the rows that are compared.
-  std::vector<std::map<Method, PackedScene>> built;
-  for (NodeFormat f : formats) {
-    c.bench.accel.nodes = f;
-    built.push_back(build_methods(scene, c.bench));
-  }
-  BackendPool pool;
-  std::vector<RayBatch> batches = make_ray_batches(scene, built.front(), c.bench, pool);
-  std::vector<BenchRow> rows;
-  for (const std::string& b : c.bench.backends)
-    for (Method m : c.bench.methods)
-      for (const auto& by_method : built) {
-        BenchOptions one = c.bench;
-        one.backends = {b};
-        one.methods = {m};
-        std::vector<BenchRow> part = measure(by_method, scene.primitive_count(), batches, one, pool);
-        rows.insert(rows.end(), std::make_move_iterator(part.begin()), std::make_move_iterator(part.end()));
-      }
+             c.scene.mode, fmt::join(c.scene.nodes, ","), c.bench.width, c.bench.height,
+             ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup, c.bench.repetitions,
+             fmt::join(c.scene.builders, ", "));
+  std::vector<BenchRow> rows = run_bench(scene, c.bench);
   clear_progress(c.quiet);
   Table ratios = bench_ratios(rows);
+  Table builders = bench_builders(rows);
   fmt::print("{}\n{}", bench_table(rows).text(),
              ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n") : ratios.text());
-  if (formats.size() > 1) fmt::print("\n{}", bench_node_ratios(rows).text());
+  if (c.bench.node_formats.size() > 1) fmt::print("\nnode formats side by side:\n{}", bench_node_ratios(rows).text());
   for (const BenchRow& r : rows)
     if (r.method == Method::Auto && r.unavailable.empty()) {
       // What auto kept, and why: each candidate's expected work per ray (bvh/structure_cost.h).
@@ -186,6 +168,7 @@ int bench(BenchCli& c) {
                  r.build.model_triangles);
       break;
     }
+  if (!builders.rows.empty()) fmt::print("\nbuilders side by side:\n{}", builders.text());
   if (c.fit_prices) {
     // The auto method's cost-model prices for each backend, fitted to these rows.
     for (const std::string& b : c.bench.backends) {
@@ -218,8 +201,8 @@ Action add_bench(CLI::App& app) {
   c->prim_opt = cmd->get_option("--prim");
   cmd->add_flag("--error", c->error_mode,
                 "Run time against error: every curve intersector variant vs the long-double oracle (Pareto table)");
-  cmd->add_option("--backend", c->backends, "Backends to run (default: all)")->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
-  cmd->add_option("--method", c->methods, "Methods to run: ref masq cluster auto (default: all four)")->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
+  cmd->add_option("--backend", c->backends, "Backends to run (default: all)")->delimiter(',')->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
+  cmd->add_option("--method", c->methods, "Methods to run: ref masq cluster auto (default: all four)")->delimiter(',')->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
   c->width_opt = cmd->add_option("--width", c->bench.width, "Rays per row")->capture_default_str()->check(CLI::Range(1, 16384));
   c->height_opt = cmd->add_option("--height", c->bench.height, "Rows of rays")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--warmup", c->bench.warmup, "Untimed traces first")->capture_default_str()->check(CLI::NonNegativeNumber);
@@ -244,8 +227,10 @@ Action add_bench(CLI::App& app) {
   cmd->footer("Examples:\n"
               "  masq bench                                   default bundle, every backend x method x ray set\n"
               "  masq bench --file bear.tfx --prim curve --subdiv 4 --backend cpu --rays primary\n"
-              "  masq bench --nodes w4,w8,q8 --method ref masq   node formats side by side (speed, visits, bytes)\n"
+              "  masq bench --nodes w4,w8,q8 --method ref,masq   node formats side by side (speed, visits, bytes)\n"
               "  masq bench --error --json error.json         run time against error of the curve variants\n"
+              "  masq bench --builder sah,sbvh,sah+reinsert,sbvh+reinsert --method ref,masq --backend cpu,opencl\n"
+              "                                               the BVH builders side by side (SAH cost, refs/prim, speed)\n"
               "  masq bench --suite all --quick               the papers' tables in < 3 minutes -> bench/results-quick/\n"
               "  bash scripts/results.sh                      the full results document with plots");
   return [c] {

@@ -5,6 +5,7 @@
 #include "cli/scene_options.h"
 #include "host/backend.h"
 #include "scenes/camera.h"
+#include "scenes/error.h"
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -24,6 +25,10 @@ struct RenderOptions {
 };
 
 int render(const RenderOptions& o) {
+  if (o.scene.builders.size() > 1)
+    throw Error("render: --builder takes one builder here (bench runs several side by side)");
+  if (o.scene.nodes.size() > 1)
+    throw Error("render: --nodes takes one node format here (bench runs several side by side)");
   Scene scene = make_scene(o.scene);
   std::unique_ptr<Backend> be = make_backend(o.backend);
   be->set_scene(build_accel(scene, parse_method(o.method), accel_options(o.scene)));
@@ -76,6 +81,7 @@ Action add_render(CLI::App& app) {
   cmd->footer("Examples:\n"
               "  masq render                                  default bundle on cpu -> masq_shaded.png, masq_heat.png\n"
               "  masq render --backend vulkan --method ref --out bundle\n"
+              "  masq render --method ref --builder sbvh+reinsert\n"
               "  masq render --file scene.json --width 1024 --height 768 --format exr");
   return [o] { return render(*o); };
 }

@@ -54,6 +54,21 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
   cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (default 1 1.5 2.5; docs/methods.md)")
       ->expected(3)
       ->check(CLI::PositiveNumber);
+  cmd.add_option("--builder", opt.builders,
+                 "Binary BVH builder: sah (binned SAH, default), sbvh (spatial splits in every BLAS over primitives), "
+                 "sah+reinsert or sbvh+reinsert (insertion optimisation of the TLAS and every BLAS); bench takes a "
+                 "comma-separated list and runs each side by side (docs/builders.md)")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::IsMember({"sah", "sbvh", "sah+reinsert", "sbvh+reinsert"}));
+  cmd.add_option("--sbvh-budget", opt.sbvh_budget, "sbvh: at most this many BLAS references per primitive (>= 1)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 64.0));
+  cmd.add_option("--sbvh-alpha", opt.sbvh_alpha,
+                 "sbvh: try spatial splits where the object split's children overlap by more than this fraction of "
+                 "the root area")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
 }
 
 Scene make_scene(const SceneOptions& opt) {
@@ -114,17 +129,27 @@ std::vector<NodeFormat> node_formats(const SceneOptions& opt) {
 
 AccelOptions accel_options(const SceneOptions& opt) {
   AccelOptions a;
-  std::vector<NodeFormat> formats = node_formats(opt);
-  if (formats.size() != 1)
-    throw Error("--nodes: this command builds one scene; give one node format (masq bench runs several)");
-  a.nodes = formats.front();
+  a.nodes = node_formats(opt).front();
   a.mode = parse_mode(opt.mode);
   a.curve_obb = parse_curve_obb(opt.curve_obb);
   a.curve_iters = opt.curve_iters;
   a.cluster.max_size = opt.cluster_size;
   a.cluster.classes = opt.cluster_classes;
   if (opt.prices.size() == 3) a.prices = {opt.prices[0], opt.prices[1], opt.prices[2]};
+  std::vector<Builder> builders = parse_builders(opt);
+  a.builder.kind = builders.empty() ? Builder::Sah : builders.front();
+  a.builder.sbvh.max_refs = opt.sbvh_budget;
+  a.builder.sbvh.alpha = opt.sbvh_alpha;
   return a;
+}
+
+std::vector<Builder> parse_builders(const SceneOptions& opt) {
+  std::vector<Builder> out;
+  for (const std::string& name : opt.builders) {
+    Builder b = parse_builder(name);
+    if (std::find(out.begin(), out.end(), b) == out.end()) out.push_back(b);
+  }
+  return out;
 }
 
 } // namespace masq::cli

@@ -24,11 +24,21 @@ struct SceneOptions {
   int cluster_size = 32;     // cluster, auto
   int cluster_classes = 32;  // cluster, auto
   std::vector<double> prices; // auto: node transform isect (empty: defaults)
-  std::vector<std::string> nodes{"w4"}; // BVH node formats (bench runs each; others take one)
+  // Binary BVH builders (bvh/builder_kind.h): bench runs each side by side; the other
+  // subcommands take one.
+  std::vector<std::string> builders{"sah"};
+  double sbvh_budget = 2.0;  // sbvh: at most this many references per primitive
+  double sbvh_alpha = 1e-5;  // sbvh: overlap / root area that makes a spatial split worth trying
+  // BVH node formats (docs/kernels.md): bench runs each side by side; the others take one.
+  std::vector<std::string> nodes{"w4"};
 };
 void add_scene_options(CLI::App& cmd, SceneOptions& opt);
 Scene make_scene(const SceneOptions& opt);
-// Throws masq::Error when opt.nodes names more than one format (only bench runs several).
+// The acceleration options with the first (or only) builder of opt.builders and the
+// first (or only) node format of opt.nodes.
 AccelOptions accel_options(const SceneOptions& opt);
-std::vector<NodeFormat> node_formats(const SceneOptions& opt); // throws on an unknown or repeated one
+// Every builder of opt.builders, parsed (throws masq::Error on an unknown name).
+std::vector<Builder> parse_builders(const SceneOptions& opt);
+// Every node format of opt.nodes, parsed (throws masq::Error on an unknown or repeated one).
+std::vector<NodeFormat> node_formats(const SceneOptions& opt);
 } // namespace masq::cli

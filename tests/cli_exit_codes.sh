@@ -25,6 +25,8 @@ expect 2                                   # no subcommand
 expect 2 frobnicate
 expect 2 bench --backend nope
 expect 2 render --method nope
+expect 2 bench --builder nope
+expect 2 render --builder sah,spatial
 expect 2 stress --rays 1
 expect 2 render --width 0
 expect 1 render --backend cpu --file /nonexistent/scene.obj --out /tmp/masq_cli_exit

@@ -104,10 +104,10 @@ TEST(Api, NodeFormatsGiveTheSameHitsInFewerBytes) {
   Scene scene = mixed_scene();
   std::vector<Ray> rays = grid_rays();
   Context ctx("cpu");
-  Accel w4 = Accel::build(scene, {Method::Masq, Mode::Robust, NodeFormat::W4});
+  Accel w4 = Accel::build(scene, {.method = Method::Masq, .mode = Mode::Robust, .nodes = NodeFormat::W4});
   std::vector<Hit> expected = ctx.trace(w4, rays);
   for (NodeFormat f : {NodeFormat::W8, NodeFormat::Q8}) {
-    Accel a = Accel::build(scene, {Method::Masq, Mode::Robust, f});
+    Accel a = Accel::build(scene, {.method = Method::Masq, .mode = Mode::Robust, .nodes = f});
     EXPECT_EQ(a.options().nodes, f);
     std::vector<Hit> hits = ctx.trace(a, rays);
     for (std::size_t i = 0; i < hits.size(); ++i) {

@@ -1,6 +1,7 @@
 // The bench harness's own logic: secondary ray sets, the RT cost model's calibration,
 // tables, and one real suite run (fig3 quick on cpu) whose figures must be consistent
 // with the counters it measured.
+#include "bench/bench_report.h"
 #include "bench/ray_sets.h"
 #include "bench/rt_cost_model.h"
 #include "bench/suite.h"
@@ -144,4 +145,75 @@ TEST(Suites, Fig3QuickOnCpuMeasuresEveryCell) {
   EXPECT_TRUE(out[0].data["rt_model"]["calibrated"].get<bool>());
   EXPECT_EQ(out[0].data["auto_target"]["cells"].get<int>(), 12); // cluster and auto ran in every cell
   EXPECT_FALSE(out[0].tables.empty());
+}
+
+// Several builders in one bench run: each (backend, method, builder) gets its row with
+// its own build figures, the same rays, and the builders table compares them.
+TEST(Bench, BuildersSideBySide) {
+  BundleParams bp;
+  bp.count = 200;
+  Scene scene = make_default_scene(bp);
+  BenchOptions opt;
+  opt.backends = {"cpu"};
+  opt.methods = {Method::Ref, Method::Masq};
+  opt.ray_sets = {RaySet::Primary};
+  opt.builders = {Builder::Sah, Builder::Sbvh, Builder::SahReinsert};
+  opt.width = 48;
+  opt.height = 48;
+  opt.warmup = 0;
+  opt.repetitions = 1;
+  std::vector<BenchRow> rows = run_bench(scene, opt);
+  ASSERT_EQ(rows.size(), 6u);
+  // Ordered backend, method, builder.
+  const Builder want[] = {Builder::Sah, Builder::Sbvh, Builder::SahReinsert};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_TRUE(rows[i].unavailable.empty()) << rows[i].unavailable;
+    EXPECT_EQ(rows[i].method, i < 3 ? Method::Ref : Method::Masq);
+    EXPECT_EQ(rows[i].builder, want[i % 3]);
+    EXPECT_GT(rows[i].build.sah_cost, 0.0);
+    EXPECT_EQ(rows[i].rays, rows[0].rays);
+  }
+  // ref's BLAS over the tilted strands is split: more references, lower BLAS SAH.
+  EXPECT_GT(rows[1].build.blas_references, rows[1].build.blas_primitives);
+  EXPECT_LT(rows[1].build.blas_sah_cost, rows[0].build.blas_sah_cost);
+  EXPECT_EQ(rows[0].build.blas_references, rows[0].build.blas_primitives);
+  Table t = bench_builders(rows);
+  EXPECT_EQ(t.rows.size(), 6u);
+  EXPECT_EQ(bench_row_json(rows[1])["builder"], "sbvh");
+  opt.builders = {Builder::Sah};
+  EXPECT_TRUE(bench_builders(run_bench(scene, opt)).rows.empty()) << "one builder: no builders table";
+}
+
+// Several node formats in one bench run: each (backend, method, format) gets its row, the
+// same rays and the same hits, fewer node visits for 8-wide nodes, and the node table
+// compares each format with w4.
+TEST(Bench, NodeFormatsSideBySide) {
+  BundleParams bp;
+  bp.count = 200;
+  Scene scene = make_default_scene(bp);
+  BenchOptions opt;
+  opt.backends = {"cpu"};
+  opt.methods = {Method::Ref, Method::Masq};
+  opt.ray_sets = {RaySet::Primary};
+  opt.node_formats = {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8};
+  opt.width = 48;
+  opt.height = 48;
+  opt.warmup = 0;
+  opt.repetitions = 1;
+  std::vector<BenchRow> rows = run_bench(scene, opt);
+  ASSERT_EQ(rows.size(), 6u);
+  const NodeFormat want[] = {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_TRUE(rows[i].unavailable.empty()) << rows[i].unavailable;
+    EXPECT_EQ(rows[i].method, i < 3 ? Method::Ref : Method::Masq);
+    EXPECT_EQ(rows[i].nodes, want[i % 3]);
+    EXPECT_EQ(rows[i].rays, rows[0].rays);
+    EXPECT_EQ(rows[i].hit_fraction, rows[i - i % 3].hit_fraction);
+    EXPECT_GT(rows[i].build.node_bytes, 0u);
+  }
+  EXPECT_LT(rows[1].blas_nodes, rows[0].blas_nodes); // ref: 8-wide BLAS, fewer visits
+  EXPECT_LT(rows[2].build.node_bytes, rows[0].build.node_bytes / 2); // q8: 80 B against 128 B nodes
+  EXPECT_EQ(bench_node_ratios(rows).rows.size(), 6u);
+  EXPECT_EQ(bench_row_json(rows[2])["nodes"], "q8");
+  EXPECT_EQ(bench_row_json(rows[2])["build"]["node_bytes"], rows[2].build.node_bytes);
 }

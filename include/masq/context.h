@@ -15,6 +15,7 @@ namespace masq::api {
 struct AccelOptions {
   Method method = Method::Masq;
   Mode mode = Mode::Robust;
+  Builder builder = Builder::Sah;
   NodeFormat nodes = NodeFormat::W4;
 };
 

@@ -21,6 +21,16 @@ enum class Method {
   Auto, ///< builds Ref, Masq, Cluster and a per-cluster mix; keeps the one a whole-structure cost model prices lowest
 };
 
+/// Which binary BVH builder makes the hierarchies (before they are collapsed to wide
+/// nodes). Spatial splits apply to every BLAS over primitives; reinsertion to the TLAS and
+/// every BLAS. See docs/builders.md for what each costs and gains.
+enum class Builder {
+  Sah,          ///< binned SAH (default)
+  Sbvh,         ///< binned SAH plus spatial splits with clipped references (Stich et al. 2009)
+  SahReinsert,  ///< binned SAH, then insertion optimisation (Bittner et al. 2013)
+  SbvhReinsert, ///< both
+};
+
 /// Which intersectors and box test the kernels use.
 enum class Mode {
   Robust, ///< fp32-hardened intersectors and a conservatively padded box test (default)

@@ -1,0 +1,15 @@
+// The binary-BVH builders a scene can be built with (bvh/builder.h, docs/builders.md).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace masq {
+
+enum class Builder { Sah, Sbvh, SahReinsert, SbvhReinsert };
+const char* builder_name(Builder b);            // "sah", "sbvh", "sah+reinsert", "sbvh+reinsert"
+Builder parse_builder(const std::string& name); // throws masq::Error naming the choices
+const std::vector<Builder>& all_builders();
+inline bool builder_splits(Builder b) { return b == Builder::Sbvh || b == Builder::SbvhReinsert; }
+inline bool builder_reinserts(Builder b) { return b == Builder::SahReinsert || b == Builder::SbvhReinsert; }
+
+} // namespace masq
