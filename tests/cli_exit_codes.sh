@@ -27,6 +27,9 @@ expect 2 bench --backend nope
 expect 2 render --method nope
 expect 2 bench --builder nope
 expect 2 render --builder sah,spatial
+expect 2 bench --nodes w16
+expect 1 bench --nodes w4,w4 --backend cpu                                   # repeated format
+expect 1 render --backend cpu --nodes w4,q8 --out /tmp/masq_cli_exit         # render takes one
 expect 2 stress --rays 1
 expect 2 render --width 0
 expect 1 render --backend cpu --file /nonexistent/scene.obj --out /tmp/masq_cli_exit
