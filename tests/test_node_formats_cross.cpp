@@ -3,6 +3,7 @@
 // method, traced in both modes for the closest hit and for occlusion, must give w8 and
 // q8 the hits of w4. Closest: the same primitive, geometry and instance, t within 1e-6
 // relative (the same intersector on the same ray; only the visiting order differs).
+// The binary builder with spatial splits and reinsertion is checked too (ref).
 // Any hit: the same occluded/unoccluded answer (which blocker is found first is up to
 // the traversal order, so the primitive may differ by design).
 #include "bvh/build_accel.h"
@@ -62,42 +63,55 @@ TEST_P(NodeFormatsAgree, EveryMethodModeAndQuery) {
   if (!be) return;
   Scene scene = every_primitive_scene(3);
   std::vector<kernel::Ray> rays = random_rays(4, 2048);
+  struct Case {
+    Method method;
+    Mode mode;
+    Builder builder;
+  };
+  std::vector<Case> cases;
   for (Method method : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto})
-    for (Mode mode : {Mode::Robust, Mode::Fast}) {
-      AccelOptions opt;
-      opt.mode = mode;
-      opt.cluster.max_size = 8; // several members per cluster even in this small scene
-      std::vector<PackedScene> built;
-      for (NodeFormat f : {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8}) {
-        opt.nodes = f;
-        built.push_back(build_accel(scene, method, opt));
-      }
-      for (Query q : {Query::Closest, Query::Any}) {
-        std::vector<kernel::Hit> base = trace(*be, built[0], rays, q);
-        int hits = 0;
-        for (const kernel::Hit& h : base) hits += h.prim >= 0;
-        EXPECT_GT(hits, int(rays.size()) / 20) << "too few hits for the comparison to mean anything";
-        for (std::size_t k = 1; k < built.size(); ++k) {
-          std::vector<kernel::Hit> got = trace(*be, built[k], rays, q);
-          std::string what = std::string(method_name(method)) + " " + mode_name(mode) + " " +
-                             (q == Query::Any ? "any" : "closest") + " " + node_format_name(built[k].features.nodes);
-          int bad = 0;
-          for (std::size_t i = 0; i < rays.size(); ++i) {
-            const kernel::Hit& a = base[i];
-            const kernel::Hit& b = got[i];
-            bool same = (a.prim >= 0) == (b.prim >= 0);
-            if (same && q == Query::Closest && a.prim >= 0)
-              same = a.prim == b.prim && a.geom == b.geom && a.inst == b.inst &&
-                     std::abs(a.t - b.t) <= kRelT * std::abs(a.t);
-            if (!same && bad++ < 3)
-              ADD_FAILURE() << what << ": ray " << i << ": w4 prim " << a.prim << " geom " << a.geom << " inst "
-                            << a.inst << " t " << a.t << "; got prim " << b.prim << " geom " << b.geom << " inst "
-                            << b.inst << " t " << b.t;
-          }
-          EXPECT_EQ(bad, 0) << what;
+    for (Mode mode : {Mode::Robust, Mode::Fast}) cases.push_back({method, mode, Builder::Sah});
+  // Spatial splits put a primitive in several leaves and clip the boxes: the same hits too.
+  cases.push_back({Method::Ref, Mode::Robust, Builder::SbvhReinsert});
+  for (const Case& c : cases) {
+    const Method method = c.method;
+    const Mode mode = c.mode;
+    AccelOptions opt;
+    opt.mode = mode;
+    opt.builder.kind = c.builder;
+    opt.cluster.max_size = 8; // several members per cluster even in this small scene
+    std::vector<PackedScene> built;
+    for (NodeFormat f : {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8}) {
+      opt.nodes = f;
+      built.push_back(build_accel(scene, method, opt));
+    }
+    for (Query q : {Query::Closest, Query::Any}) {
+      std::vector<kernel::Hit> base = trace(*be, built[0], rays, q);
+      int hits = 0;
+      for (const kernel::Hit& h : base) hits += h.prim >= 0;
+      EXPECT_GT(hits, int(rays.size()) / 20) << "too few hits for the comparison to mean anything";
+      for (std::size_t k = 1; k < built.size(); ++k) {
+        std::vector<kernel::Hit> got = trace(*be, built[k], rays, q);
+        std::string what = std::string(method_name(method)) + " " + builder_name(c.builder) + " " +
+                           mode_name(mode) + " " +
+                           (q == Query::Any ? "any" : "closest") + " " + node_format_name(built[k].features.nodes);
+        int bad = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+          const kernel::Hit& a = base[i];
+          const kernel::Hit& b = got[i];
+          bool same = (a.prim >= 0) == (b.prim >= 0);
+          if (same && q == Query::Closest && a.prim >= 0)
+            same = a.prim == b.prim && a.geom == b.geom && a.inst == b.inst &&
+                   std::abs(a.t - b.t) <= kRelT * std::abs(a.t);
+          if (!same && bad++ < 3)
+            ADD_FAILURE() << what << ": ray " << i << ": w4 prim " << a.prim << " geom " << a.geom << " inst "
+                          << a.inst << " t " << a.t << "; got prim " << b.prim << " geom " << b.geom << " inst "
+                          << b.inst << " t " << b.t;
         }
+        EXPECT_EQ(bad, 0) << what;
       }
     }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, NodeFormatsAgree, ::testing::Values("cpu", "opencl", "vulkan"),
