@@ -1,5 +1,5 @@
 // Scenes beyond the driver's limits, made small by lowering the limits with the
-// environment knobs of host/vulkan/vk_limits.h:
+// environment knobs of host/limit_knob.h:
 //  - vulkan and rayquery with MASQ_VK_MAX_BINDING_BYTES below the scene's arrays: the
 //    arrays are read through buffer device addresses (kernels/kernel_data.h);
 //  - rayquery with MASQ_RQ_MAX_INSTANCES / MASQ_RQ_MAX_PRIMITIVES below the scene's
@@ -10,9 +10,12 @@
 // for arrays over one allocation, MASQ_VK_MAX_ALLOCATION_BYTES, tested here too).
 #include "bvh/build_accel.h"
 #include "host/backend.h"
+#include "host/bv_tracer.h"
+#include "bvh/bv_scene.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <cstdlib>
 #include <random>
 #include <string>
@@ -153,6 +156,32 @@ TEST(LargeScenes, RayQuerySplitAndAddressedTogetherMatchCpu) {
                                  {"MASQ_VK_MAX_BINDING_BYTES", "4096"}});
 }
 
+// The binary-hierarchy tracer (kernels/trace_bv.comp) reads its node and leaf arrays
+// the same way: every node type by address gives the cpu tracer's hits.
+TEST(LargeScenes, VulkanBvTracerArraysByAddressMatchCpu) {
+  std::unique_ptr<BvTracer> vk =
+      masq::test::open_or_fail("vulkan", [](const std::string& n) { return make_bv_tracer(n); });
+  if (!vk) return;
+  std::unique_ptr<BvTracer> cpu = make_bv_tracer("cpu");
+  Scene scene = random_scene(PrimType::Capsule, 9);
+  std::vector<Ray> rays = random_rays(8, 1024);
+  for (BvType t : {BvType::Aabb, BvType::Sphere, BvType::Obb, BvType::Scb}) {
+    SCOPED_TRACE(bv_type_name(t));
+    BvOptions o;
+    o.type = t;
+    BvScene bv = build_bv_scene(scene, o);
+    std::vector<Hit> want(rays.size()), got(rays.size());
+    cpu->set_scene(bv);
+    cpu->trace(rays, want, {});
+    Knob k("MASQ_VK_MAX_BINDING_BYTES", "4096");
+    vk->set_scene(bv);
+    vk->trace(rays, got, {});
+    Diff d = compare(want, got, true);
+    EXPECT_GT(d.hits, 100);
+    EXPECT_EQ(d.hit_miss + d.wrong_prim + d.wrong_t, 0) << d.first;
+  }
+}
+
 // Over one allocation there is no way round: a clear error naming the array, its size
 // and the limit; and a malformed knob is named too. The backend works afterwards.
 TEST(LargeScenes, ArrayOverOneAllocationIsAClearError) {
@@ -198,4 +227,29 @@ TEST(LargeScenes, ArrayOverOneAllocationIsAClearError) {
                   .hits,
               0);
   }
+}
+
+// OpenCL has no way round CL_DEVICE_MAX_MEM_ALLOC_SIZE either (no binding limit below
+// it): the array is named.
+TEST(LargeScenes, OpenClArrayOverOneAllocationIsAClearError) {
+  std::unique_ptr<Backend> be = backend_or_fail("opencl");
+  if (!be) return;
+  PackedScene packed = build_accel(random_scene(PrimType::Capsule, 5), Method::Ref);
+  {
+    Knob k("MASQ_CL_MAX_ALLOC_BYTES", "4096");
+    try {
+      be->set_scene(packed);
+      ADD_FAILURE() << "no error for an array over the allocation limit";
+    } catch (const Error& e) {
+      std::string what = e.what();
+      EXPECT_EQ(what.rfind("opencl: scene array '", 0), 0u) << what;
+      EXPECT_NE(what.find("bytes, more than the device's largest allocation (CL_DEVICE_MAX_MEM_ALLOC_SIZE = 4096 "
+                          "bytes)"),
+                std::string::npos)
+          << what;
+    }
+  }
+  be->set_scene(packed);
+  std::vector<Hit> hits = trace(*be, random_rays(3, 512), Query::Closest);
+  EXPECT_TRUE(std::any_of(hits.begin(), hits.end(), [](const Hit& h) { return h.prim >= 0; }));
 }

@@ -14,7 +14,7 @@
 // record offset is its BLAS id, and prim_map[prim_map[b] + driver primitive index] is
 // the primitive. Beyond the driver's limits (maxPrimitiveCount per BLAS,
 // maxInstanceCount per TLAS; 2^24-1 on lavapipe; lowered by MASQ_RQ_MAX_PRIMITIVES /
-// MASQ_RQ_MAX_INSTANCES, host/vulkan/vk_limits.h) a geometry's leaf order is cut into
+// MASQ_RQ_MAX_INSTANCES, host/limit_knob.h) a geometry's leaf order is cut into
 // several BLAS (each placed by its own TLAS entry) and the TLAS entries into several
 // TLAS ("parts", traced in turn by kernels/rayquery.comp). The instance records are
 // uploaded one per TLAS entry in submission order, so the 24-bit custom index is the
@@ -29,7 +29,7 @@
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "kernels/kernel_data.h"
-#include "host/vulkan/vk_limits.h"
+#include "host/limit_knob.h"
 #include "spirv/rayquery_comp_addr_spv.h"
 #include "spirv/rayquery_comp_spv.h"
 #include <fmt/format.h>
@@ -195,11 +195,11 @@ class RayQueryBackend final : public Backend {
   }
 
   std::uint64_t max_instances() const {
-    return vk::lowered_limit(ctx_->accel_props.maxInstanceCount, "MASQ_RQ_MAX_INSTANCES",
+    return lowered_limit(kName, ctx_->accel_props.maxInstanceCount, "MASQ_RQ_MAX_INSTANCES",
                              limit_overrides_for_testing().max_instance_count);
   }
   std::uint64_t max_primitives() const {
-    return vk::lowered_limit(ctx_->accel_props.maxPrimitiveCount, "MASQ_RQ_MAX_PRIMITIVES",
+    return lowered_limit(kName, ctx_->accel_props.maxPrimitiveCount, "MASQ_RQ_MAX_PRIMITIVES",
                              limit_overrides_for_testing().max_primitive_count);
   }
 

@@ -1,6 +1,6 @@
 #include "host/vulkan/vk_context.h"
 #include "host/backend.h"
-#include "host/vulkan/vk_limits.h"
+#include "host/limit_knob.h"
 #include "host/vulkan/vulkan_backends.h"
 #include <fmt/format.h>
 #include <cstdio>
@@ -292,12 +292,12 @@ std::string Context::device_name() const {
 }
 
 std::uint64_t Context::max_storage_buffer_range() const {
-  return lowered_limit(props.limits.maxStorageBufferRange, "MASQ_VK_MAX_BINDING_BYTES",
+  return lowered_limit("vulkan", props.limits.maxStorageBufferRange, "MASQ_VK_MAX_BINDING_BYTES",
                        limit_overrides_for_testing().max_storage_buffer_range);
 }
 
 std::uint64_t Context::max_allocation_bytes() const {
-  return lowered_limit(max_allocation, "MASQ_VK_MAX_ALLOCATION_BYTES",
+  return lowered_limit("vulkan", max_allocation, "MASQ_VK_MAX_ALLOCATION_BYTES",
                        limit_overrides_for_testing().max_allocation_bytes);
 }
 

@@ -53,7 +53,7 @@ class Context {
 
   std::string device_name() const; // "llvmpipe (...) [Mesa 25.0.7 ...]"
   // Largest storage-buffer binding, after MASQ_VK_MAX_BINDING_BYTES and the test
-  // override (vk_limits.h, vulkan_backends.h).
+  // override (host/limit_knob.h, vulkan_backends.h).
   std::uint64_t max_storage_buffer_range() const;
   // Largest single array buffer, after MASQ_VK_MAX_ALLOCATION_BYTES and the override.
   std::uint64_t max_allocation_bytes() const;

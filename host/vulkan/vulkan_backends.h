@@ -16,7 +16,7 @@ std::unique_ptr<Backend> make_rayquery_backend();
 // (0 keeps the device's own value), so the large-scene paths (arrays by address,
 // split TLAS/BLAS), the too-large-scene errors and the chunked tracing can be exercised
 // with small scenes. Read when a scene is set or traced. The environment knobs of
-// host/vulkan/vk_limits.h lower the same limits for whole runs (CLI, bench, ctest).
+// host/limit_knob.h lower the same limits for whole runs (CLI, bench, ctest).
 struct VulkanLimitOverrides {
   std::uint64_t max_storage_buffer_range = 0; // bytes in one storage-buffer binding
   std::uint64_t max_instance_count = 0;       // TLAS instances (rayquery)
