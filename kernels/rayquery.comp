@@ -90,7 +90,8 @@ void main() {
         int prim = mapped_prim(rayQueryGetIntersectionInstanceShaderBindingTableRecordOffsetEXT(rq, false),
                                rayQueryGetIntersectionPrimitiveIndexEXT(rq, false));
         if (MASQ_STATS) st.isect_calls = st.isect_calls + 1;
-        PrimHit ph = intersect_primitive(KD(geoms)[inst.geom], prim, rayQueryGetIntersectionObjectRayOriginEXT(rq, false),
+        PrimHit ph = intersect_primitive(KD(geoms)[inst.geom], prim,
+                                         rayQueryGetIntersectionObjectRayOriginEXT(rq, false),
                                          rayQueryGetIntersectionObjectRayDirectionEXT(rq, false), tmin, tcur);
         if (ph.hit != 0 && (gen.prim < 0 || ph.t <= gen.t)) {
           rayQueryConfirmIntersectionEXT(rq);

@@ -138,7 +138,9 @@ void check_against_cpu(const std::string& backend, const std::vector<std::pair<c
 
 // 4 KiB per binding: the capsule, curve, node and instance arrays of these scenes all
 // exceed it, and rays go in chunks of 85.
-TEST(LargeScenes, VulkanArraysByAddressMatchCpu) { check_against_cpu("vulkan", {{"MASQ_VK_MAX_BINDING_BYTES", "4096"}}); }
+TEST(LargeScenes, VulkanArraysByAddressMatchCpu) {
+  check_against_cpu("vulkan", {{"MASQ_VK_MAX_BINDING_BYTES", "4096"}});
+}
 
 TEST(LargeScenes, RayQueryArraysByAddressMatchCpu) {
   check_against_cpu("rayquery", {{"MASQ_VK_MAX_BINDING_BYTES", "4096"}});

@@ -26,6 +26,7 @@
 #include "bvh/obb.h"
 #include "bvh/prim_bounds.h"
 #include "host/vulkan/acceleration_structures.h"
+#include "host/vulkan/rayquery_plan.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "kernels/kernel_data.h"
@@ -168,18 +169,6 @@ class RayQueryBackend final : public Backend {
   }
 
  private:
-  // A BLAS: a run [first, first+count) of geometry geom's leaf order, or (geom < 0) the
-  // cluster whose masq BLAS root is `root`. Its index is its BLAS id.
-  struct BlasSpec {
-    int geom;
-    int root;
-    std::size_t first, count;
-  };
-  struct Entry {
-    std::int32_t inst; // index into PackedScene::instances
-    std::int32_t blas; // BLAS id (SBT record offset); 0 for masquerade
-  };
-
   static std::vector<VkDescriptorType> descriptor_types() { return vk::kernel_descriptor_types(kBindingPrimMap + 1); }
 
   void check_inputs(const PackedScene& s) const {
@@ -196,112 +185,35 @@ class RayQueryBackend final : public Backend {
 
   std::uint64_t max_instances() const {
     return lowered_limit(kName, ctx_->accel_props.maxInstanceCount, "MASQ_RQ_MAX_INSTANCES",
-                             limit_overrides_for_testing().max_instance_count);
+                         limit_overrides_for_testing().max_instance_count);
   }
   std::uint64_t max_primitives() const {
     return lowered_limit(kName, ctx_->accel_props.maxPrimitiveCount, "MASQ_RQ_MAX_PRIMITIVES",
-                             limit_overrides_for_testing().max_primitive_count);
+                         limit_overrides_for_testing().max_primitive_count);
   }
 
-  // BLAS ids (geometry parts, then clusters) and the TLAS entries in submission order.
-  void plan(const PackedScene& s) {
-    const std::uint64_t max_prim = max_primitives();
-    blas_specs_.clear();
-    geom_blas_.assign(s.geoms.size(), {});
-    cluster_blas_id_.clear();
-    entries_.clear();
-    for (const kernel::Instance& inst : s.instances) {
-      if (inst.prim == MASQ_INST_CLUSTER) {
-        if (cluster_blas_id_.count(inst.blas_root)) continue;
-        cluster_blas_id_[inst.blas_root] = static_cast<std::int32_t>(blas_specs_.size());
-        blas_specs_.push_back({-1, inst.blas_root, 0, 0});
-      } else if (inst.blas_root >= 0 && geom_blas_.at(static_cast<std::size_t>(inst.geom)).empty()) {
-        // The geometry's leaf order cut into runs of at most max_prim (one BLAS each).
-        std::size_t n = leaf_order(s, static_cast<std::size_t>(inst.geom)).size();
-        for (std::size_t first = 0; first < std::max<std::size_t>(n, 1); first += max_prim) {
-          geom_blas_[static_cast<std::size_t>(inst.geom)].push_back(static_cast<std::int32_t>(blas_specs_.size()));
-          blas_specs_.push_back({inst.geom, -1, first, std::min<std::size_t>(max_prim, n - first)});
-        }
-      }
-    }
-    // SBT record offsets hold 24 bits.
-    if (blas_specs_.size() >= (1u << 24))
-      throw Error(fmt::format("rayquery: {} bottom-level structures; SBT record offsets hold 24 bits",
-                              blas_specs_.size()));
-    for (std::int32_t i : s.tlas_leaf_order) {
-      const kernel::Instance& inst = s.instances[static_cast<std::size_t>(i)];
-      if (inst.prim == MASQ_INST_CLUSTER) entries_.push_back({i, cluster_blas_id_.at(inst.blas_root)});
-      else if (inst.blas_root >= 0)
-        for (std::int32_t b : geom_blas_[static_cast<std::size_t>(inst.geom)]) entries_.push_back({i, b});
-      else entries_.push_back({i, 0}); // masquerade: the unit box, no primitive map
-    }
-  }
+  // BLAS ids and TLAS entries (host/vulkan/rayquery_plan.h).
+  void plan(const PackedScene& s) { plan_ = vk::plan_ray_query(s, max_primitives()); }
 
   // One Instance record per TLAS entry, in submission order (the shader reads record
   // parts[p].first + custom index).
   void upload_instance_records(const PackedScene& s) {
     scene_.add(*ctx_, kName, MASQ_BINDING_INSTANCES, "instance records (one per TLAS entry)",
-               entries_.size() * sizeof(kernel::Instance), [&](vk::Buffer& b) {
+               plan_.entries.size() * sizeof(kernel::Instance), [&](vk::Buffer& b) {
                  std::vector<kernel::Instance> chunk;
                  constexpr std::size_t kChunk = 1 << 16;
-                 for (std::size_t first = 0; first < entries_.size(); first += kChunk) {
-                   std::size_t n = std::min(kChunk, entries_.size() - first);
+                 for (std::size_t first = 0; first < plan_.entries.size(); first += kChunk) {
+                   std::size_t n = std::min(kChunk, plan_.entries.size() - first);
                    chunk.resize(n);
                    for (std::size_t k = 0; k < n; ++k)
-                     chunk[k] = s.instances[static_cast<std::size_t>(entries_[first + k].inst)];
+                     chunk[k] = s.instances[static_cast<std::size_t>(plan_.entries[first + k].inst)];
                    b.upload(chunk.data(), n * sizeof(kernel::Instance), first * sizeof(kernel::Instance));
                  }
                });
   }
 
-  // Primitive ids of geometry g in submission order (identity when the builder gave none).
-  static std::vector<std::int32_t> leaf_order(const PackedScene& s, std::size_t g) {
-    auto n = static_cast<std::size_t>(s.geoms[g].count);
-    if (g < s.geometry_leaf_order.size() && !s.geometry_leaf_order[g].empty()) {
-      const auto& order = s.geometry_leaf_order[g];
-      if (order.size() > n) // auto keeps a subset in the ordinary BLAS
-        throw Error(fmt::format("rayquery: geometry_leaf_order[{}] has {} entries for {} primitives", g,
-                                order.size(), n));
-      for (std::int32_t p : order)
-        if (p < 0 || static_cast<std::size_t>(p) >= n)
-          throw Error(fmt::format("rayquery: geometry_leaf_order[{}] holds primitive {} of {}", g, p, n));
-      return order;
-    }
-    std::vector<std::int32_t> id(n);
-    for (std::size_t i = 0; i < n; ++i) id[i] = static_cast<std::int32_t>(i);
-    return id;
-  }
-
-  // prim_map: one offset per BLAS id, then each BLAS's primitive ids in submission order.
   void upload_prim_map(const PackedScene& s) {
-    std::vector<std::int32_t> map(blas_specs_.size());
-    for (std::size_t b = 0; b < blas_specs_.size(); ++b) {
-      const BlasSpec& spec = blas_specs_[b];
-      if (map.size() > std::size_t(INT32_MAX))
-        throw Error(fmt::format("rayquery: the primitive id map has {} entries (over 2^31-1)", map.size()));
-      map[b] = static_cast<std::int32_t>(map.size());
-      std::vector<std::int32_t> ids =
-          spec.geom >= 0 ? leaf_order(s, static_cast<std::size_t>(spec.geom)) : cluster_members(s, spec.root);
-      std::size_t first = spec.geom >= 0 ? spec.first : 0;
-      std::size_t count = spec.geom >= 0 ? spec.count : ids.size();
-      map.insert(map.end(), ids.begin() + std::ptrdiff_t(first), ids.begin() + std::ptrdiff_t(first + count));
-    }
-    scene_.add(*ctx_, kName, kBindingPrimMap, "primitive id map", map);
-  }
-
-  // Member ids of the cluster BLAS at node `root`, in depth-first leaf order.
-  static std::vector<std::int32_t> cluster_members(const PackedScene& s, int root) {
-    std::vector<std::int32_t> out;
-    std::vector<int> stack{root};
-    while (!stack.empty()) {
-      const kernel::WideNode& n = s.nodes.at(static_cast<std::size_t>(stack.back()));
-      stack.pop_back();
-      for (int i = 0; i < MASQ_WIDTH; ++i) {
-        if (n.count[i] == 0) stack.push_back(n.child[i]);
-        for (int j = 0; j < n.count[i]; ++j) out.push_back(s.refs.at(static_cast<std::size_t>(n.child[i] + j)));
-      }
-    }
-    return out;
+    scene_.add(*ctx_, kName, kBindingPrimMap, "primitive id map", vk::primitive_id_map(s, plan_));
   }
 
   // The driver BLAS of a cluster: each member's exact local box under every scene
@@ -313,7 +225,7 @@ class RayQueryBackend final : public Backend {
     if (it != cluster_blas_.end()) return it->second;
     constexpr double kGamma4 = 4.0 * 5.9604645e-8 / (1.0 - 4.0 * 5.9604645e-8);
     constexpr double kGamma3 = 3.0 * 5.9604645e-8 / (1.0 - 3.0 * 5.9604645e-8);
-    std::vector<std::int32_t> members = cluster_members(s, root);
+    std::vector<std::int32_t> members = vk::cluster_members(s, root);
     if (members.size() > max_primitives())
       throw Error(fmt::format("rayquery: a cluster of {} members exceeds maxPrimitiveCount {}", members.size(),
                               max_primitives()));
@@ -346,9 +258,9 @@ class RayQueryBackend final : public Backend {
   const vk::AccelStructure& geometry_blas(const PackedScene& s, std::int32_t b) {
     auto it = blas_.find(b);
     if (it != blas_.end()) return it->second;
-    const BlasSpec& spec = blas_specs_.at(static_cast<std::size_t>(b));
+    const vk::RayQueryPlan::Blas& spec = plan_.blas.at(static_cast<std::size_t>(b));
     const kernel::Geometry& geo = s.geoms.at(static_cast<std::size_t>(spec.geom));
-    auto all = leaf_order(s, static_cast<std::size_t>(spec.geom));
+    auto all = vk::geometry_leaf_order(s, static_cast<std::size_t>(spec.geom));
     std::span<const std::int32_t> order(all.data() + spec.first, spec.count);
     vk::AccelStructure as;
     if (geo.type == MASQ_PRIM_TRIANGLE) {
@@ -383,18 +295,18 @@ class RayQueryBackend final : public Backend {
     build_tlas(*kept_);
   }
 
-  // The TLAS parts: runs of at most maxInstanceCount entries of entries_, each built in
+  // The TLAS parts: runs of at most maxInstanceCount entries of plan_.entries, each built in
   // submission order; then the parts table (binding 13).
   void build_tlas(const PackedScene& s) {
     tlas_.clear();
     const std::uint64_t max_inst = std::min<std::uint64_t>(max_instances(), (1u << 24) - 1); // custom index
     std::vector<TlasPartRecord> records;
     std::vector<VkAccelerationStructureInstanceKHR> part;
-    for (std::size_t first = 0; first < entries_.size(); first += max_inst) {
-      std::size_t n = std::min<std::size_t>(max_inst, entries_.size() - first);
+    for (std::size_t first = 0; first < plan_.entries.size(); first += max_inst) {
+      std::size_t n = std::min<std::size_t>(max_inst, plan_.entries.size() - first);
       part.clear();
       part.reserve(n);
-      for (std::size_t k = 0; k < n; ++k) part.push_back(tlas_entry(s, entries_[first + k], std::uint32_t(k)));
+      for (std::size_t k = 0; k < n; ++k) part.push_back(tlas_entry(s, plan_.entries[first + k], std::uint32_t(k)));
       tlas_.push_back(vk::build_tlas(*ctx_, part));
       if (first > std::size_t(INT32_MAX)) throw Error("rayquery: more than 2^31-1 TLAS entries");
       records.push_back({tlas_.back().address(), static_cast<std::int32_t>(first), 0});
@@ -405,7 +317,8 @@ class RayQueryBackend final : public Backend {
     layout_.bind_buffer(kBindingTlasParts, parts_buffer_);
   }
 
-  VkAccelerationStructureInstanceKHR tlas_entry(const PackedScene& s, const Entry& en, std::uint32_t rank) {
+  VkAccelerationStructureInstanceKHR tlas_entry(const PackedScene& s, const vk::RayQueryPlan::Entry& en,
+                                                std::uint32_t rank) {
     const bool robust = s.features.mode == Mode::Robust;
     const std::size_t i = static_cast<std::size_t>(en.inst);
     const kernel::Instance& inst = s.instances[i];
@@ -456,10 +369,7 @@ class RayQueryBackend final : public Backend {
   vk::PipelineVariants addressed_{layout_, rayquery_comp_addr_spv};
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
-  std::vector<BlasSpec> blas_specs_;
-  std::vector<std::vector<std::int32_t>> geom_blas_; // per geometry: its BLAS ids
-  std::map<int, std::int32_t> cluster_blas_id_;      // by the cluster's masq BLAS root
-  std::vector<Entry> entries_;                        // TLAS entries in submission order
+  vk::RayQueryPlan plan_;
   std::map<std::int32_t, vk::AccelStructure> blas_;  // geometry parts, by BLAS id
   std::map<int, vk::AccelStructure> cluster_blas_;   // by the cluster's masq BLAS root
   vk::AccelStructure unit_box_;

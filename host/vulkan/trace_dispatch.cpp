@@ -48,7 +48,8 @@ void SceneBuffers::finish(Context& ctx, const char* backend) {
   for (const auto& [binding, a] : arrays_)
     if (largest == nullptr || a.bytes > largest->bytes) largest = &a;
   addressed_ = largest != nullptr && largest->bytes > range;
-  if (addressed_ && !ctx.buffer_device_address) check_storage_range(ctx, backend, largest->what.c_str(), largest->bytes);
+  if (addressed_ && !ctx.buffer_device_address)
+    check_storage_range(ctx, backend, largest->what.c_str(), largest->bytes);
   // std140: one 16-byte element per slot, the address in its first 8 bytes.
   std::vector<std::uint64_t> slots(2 * MASQ_ADDRESS_SLOTS, 0);
   if (addressed_)
