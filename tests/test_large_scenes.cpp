@@ -11,6 +11,7 @@
 #include "bvh/build_accel.h"
 #include "host/backend.h"
 #include "host/bv_tracer.h"
+#include "host/vulkan/rayquery_plan.h"
 #include "bvh/bv_scene.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"
@@ -254,4 +255,28 @@ TEST(LargeScenes, OpenClArrayOverOneAllocationIsAClearError) {
   be->set_scene(packed);
   std::vector<Hit> hits = trace(*be, random_rays(3, 512), Query::Closest);
   EXPECT_TRUE(std::any_of(hits.begin(), hits.end(), [](const Hit& h) { return h.prim >= 0; }));
+}
+
+// The ray-query plan on its own: every primitive of a split geometry in exactly one
+// BLAS run, in leaf order, each run within the limit; one TLAS entry per (instance, run).
+TEST(LargeScenes, RayQueryPlanCutsLeafOrderIntoRuns) {
+  Scene scene = random_scene(PrimType::Capsule, 12); // 200 capsules x 3 instances, 128 triangles x 1
+  PackedScene s = build_accel(scene, Method::Ref);
+  vk::RayQueryPlan plan = vk::plan_ray_query(s, 50);
+  ASSERT_EQ(plan.blas.size(), 4u + 3u); // ceil(200/50) + ceil(128/50)
+  EXPECT_EQ(plan.entries.size(), 3u * 4u + 1u * 3u);
+  std::vector<std::int32_t> map = vk::primitive_id_map(s, plan);
+  for (std::size_t g = 0; g < 2; ++g) {
+    std::vector<std::int32_t> order = vk::geometry_leaf_order(s, g), joined;
+    for (std::size_t b = 0; b < plan.blas.size(); ++b) {
+      if (plan.blas[b].geom != int(g)) continue;
+      EXPECT_LE(plan.blas[b].count, 50u);
+      joined.insert(joined.end(), map.begin() + map[b], map.begin() + map[b] + std::ptrdiff_t(plan.blas[b].count));
+    }
+    EXPECT_EQ(joined, order) << "geometry " << g;
+  }
+  // Without a limit below the counts: one BLAS per geometry, one entry per instance.
+  vk::RayQueryPlan whole = vk::plan_ray_query(s, (1u << 24) - 1);
+  EXPECT_EQ(whole.blas.size(), 2u);
+  EXPECT_EQ(whole.entries.size(), s.instances.size());
 }
