@@ -1,6 +1,7 @@
 // The scene arrays every kernel reads. GLSL: global SSBOs at the fixed bindings below
-// (the Vulkan backends bind by these same macros), or buffer references (addressed mode). OpenCL and C++: one
-// struct of pointers passed through the functions as `kd` (see KD_PARAM in shim.h).
+// (the Vulkan backends bind by these same macros), or buffer references read by device
+// address (addressed mode, below). OpenCL and C++: one struct of pointers passed
+// through the functions as `kd` (see KD_PARAM in shim.h).
 #ifndef MASQ_KERNEL_DATA_H
 #define MASQ_KERNEL_DATA_H
 #include "layout.h"
