@@ -143,6 +143,23 @@ TEST(LargeScenes, VulkanArraysByAddressMatchCpu) {
   check_against_cpu("vulkan", {{"MASQ_VK_MAX_BINDING_BYTES", "4096"}});
 }
 
+// The vulkan backend reads every scene by address where it can (MASQ_VK_ADDRESSING
+// unset); its descriptor-bound path, for devices without bufferDeviceAddress, must
+// give the same hits.
+TEST(LargeScenes, VulkanBoundArraysMatchCpu) { check_against_cpu("vulkan", {{"MASQ_VK_ADDRESSING", "bound"}}); }
+
+TEST(LargeScenes, VulkanAddressingKnobRejectsOtherValues) {
+  std::unique_ptr<Backend> be = backend_or_fail("vulkan");
+  if (!be) return;
+  Knob k("MASQ_VK_ADDRESSING", "fast");
+  try {
+    be->set_scene(build_accel(random_scene(PrimType::Capsule, 3), Method::Ref));
+    ADD_FAILURE() << "no error for MASQ_VK_ADDRESSING=fast";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("MASQ_VK_ADDRESSING='fast'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(LargeScenes, RayQueryArraysByAddressMatchCpu) {
   check_against_cpu("rayquery", {{"MASQ_VK_MAX_BINDING_BYTES", "4096"}});
 }

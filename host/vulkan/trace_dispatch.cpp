@@ -42,12 +42,12 @@ void SceneBuffers::add(Context& ctx, const char* backend, std::uint32_t binding,
   bytes += size;
 }
 
-void SceneBuffers::finish(Context& ctx, const char* backend) {
+void SceneBuffers::finish(Context& ctx, const char* backend, bool prefer_addressed) {
   std::uint64_t range = ctx.max_storage_buffer_range();
   const Array* largest = nullptr;
   for (const auto& [binding, a] : arrays_)
     if (largest == nullptr || a.bytes > largest->bytes) largest = &a;
-  addressed_ = largest != nullptr && largest->bytes > range;
+  addressed_ = (largest != nullptr && largest->bytes > range) || (prefer_addressed && ctx.buffer_device_address);
   if (addressed_ && !ctx.buffer_device_address)
     check_storage_range(ctx, backend, largest->what.c_str(), largest->bytes);
   // std140: one 16-byte element per slot, the address in its first 8 bytes.

@@ -40,8 +40,9 @@ class SceneBuffers {
     add(ctx, backend, binding, what, size, [&](Buffer& b) { b.upload(v.data(), size); });
   }
   // After the last add: picks the mode; throws the maxStorageBufferRange error when an
-  // array exceeds one binding and the device cannot address it.
-  void finish(Context& ctx, const char* backend);
+  // array exceeds one binding and the device cannot address it. prefer_addressed: use
+  // addressed mode whenever the device can, not only for arrays over one binding.
+  void finish(Context& ctx, const char* backend, bool prefer_addressed = false);
   bool addressed() const { return addressed_; }
   // Bound mode: every array at its binding and a dummy table; addressed mode: the table
   // and a dummy at every array binding (no descriptor then exceeds the range limit).

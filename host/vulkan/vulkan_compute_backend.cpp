@@ -1,8 +1,9 @@
 // "vulkan" backend: the shared two-level traversal (kernels/trace.comp) as a compute
 // shader. One pipeline per variant (stats, triangles, capsules), created on first use
 // and cached; the first dispatch of each is part of its compile time, because lavapipe
-// JIT-compiles there. Scenes with an array over one storage binding run the addressed
-// module (trace_comp_addr_spv; see SceneBuffers).
+// JIT-compiles there. Where the device has bufferDeviceAddress the addressed module
+// (trace_comp_addr_spv; see SceneBuffers) runs; otherwise the bound one, and scenes with
+// an array over one storage binding are refused.
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "kernels/kernel_data.h"
@@ -36,6 +37,18 @@ std::uint32_t local_size() {
 }
 const char* const kName = "vulkan";
 
+// How the kernel reads the scene arrays: "addressed" (buffer device address) whenever
+// the device supports it, or "bound" (storage-buffer descriptors) except for arrays over
+// one binding. Default addressed: on lavapipe it traced 1.3-1.7x faster than bound in
+// interleaved runs (bench/addressed_cost.cpp; docs/results.md), as llvmpipe
+// bounds-checks every descriptor access. MASQ_VK_ADDRESSING=bound|addressed picks.
+bool prefer_addressed() {
+  const char* v = std::getenv("MASQ_VK_ADDRESSING");
+  if (v == nullptr || *v == '\0' || std::string(v) == "addressed") return true;
+  if (std::string(v) == "bound") return false;
+  throw Error(std::string("vulkan: MASQ_VK_ADDRESSING='") + v + "' is not 'bound' or 'addressed'");
+}
+
 class VulkanComputeBackend final : public Backend {
  public:
   VulkanComputeBackend()
@@ -51,7 +64,7 @@ class VulkanComputeBackend final : public Backend {
     auto t0 = Clock::now();
     scene_ = vk::SceneBuffers{}; // release the old scene first (memory)
     vk::add_scene_arrays(scene_, *ctx_, kName, scene);
-    scene_.finish(*ctx_, kName);
+    scene_.finish(*ctx_, kName, prefer_addressed());
     scene_.bind(layout_);
     tlas_root_ = scene.tlas_root;
     features_ = scene.features;
