@@ -34,8 +34,8 @@
 #endif
 
 #if defined(MASQ_LANG_GLSL)
-layout(std430, binding = MASQ_BINDING_BV_NODES) readonly buffer BvNodesBuf { BV_NODE_T BV_NODES[]; };
-layout(std430, binding = MASQ_BINDING_BV_PRIMS) readonly buffer BvPrimsBuf { BvPrimRef bv_prims[]; };
+MASQ_KD_ARRAY(BV_NODE_T, BV_NODES, MASQ_BINDING_BV_NODES)
+MASQ_KD_ARRAY(BvPrimRef, bv_prims, MASQ_BINDING_BV_PRIMS)
 #endif
 
 KERNEL_NS_BEGIN

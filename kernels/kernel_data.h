@@ -1,6 +1,7 @@
 // The scene arrays every kernel reads. GLSL: global SSBOs at the fixed bindings below
-// (the Vulkan backends bind by these same macros). OpenCL and C++: one
-// struct of pointers passed through the functions as `kd` (see KD_PARAM in shim.h).
+// (the Vulkan backends bind by these same macros), or buffer references read by device
+// address (addressed mode, below). OpenCL and C++: one struct of pointers passed
+// through the functions as `kd` (see KD_PARAM in shim.h).
 #ifndef MASQ_KERNEL_DATA_H
 #define MASQ_KERNEL_DATA_H
 #include "layout.h"
@@ -25,18 +26,47 @@
 #define MASQ_BINDING_BV_PRIMS 14
 #define MASQ_BV_BINDING_COUNT 15
 
+// Vulkan, addressed mode (MASQ_KD_ADDRESSES=1, a glslang -D): no array is bound; a
+// uniform table holds each array's buffer device address at slot = its binding number,
+// so one array is limited by maxMemoryAllocationSize instead of maxStorageBufferRange
+// (128 MiB on lavapipe). The host picks this mode only for scenes with an array over
+// the binding limit (host/vulkan/trace_dispatch.h, docs/kernels.md).
+#define MASQ_BINDING_ADDRESSES 20
+#define MASQ_ADDRESS_SLOTS 20
+#if MASQ_BV_BINDING_COUNT > MASQ_ADDRESS_SLOTS
+#error "kernel_data.h: more bindings than address slots"
+#endif
+
 #if defined(MASQ_LANG_GLSL)
-layout(std430, binding = MASQ_BINDING_NODES) readonly buffer NodesBuf { WideNode nodes[]; };
-layout(std430, binding = MASQ_BINDING_NODES) readonly buffer NodeWordsBuf { uint node_words[]; }; // w8, q8 alias
-layout(std430, binding = MASQ_BINDING_REFS) readonly buffer RefsBuf { int refs[]; };
-layout(std430, binding = MASQ_BINDING_INSTANCES) readonly buffer InstancesBuf { Instance instances[]; };
-layout(std430, binding = MASQ_BINDING_FRAMES) readonly buffer FramesBuf { Frame frames[]; };
-layout(std430, binding = MASQ_BINDING_GEOMS) readonly buffer GeomsBuf { Geometry geoms[]; };
-layout(std430, binding = MASQ_BINDING_TRIANGLES) readonly buffer TrianglesBuf { Triangle triangles[]; };
-layout(std430, binding = MASQ_BINDING_CAPSULES) readonly buffer CapsulesBuf { Capsule capsules[]; };
-layout(std430, binding = MASQ_BINDING_CONES) readonly buffer ConesBuf { RoundCone cones[]; };
-layout(std430, binding = MASQ_BINDING_SPHERES) readonly buffer SpheresBuf { Sphere spheres[]; };
-layout(std430, binding = MASQ_BINDING_CURVES) readonly buffer CurvesBuf { Curve curves[]; };
+// MASQ_KD_ARRAY(T, name, binding) declares one scene array read as KD(name)[i]: an SSBO
+// at `binding`, or (addressed) a buffer-reference type and its slot. Adding an array is
+// one MASQ_KD_ARRAY line (and its binding number above). The _IMPL indirection lets a
+// macro (BV_NODES) be the name: arguments next to ## are not expanded.
+#if defined(MASQ_KD_ADDRESSES) && MASQ_KD_ADDRESSES
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+layout(std140, binding = MASQ_BINDING_ADDRESSES) uniform KdAddresses { uvec2 kd_address[MASQ_ADDRESS_SLOTS]; };
+#define MASQ_KD_ARRAY_IMPL(T, name, b) \
+  layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer name##_ref { T v[]; }; \
+  const int name##_slot = b;
+#define KD_IMPL(name) name##_ref(kd_address[name##_slot]).v
+#define KD(name) KD_IMPL(name)
+#else
+#define MASQ_KD_ARRAY_IMPL(T, name, b) layout(std430, binding = b) readonly buffer name##_buf { T name[]; };
+#define KD(name) name
+#endif
+#define MASQ_KD_ARRAY(T, name, b) MASQ_KD_ARRAY_IMPL(T, name, b)
+MASQ_KD_ARRAY(WideNode, nodes, MASQ_BINDING_NODES)
+MASQ_KD_ARRAY(uint, node_words, MASQ_BINDING_NODES) // the same array as words (node formats w8, q8)
+MASQ_KD_ARRAY(int, refs, MASQ_BINDING_REFS)
+MASQ_KD_ARRAY(Instance, instances, MASQ_BINDING_INSTANCES)
+MASQ_KD_ARRAY(Frame, frames, MASQ_BINDING_FRAMES)
+MASQ_KD_ARRAY(Geometry, geoms, MASQ_BINDING_GEOMS)
+MASQ_KD_ARRAY(Triangle, triangles, MASQ_BINDING_TRIANGLES)
+MASQ_KD_ARRAY(Capsule, capsules, MASQ_BINDING_CAPSULES)
+MASQ_KD_ARRAY(RoundCone, cones, MASQ_BINDING_CONES)
+MASQ_KD_ARRAY(Sphere, spheres, MASQ_BINDING_SPHERES)
+MASQ_KD_ARRAY(Curve, curves, MASQ_BINDING_CURVES)
 #else
 #if defined(MASQ_LANG_OPENCL)
 #define MASQ_GLOBAL __global

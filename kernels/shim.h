@@ -95,13 +95,13 @@ typedef float3 vec3;
 #define u2f_(u) float(u)
 #endif
 
-// Buffer access. GLSL binds each array as a global SSBO; OpenCL and C++ pass one struct
+// Buffer access. GLSL binds each array as a global SSBO (or reads it by device address); OpenCL and C++ pass one struct
 // of pointers (KernelData) through every function that reads scene data, the way
 // Blender Cycles declares its kernel arrays once for every backend.
 #if defined(MASQ_LANG_GLSL)
 #define KD_PARAM
 #define KD_ARG
-#define KD(name) name
+// KD(name) is defined with the arrays in kernel_data.h (bound or addressed).
 #else
 #define KD_PARAM const KernelData kd,
 #define KD_ARG kd,

@@ -12,6 +12,7 @@
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include "tests/random_affine.h"
 #include "tests/test_env.h"
@@ -57,9 +58,23 @@ std::vector<kernel::Hit> trace(Backend& be, const PackedScene& ps, const std::ve
 
 class NodeFormatsAgree : public ::testing::TestWithParam<std::string> {};
 
+// vulkan_bound: the vulkan backend with descriptor-bound scene arrays (the kernels' second
+// declaration of the node binding as words) instead of its default buffer addresses.
+struct AddressingEnv {
+  explicit AddressingEnv(bool bound) : set(bound) {
+    if (set) setenv("MASQ_VK_ADDRESSING", "bound", 1);
+  }
+  ~AddressingEnv() {
+    if (set) unsetenv("MASQ_VK_ADDRESSING");
+  }
+  bool set;
+};
+
 TEST_P(NodeFormatsAgree, EveryMethodModeAndQuery) {
+  const std::string backend = GetParam().substr(0, GetParam().find('_'));
+  AddressingEnv env(GetParam() == "vulkan_bound");
   std::unique_ptr<Backend> be =
-      masq::test::open_or_fail(GetParam(), [](const std::string& n) { return make_backend(n); });
+      masq::test::open_or_fail(backend, [](const std::string& n) { return make_backend(n); });
   if (!be) return;
   Scene scene = every_primitive_scene(3);
   std::vector<kernel::Ray> rays = random_rays(4, 2048);
@@ -114,7 +129,7 @@ TEST_P(NodeFormatsAgree, EveryMethodModeAndQuery) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, NodeFormatsAgree, ::testing::Values("cpu", "opencl", "vulkan"),
+INSTANTIATE_TEST_SUITE_P(Backends, NodeFormatsAgree, ::testing::Values("cpu", "opencl", "vulkan", "vulkan_bound"),
                          [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
 
 } // namespace

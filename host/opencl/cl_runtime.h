@@ -8,6 +8,7 @@
 #define CL_HPP_MINIMUM_OPENCL_VERSION 120
 #endif
 #include "bvh/packed_scene.h"
+#include "host/limit_knob.h"
 #include <CL/opencl.hpp>
 #include <cstddef>
 #include <string>
@@ -28,6 +29,11 @@ struct Runtime {
   cl::CommandQueue queue;    // in order, profiling enabled
   std::string description;   // device name, driver version, platform version
   std::size_t max_alloc = 0; // CL_DEVICE_MAX_MEM_ALLOC_SIZE
+  // max_alloc lowered by MASQ_CL_MAX_ALLOC_BYTES (host/limit_knob.h), for tests of the
+  // over-the-limit error on small scenes.
+  std::size_t max_alloc_bytes() const {
+    return static_cast<std::size_t>(lowered_limit("opencl", max_alloc, "MASQ_CL_MAX_ALLOC_BYTES"));
+  }
 };
 
 // The first GPU of any platform, else the first device of any type. Throws

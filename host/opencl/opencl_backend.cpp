@@ -87,7 +87,7 @@ class OpenClBackend final : public Backend {
     // ray_offset. The window is as large as the device's largest allocation allows.
     // Both are bounded by kMaxWindowRays so ray_count and ray_offset fit the kernel's int.
     const std::size_t chunk = std::min({n, chunk_rays_, kMaxWindowRays});
-    std::size_t window = std::min({n, rt_.max_alloc / sizeof(kernel::Ray), kMaxWindowRays});
+    std::size_t window = std::min({n, rt_.max_alloc_bytes() / sizeof(kernel::Ray), kMaxWindowRays});
     if (window > chunk) window -= window % chunk;
     window = std::max(window, chunk);
     ensure(ray_buf_, ray_cap_, window * sizeof(kernel::Ray), CL_MEM_READ_ONLY, "rays");
@@ -154,10 +154,10 @@ class OpenClBackend final : public Backend {
   }
 
   cl::Buffer upload_bytes(const char* what, const void* data, std::size_t bytes, std::size_t& total) {
-    if (bytes > rt_.max_alloc)
+    if (bytes > rt_.max_alloc_bytes())
       throw Error("opencl: scene array '" + std::string(what) + "' needs " + std::to_string(bytes) +
                   " bytes, more than the device's largest allocation (CL_DEVICE_MAX_MEM_ALLOC_SIZE = " +
-                  std::to_string(rt_.max_alloc) + " bytes)");
+                  std::to_string(rt_.max_alloc_bytes()) + " bytes)");
     const std::size_t size = std::max(bytes, kDummyBytes);
     cl_int err = CL_SUCCESS;
     cl::Buffer buf(rt_.context, CL_MEM_READ_ONLY, size, nullptr, &err);
@@ -170,9 +170,9 @@ class OpenClBackend final : public Backend {
 
   void ensure(cl::Buffer& buf, std::size_t& cap, std::size_t bytes, cl_mem_flags flags, const char* what) {
     if (cap >= bytes && buf() != nullptr) return;
-    if (bytes > rt_.max_alloc)
+    if (bytes > rt_.max_alloc_bytes())
       throw Error("opencl: " + std::string(what) + " buffer needs " + std::to_string(bytes) +
-                  " bytes, more than CL_DEVICE_MAX_MEM_ALLOC_SIZE (" + std::to_string(rt_.max_alloc) + ")");
+                  " bytes, more than CL_DEVICE_MAX_MEM_ALLOC_SIZE (" + std::to_string(rt_.max_alloc_bytes()) + ")");
     buf = cl::Buffer();
     cl_int err = CL_SUCCESS;
     buf = cl::Buffer(rt_.context, flags, bytes, nullptr, &err);

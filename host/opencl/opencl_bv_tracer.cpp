@@ -90,9 +90,9 @@ class OpenClBvTracer final : public BvTracer {
 
  private:
   cl::Buffer scratch(const char* what, std::size_t bytes, cl_mem_flags flags) {
-    if (bytes > rt_.max_alloc)
+    if (bytes > rt_.max_alloc_bytes())
       throw Error("opencl bv: " + std::string(what) + " need " + std::to_string(bytes) +
-                  " bytes, more than CL_DEVICE_MAX_MEM_ALLOC_SIZE (" + std::to_string(rt_.max_alloc) + ")");
+                  " bytes, more than CL_DEVICE_MAX_MEM_ALLOC_SIZE (" + std::to_string(rt_.max_alloc_bytes()) + ")");
     cl_int err = CL_SUCCESS;
     cl::Buffer b(rt_.context, flags, std::max(bytes, kDummyBytes), nullptr, &err);
     check(err, "clCreateBuffer(" + std::string(what) + ")");

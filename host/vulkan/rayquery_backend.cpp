@@ -8,20 +8,30 @@
 //                 geometries keep a triangle BLAS per geometry.
 //   Method::Cluster (and auto's clusters): one AABB BLAS per cluster over its members'
 //                 local boxes, one TLAS instance per (scene instance, cluster) with the
-//                 cluster's local-to-world transform; the instance's SBT record offset
-//                 is where the cluster's member ids (in submission order) start in
-//                 prim_map. auto's ordinary BLAS may hold a subset of a geometry.
+//                 cluster's local-to-world transform. auto's ordinary BLAS may hold a
+//                 subset of a geometry.
+// Every BLAS has an id b (geometry parts first, then clusters); a TLAS entry's SBT
+// record offset is its BLAS id, and prim_map[prim_map[b] + driver primitive index] is
+// the primitive. Beyond the driver's limits (maxPrimitiveCount per BLAS,
+// maxInstanceCount per TLAS; 2^24-1 on lavapipe; lowered by MASQ_RQ_MAX_PRIMITIVES /
+// MASQ_RQ_MAX_INSTANCES, host/limit_knob.h) a geometry's leaf order is cut into
+// several BLAS (each placed by its own TLAS entry) and the TLAS entries into several
+// TLAS ("parts", traced in turn by kernels/rayquery.comp). The instance records are
+// uploaded one per TLAS entry in submission order, so the 24-bit custom index is the
+// entry's rank within its part and any instance count maps back exactly.
 // lavapipe builds its BVH in submission order without sorting, so primitives and
 // instances are submitted in the order of masq's own BVH leaves (PackedScene's
-// geometry_leaf_order and tlas_leaf_order).
+// geometry_leaf_order and tlas_leaf_order), and each part is a contiguous run of it.
 #include "bvh/cluster_blas.h"
 #include "bvh/obb.h"
 #include "bvh/prim_bounds.h"
-#include "bvh/wide_bvh.h"
 #include "host/vulkan/acceleration_structures.h"
+#include "host/vulkan/rayquery_plan.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "kernels/kernel_data.h"
+#include "host/limit_knob.h"
+#include "spirv/rayquery_comp_addr_spv.h"
 #include "spirv/rayquery_comp_spv.h"
 #include <fmt/format.h>
 #include <algorithm>
@@ -37,7 +47,7 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr std::uint32_t kLocalSize = 64;
-constexpr std::uint32_t kBindingTlas = 13;   // as in kernels/rayquery.comp
+constexpr std::uint32_t kBindingTlasParts = 13; // as in kernels/rayquery.comp
 constexpr std::uint32_t kBindingPrimMap = 14;
 const char* const kName = "rayquery";
 // The driver tests the unit box in its own fp32 object space; the masquerade transform
@@ -78,9 +88,13 @@ double origin_reach(const PackedScene& s) {
   return 2.0 * far + 1.0;
 }
 
-std::uint64_t effective_limit(std::uint64_t device, std::uint64_t fake) {
-  return fake != 0 && fake < device ? fake : device;
-}
+// One TLAS part as kernels/rayquery.comp reads it.
+struct TlasPartRecord {
+  std::uint64_t address;
+  std::int32_t first; // its first entry (instance record)
+  std::int32_t pad;
+};
+static_assert(sizeof(TlasPartRecord) == 16);
 
 VkTransformMatrixKHR to_vk(const Mat3x4f& m) {
   VkTransformMatrixKHR t{};
@@ -114,22 +128,23 @@ class RayQueryBackend final : public Backend {
     auto t0 = Clock::now();
     have_scene_ = false;
     kept_.reset();
-    tlas_ = vk::AccelStructure();
+    tlas_.clear();
+    parts_buffer_ = vk::Buffer();
     blas_.clear();
     cluster_blas_.clear();
     unit_box_ = vk::AccelStructure();
     scene_ = vk::SceneBuffers{};
-    check_counts(scene);
-    scene_ = vk::upload_scene_arrays(*ctx_, kName, scene, false);
+    check_inputs(scene);
+    plan(scene);
+    vk::add_scene_arrays(scene_, *ctx_, kName, scene, false, false);
+    upload_instance_records(scene);
     upload_prim_map(scene);
+    scene_.finish(*ctx_, kName);
     reach_ = origin_reach(scene);
-    build_structures(scene);
+    build_tlas(scene);
     if (scene.features.mode == Mode::Robust && scene.method != Method::Ref) kept_ = scene; // for TLAS rebuilds
     scene_.bind(layout_);
-    layout_.bind_buffer(kBindingPrimMap, prim_map_);
-    layout_.bind_acceleration_structure(kBindingTlas, tlas_.handle());
     features_ = scene.features;
-    tlas_count_ = static_cast<std::int32_t>(scene.instances.size());
     have_scene_ = true;
     timing_.scene_seconds = seconds_since(t0);
   }
@@ -139,101 +154,66 @@ class RayQueryBackend final : public Backend {
     if (!have_scene_) throw Error("rayquery: trace called before set_scene");
     widen_for(rays);
     VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
-    timing_.trace_seconds = batch_.run(kName, layout_, p, kLocalSize, tlas_count_ > 0 ? 1 : 0, rays, hits, stats);
+    timing_.trace_seconds =
+        batch_.run(kName, layout_, p, kLocalSize, static_cast<std::int32_t>(tlas_.size()), rays, hits, stats);
   }
 
   TraceTiming timing() const override { return timing_; }
 
   std::size_t device_bytes() const override {
-    std::size_t b = scene_.bytes + prim_map_bytes_ + tlas_.bytes() + unit_box_.bytes();
+    std::size_t b = scene_.bytes + parts_buffer_.size() + unit_box_.bytes();
+    for (const auto& as : tlas_) b += as.bytes();
     for (const auto& [g, as] : blas_) b += as.bytes();
     for (const auto& [r, as] : cluster_blas_) b += as.bytes();
     return b;
   }
 
  private:
-  static std::vector<VkDescriptorType> descriptor_types() {
-    std::vector<VkDescriptorType> t(kBindingPrimMap + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-    t[kBindingTlas] = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
-    return t;
-  }
+  static std::vector<VkDescriptorType> descriptor_types() { return vk::kernel_descriptor_types(kBindingPrimMap + 1); }
 
-  void check_counts(const PackedScene& s) const {
-    const auto& lim = limit_overrides_for_testing();
-    std::uint64_t max_inst = effective_limit(ctx_->accel_props.maxInstanceCount, lim.max_instance_count);
-    std::uint64_t max_prim = effective_limit(ctx_->accel_props.maxPrimitiveCount, lim.max_primitive_count);
-    // Custom indices are 24 bits wide.
-    max_inst = std::min<std::uint64_t>(max_inst, (1u << 24) - 1);
-    if (s.instances.size() > max_inst)
-      throw Error(fmt::format("rayquery: {} TLAS instances ({} method) exceed the device's maxInstanceCount {}",
-                              s.instances.size(), method_name(s.method), max_inst));
-    for (std::size_t g = 0; g < s.geoms.size(); ++g)
-      if (static_cast<std::uint64_t>(s.geoms[g].count) > max_prim)
-        throw Error(fmt::format("rayquery: geometry {} has {} primitives; the device's maxPrimitiveCount is {}", g,
-                                s.geoms[g].count, max_prim));
+  void check_inputs(const PackedScene& s) const {
     if (s.frame_object_to_world.size() != s.frames.size())
       throw Error(fmt::format("rayquery: {} frames but {} frame_object_to_world transforms", s.frames.size(),
                               s.frame_object_to_world.size()));
     if (s.tlas_leaf_order.size() != s.instances.size())
       throw Error(fmt::format("rayquery: tlas_leaf_order has {} entries for {} instances", s.tlas_leaf_order.size(),
                               s.instances.size()));
+    for (std::int32_t i : s.tlas_leaf_order)
+      if (i < 0 || static_cast<std::size_t>(i) >= s.instances.size())
+        throw Error(fmt::format("rayquery: tlas_leaf_order names instance {} of {}", i, s.instances.size()));
   }
 
-  // Primitive ids of geometry g in submission order (identity when the builder gave none).
-  static std::vector<std::int32_t> leaf_order(const PackedScene& s, std::size_t g) {
-    auto n = static_cast<std::size_t>(s.geoms[g].count);
-    if (g < s.geometry_leaf_order.size() && !s.geometry_leaf_order[g].empty()) {
-      const auto& order = s.geometry_leaf_order[g];
-      if (order.size() > n) // auto keeps a subset in the ordinary BLAS
-        throw Error(fmt::format("rayquery: geometry_leaf_order[{}] has {} entries for {} primitives", g,
-                                order.size(), n));
-      for (std::int32_t p : order)
-        if (p < 0 || static_cast<std::size_t>(p) >= n)
-          throw Error(fmt::format("rayquery: geometry_leaf_order[{}] holds primitive {} of {}", g, p, n));
-      return order;
-    }
-    std::vector<std::int32_t> id(n);
-    for (std::size_t i = 0; i < n; ++i) id[i] = static_cast<std::int32_t>(i);
-    return id;
+  std::uint64_t max_instances() const {
+    return lowered_limit(kName, ctx_->accel_props.maxInstanceCount, "MASQ_RQ_MAX_INSTANCES",
+                         limit_overrides_for_testing().max_instance_count);
+  }
+  std::uint64_t max_primitives() const {
+    return lowered_limit(kName, ctx_->accel_props.maxPrimitiveCount, "MASQ_RQ_MAX_PRIMITIVES",
+                         limit_overrides_for_testing().max_primitive_count);
+  }
+
+  // BLAS ids and TLAS entries (host/vulkan/rayquery_plan.h).
+  void plan(const PackedScene& s) { plan_ = vk::plan_ray_query(s, max_primitives()); }
+
+  // One Instance record per TLAS entry, in submission order (the shader reads record
+  // parts[p].first + custom index).
+  void upload_instance_records(const PackedScene& s) {
+    scene_.add(*ctx_, kName, MASQ_BINDING_INSTANCES, "instance records (one per TLAS entry)",
+               plan_.entries.size() * sizeof(kernel::Instance), [&](vk::Buffer& b) {
+                 std::vector<kernel::Instance> chunk;
+                 constexpr std::size_t kChunk = 1 << 16;
+                 for (std::size_t first = 0; first < plan_.entries.size(); first += kChunk) {
+                   std::size_t n = std::min(kChunk, plan_.entries.size() - first);
+                   chunk.resize(n);
+                   for (std::size_t k = 0; k < n; ++k)
+                     chunk[k] = s.instances[static_cast<std::size_t>(plan_.entries[first + k].inst)];
+                   b.upload(chunk.data(), n * sizeof(kernel::Instance), first * sizeof(kernel::Instance));
+                 }
+               });
   }
 
   void upload_prim_map(const PackedScene& s) {
-    std::vector<std::int32_t> map(s.geoms.size());
-    for (std::size_t g = 0; g < s.geoms.size(); ++g) {
-      map[g] = static_cast<std::int32_t>(map.size());
-      auto order = leaf_order(s, g);
-      map.insert(map.end(), order.begin(), order.end());
-    }
-    // Each cluster BLAS (keyed by its masq BLAS root): its members in the order of its
-    // refs, which is also the order its boxes are submitted in.
-    cluster_offset_.clear();
-    for (const kernel::Instance& inst : s.instances) {
-      if (inst.prim != MASQ_INST_CLUSTER || cluster_offset_.count(inst.blas_root)) continue;
-      cluster_offset_[inst.blas_root] = static_cast<std::int32_t>(map.size());
-      std::vector<std::int32_t> members = cluster_members(s, inst.blas_root);
-      map.insert(map.end(), members.begin(), members.end());
-    }
-    if (map.size() >= (1u << 24))
-      throw Error(fmt::format("rayquery: the primitive id map has {} entries; SBT record offsets hold 24 bits", map.size()));
-    prim_map_bytes_ = map.size() * sizeof(std::int32_t);
-    vk::check_storage_range(*ctx_, kName, "primitive id map", prim_map_bytes_);
-    prim_map_ = vk::Buffer(*ctx_, prim_map_bytes_, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    prim_map_.upload(map.data(), prim_map_bytes_);
-  }
-
-  // Member ids of the cluster BLAS at node `root`, in depth-first leaf order.
-  static std::vector<std::int32_t> cluster_members(const PackedScene& s, int root) {
-    std::vector<std::int32_t> out;
-    std::vector<int> stack{root};
-    while (!stack.empty()) {
-      std::vector<NodeSlot> slots = node_slots(s, stack.back()); // any node format
-      stack.pop_back();
-      for (const NodeSlot& n : slots) {
-        if (n.count == 0) stack.push_back(n.child);
-        for (int j = 0; j < n.count; ++j) out.push_back(s.refs.at(static_cast<std::size_t>(n.child + j)));
-      }
-    }
-    return out;
+    scene_.add(*ctx_, kName, kBindingPrimMap, "primitive id map", vk::primitive_id_map(s, plan_));
   }
 
   // The driver BLAS of a cluster: each member's exact local box under every scene
@@ -245,7 +225,10 @@ class RayQueryBackend final : public Backend {
     if (it != cluster_blas_.end()) return it->second;
     constexpr double kGamma4 = 4.0 * 5.9604645e-8 / (1.0 - 4.0 * 5.9604645e-8);
     constexpr double kGamma3 = 3.0 * 5.9604645e-8 / (1.0 - 3.0 * 5.9604645e-8);
-    std::vector<std::int32_t> members = cluster_members(s, root);
+    std::vector<std::int32_t> members = vk::cluster_members(s, root);
+    if (members.size() > max_primitives())
+      throw Error(fmt::format("rayquery: a cluster of {} members exceeds maxPrimitiveCount {}", members.size(),
+                              max_primitives()));
     std::vector<Aabb> local(members.size());
     glm::dvec3 pad(0.0);
     for (const kernel::Instance& inst : s.instances) {
@@ -271,11 +254,14 @@ class RayQueryBackend final : public Backend {
     return cluster_blas_.emplace(root, vk::build_aabb_blas(*ctx_, boxes)).first->second;
   }
 
-  const vk::AccelStructure& geometry_blas(const PackedScene& s, int g) {
-    auto it = blas_.find(g);
+  // BLAS `b`: a run of its geometry's leaf order.
+  const vk::AccelStructure& geometry_blas(const PackedScene& s, std::int32_t b) {
+    auto it = blas_.find(b);
     if (it != blas_.end()) return it->second;
-    const kernel::Geometry& geo = s.geoms.at(static_cast<std::size_t>(g));
-    auto order = leaf_order(s, static_cast<std::size_t>(g));
+    const vk::RayQueryPlan::Blas& spec = plan_.blas.at(static_cast<std::size_t>(b));
+    const kernel::Geometry& geo = s.geoms.at(static_cast<std::size_t>(spec.geom));
+    auto all = vk::geometry_leaf_order(s, static_cast<std::size_t>(spec.geom));
+    std::span<const std::int32_t> order(all.data() + spec.first, spec.count);
     vk::AccelStructure as;
     if (geo.type == MASQ_PRIM_TRIANGLE) {
       std::vector<float> v;
@@ -288,10 +274,10 @@ class RayQueryBackend final : public Backend {
     } else {
       std::vector<VkAabbPositionsKHR> boxes;
       boxes.reserve(order.size());
-      for (std::int32_t p : order) boxes.push_back(procedural_box(s, g, p));
+      for (std::int32_t p : order) boxes.push_back(procedural_box(s, spec.geom, p));
       as = vk::build_aabb_blas(*ctx_, boxes);
     }
-    return blas_.emplace(g, std::move(as)).first->second;
+    return blas_.emplace(b, std::move(as)).first->second;
   }
 
   // Robust masquerade: make sure the instance OBBs are widened for every origin of
@@ -307,54 +293,67 @@ class RayQueryBackend final : public Backend {
     reach_ = std::max(2.0 * reach_, far);
     cluster_blas_.clear(); // their padding depends on the reach
     build_tlas(*kept_);
-    layout_.bind_acceleration_structure(kBindingTlas, tlas_.handle());
   }
 
-  void build_structures(const PackedScene& s) { build_tlas(s); }
-
+  // The TLAS parts: runs of at most maxInstanceCount entries of plan_.entries, each built in
+  // submission order; then the parts table (binding 13).
   void build_tlas(const PackedScene& s) {
-    const bool robust = s.features.mode == Mode::Robust;
-    const double reach = reach_;
-    std::vector<VkAccelerationStructureInstanceKHR> entries;
-    entries.reserve(s.instances.size());
-    for (std::int32_t i : s.tlas_leaf_order) {
-      if (i < 0 || static_cast<std::size_t>(i) >= s.instances.size())
-        throw Error(fmt::format("rayquery: tlas_leaf_order names instance {} of {}", i, s.instances.size()));
-      const kernel::Instance& inst = s.instances[static_cast<std::size_t>(i)];
-      VkAccelerationStructureInstanceKHR e{};
-      e.instanceCustomIndex = static_cast<std::uint32_t>(i);
-      e.mask = 0xFF;
-      e.instanceShaderBindingTableRecordOffset = 0;
-      e.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
-      if (inst.prim == MASQ_INST_CLUSTER) {
-        if (static_cast<std::size_t>(i) >= s.instance_object_to_world.size())
-          throw Error(fmt::format("rayquery: instance {} has no instance_object_to_world transform", i));
-        e.transform = to_vk(s.instance_object_to_world[static_cast<std::size_t>(i)]);
-        e.instanceShaderBindingTableRecordOffset = static_cast<std::uint32_t>(cluster_offset_.at(inst.blas_root));
-        e.accelerationStructureReference = cluster_blas(s, inst.blas_root).address();
-      } else if (inst.blas_root >= 0) {
-        e.transform = to_vk(s.frame_object_to_world.at(static_cast<std::size_t>(inst.scene_inst)));
-        e.accelerationStructureReference = geometry_blas(s, inst.geom).address();
-      } else {
-        if (!unit_box_.handle()) {
-          const float m = 1.0f + kUnitBoxMargin;
-          const VkAabbPositionsKHR box{-m, -m, -m, m, m, m};
-          unit_box_ = vk::build_aabb_blas(*ctx_, std::span<const VkAabbPositionsKHR>(&box, 1));
-        }
-        if (static_cast<std::size_t>(i) >= s.instance_object_to_world.size())
-          throw Error(fmt::format("rayquery: instance {} has no instance_object_to_world transform", i));
-        const Mat3x4f& u2w = s.instance_object_to_world[static_cast<std::size_t>(i)];
-        e.transform = to_vk(robust ? widened_unit_to_world(inst, u2w, reach) : u2w);
-        e.accelerationStructureReference = unit_box_.address();
-      }
-      entries.push_back(e);
+    tlas_.clear();
+    const std::uint64_t max_inst = std::min<std::uint64_t>(max_instances(), (1u << 24) - 1); // custom index
+    std::vector<TlasPartRecord> records;
+    std::vector<VkAccelerationStructureInstanceKHR> part;
+    for (std::size_t first = 0; first < plan_.entries.size(); first += max_inst) {
+      std::size_t n = std::min<std::size_t>(max_inst, plan_.entries.size() - first);
+      part.clear();
+      part.reserve(n);
+      for (std::size_t k = 0; k < n; ++k) part.push_back(tlas_entry(s, plan_.entries[first + k], std::uint32_t(k)));
+      tlas_.push_back(vk::build_tlas(*ctx_, part));
+      if (first > std::size_t(INT32_MAX)) throw Error("rayquery: more than 2^31-1 TLAS entries");
+      records.push_back({tlas_.back().address(), static_cast<std::int32_t>(first), 0});
     }
-    tlas_ = vk::build_tlas(*ctx_, entries);
+    parts_buffer_ = vk::Buffer(*ctx_, std::max<std::size_t>(records.size(), 1) * sizeof(TlasPartRecord),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    parts_buffer_.upload(records.data(), records.size() * sizeof(TlasPartRecord));
+    layout_.bind_buffer(kBindingTlasParts, parts_buffer_);
+  }
+
+  VkAccelerationStructureInstanceKHR tlas_entry(const PackedScene& s, const vk::RayQueryPlan::Entry& en,
+                                                std::uint32_t rank) {
+    const bool robust = s.features.mode == Mode::Robust;
+    const std::size_t i = static_cast<std::size_t>(en.inst);
+    const kernel::Instance& inst = s.instances[i];
+    VkAccelerationStructureInstanceKHR e{};
+    e.instanceCustomIndex = rank;
+    e.mask = 0xFF;
+    e.instanceShaderBindingTableRecordOffset = static_cast<std::uint32_t>(en.blas);
+    e.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
+    if (inst.prim == MASQ_INST_CLUSTER) {
+      if (i >= s.instance_object_to_world.size())
+        throw Error(fmt::format("rayquery: instance {} has no instance_object_to_world transform", i));
+      e.transform = to_vk(s.instance_object_to_world[i]);
+      e.accelerationStructureReference = cluster_blas(s, inst.blas_root).address();
+    } else if (inst.blas_root >= 0) {
+      e.transform = to_vk(s.frame_object_to_world.at(static_cast<std::size_t>(inst.scene_inst)));
+      e.accelerationStructureReference = geometry_blas(s, en.blas).address();
+    } else {
+      if (!unit_box_.handle()) {
+        const float m = 1.0f + kUnitBoxMargin;
+        const VkAabbPositionsKHR box{-m, -m, -m, m, m, m};
+        unit_box_ = vk::build_aabb_blas(*ctx_, std::span<const VkAabbPositionsKHR>(&box, 1));
+      }
+      if (i >= s.instance_object_to_world.size())
+        throw Error(fmt::format("rayquery: instance {} has no instance_object_to_world transform", i));
+      const Mat3x4f& u2w = s.instance_object_to_world[i];
+      e.transform = to_vk(robust ? widened_unit_to_world(inst, u2w, reach_) : u2w);
+      e.accelerationStructureReference = unit_box_.address();
+    }
+    return e;
   }
 
   VkPipeline pipeline(bool stats, bool any_hit) {
+    vk::PipelineVariants& variants = scene_.addressed() ? addressed_ : bound_;
     const vk::PipelineVariants::Variant& v =
-        variants_.get(vk::spec_constants(features_, stats, any_hit, kLocalSize), [&](VkPipeline p) {
+        variants.get(vk::spec_constants(features_, stats, any_hit, kLocalSize), [&](VkPipeline p) {
           // An empty dispatch (ray_count 0) triggers the driver's JIT.
           batch_.bind_minimal(layout_);
           kernel::TraceParams pc{0, 0, 0, 0};
@@ -366,17 +365,16 @@ class RayQueryBackend final : public Backend {
 
   std::shared_ptr<vk::Context> ctx_;
   vk::KernelLayout layout_;
-  vk::PipelineVariants variants_{layout_, rayquery_comp_spv}; // after layout_: destroyed first
+  vk::PipelineVariants bound_{layout_, rayquery_comp_spv}; // after layout_: destroyed first
+  vk::PipelineVariants addressed_{layout_, rayquery_comp_addr_spv};
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
-  vk::Buffer prim_map_;
-  std::size_t prim_map_bytes_ = 0;
-  std::map<int, vk::AccelStructure> blas_;
-  std::map<int, vk::AccelStructure> cluster_blas_;  // by the cluster's masq BLAS root
-  std::map<int, std::int32_t> cluster_offset_;      // its members' start in prim_map
+  vk::RayQueryPlan plan_;
+  std::map<std::int32_t, vk::AccelStructure> blas_;  // geometry parts, by BLAS id
+  std::map<int, vk::AccelStructure> cluster_blas_;   // by the cluster's masq BLAS root
   vk::AccelStructure unit_box_;
-  vk::AccelStructure tlas_;
-  std::int32_t tlas_count_ = 0;
+  std::vector<vk::AccelStructure> tlas_; // the parts
+  vk::Buffer parts_buffer_;
   KernelFeatures features_;
   bool have_scene_ = false;
   double reach_ = 1.0;               // robust masquerade: origins covered by the OBB widening

@@ -4,23 +4,6 @@
 #include <algorithm>
 
 namespace masq::vk {
-namespace {
-
-void upload_bytes(Context& ctx, const char* backend, const char* what, const void* data, std::uint64_t bytes,
-                  Buffer& out, std::size_t& total) {
-  check_storage_range(ctx, backend, what, bytes);
-  out = Buffer(ctx, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  out.upload(data, bytes);
-  total += bytes;
-}
-
-template <class T>
-void upload_array(Context& ctx, const char* backend, const char* what, const std::vector<T>& v, Buffer& out,
-                  std::size_t& total) {
-  upload_bytes(ctx, backend, what, v.data(), v.size() * sizeof(T), out, total);
-}
-
-} // namespace
 
 void check_storage_range(const Context& ctx, const char* backend, const char* what, std::uint64_t bytes) {
   std::uint64_t limit = ctx.max_storage_buffer_range();
@@ -30,30 +13,74 @@ void check_storage_range(const Context& ctx, const char* backend, const char* wh
                             backend, what, bytes, limit));
 }
 
-void SceneBuffers::bind(KernelLayout& layout) const {
-  for (std::uint32_t i = 0; i < arrays.size(); ++i)
-    if (arrays[i].valid()) layout.bind_buffer(i, arrays[i]);
+std::vector<VkDescriptorType> kernel_descriptor_types(std::uint32_t count) {
+  std::vector<VkDescriptorType> t(MASQ_BINDING_ADDRESSES + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  if (count > MASQ_BINDING_ADDRESSES) throw Error("vulkan: more bindings than address slots");
+  t[MASQ_BINDING_ADDRESSES] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  return t;
 }
 
-SceneBuffers upload_scene_arrays(Context& ctx, const char* backend, const PackedScene& s, bool with_bvh) {
-  SceneBuffers b;
-  if (with_bvh) {
-    // Whatever the node format: the kernels read w8 and q8 through an alias of this binding.
-    upload_bytes(ctx, backend, "scene nodes", s.node_data(), s.node_bytes(), b.arrays[MASQ_BINDING_NODES], b.bytes);
-    upload_array(ctx, backend, "scene refs", s.refs, b.arrays[MASQ_BINDING_REFS], b.bytes);
-  } else {
-    b.arrays[MASQ_BINDING_NODES] = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    b.arrays[MASQ_BINDING_REFS] = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+void SceneBuffers::add(Context& ctx, const char* backend, std::uint32_t binding, const char* what,
+                       std::uint64_t size, const std::function<void(Buffer&)>& fill) {
+  if (binding >= MASQ_ADDRESS_SLOTS) throw Error(fmt::format("{}: {} has binding {}", backend, what, binding));
+  std::uint64_t limit = ctx.max_allocation_bytes();
+  if (size > limit)
+    throw Error(fmt::format("{}: {} needs {} bytes in one buffer; the device allows {} ({})", backend, what, size,
+                            limit, ctx.max_allocation_name));
+  VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  if (ctx.buffer_device_address) usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  Array a;
+  try {
+    a.buffer = Buffer(ctx, size, usage);
+  } catch (const Error& e) { // e.g. out of device memory: say for which array
+    throw Error(fmt::format("{}: allocating {} ({} bytes): {}", backend, what, size, e.what()));
   }
-  upload_array(ctx, backend, "scene instances", s.instances, b.arrays[MASQ_BINDING_INSTANCES], b.bytes);
-  upload_array(ctx, backend, "scene frames", s.frames, b.arrays[MASQ_BINDING_FRAMES], b.bytes);
-  upload_array(ctx, backend, "scene geoms", s.geoms, b.arrays[MASQ_BINDING_GEOMS], b.bytes);
-  upload_array(ctx, backend, "scene triangles", s.triangles, b.arrays[MASQ_BINDING_TRIANGLES], b.bytes);
-  upload_array(ctx, backend, "scene capsules", s.capsules, b.arrays[MASQ_BINDING_CAPSULES], b.bytes);
-  upload_array(ctx, backend, "scene round cones", s.cones, b.arrays[MASQ_BINDING_CONES], b.bytes);
-  upload_array(ctx, backend, "scene spheres", s.spheres, b.arrays[MASQ_BINDING_SPHERES], b.bytes);
-  upload_array(ctx, backend, "scene curves", s.curves, b.arrays[MASQ_BINDING_CURVES], b.bytes);
-  return b;
+  if (size > 0) fill(a.buffer);
+  a.what = what;
+  a.bytes = size;
+  arrays_[binding] = std::move(a);
+  bytes += size;
+}
+
+void SceneBuffers::finish(Context& ctx, const char* backend, bool prefer_addressed) {
+  std::uint64_t range = ctx.max_storage_buffer_range();
+  const Array* largest = nullptr;
+  for (const auto& [binding, a] : arrays_)
+    if (largest == nullptr || a.bytes > largest->bytes) largest = &a;
+  addressed_ = (largest != nullptr && largest->bytes > range) || (prefer_addressed && ctx.buffer_device_address);
+  if (addressed_ && !ctx.buffer_device_address)
+    check_storage_range(ctx, backend, largest->what.c_str(), largest->bytes);
+  // std140: one 16-byte element per slot, the address in its first 8 bytes.
+  std::vector<std::uint64_t> slots(2 * MASQ_ADDRESS_SLOTS, 0);
+  if (addressed_)
+    for (const auto& [binding, a] : arrays_) slots[2 * binding] = a.buffer.address();
+  table_ = Buffer(ctx, slots.size() * sizeof(std::uint64_t), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  table_.upload(slots.data(), slots.size() * sizeof(std::uint64_t));
+  dummy_ = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+}
+
+void SceneBuffers::bind(KernelLayout& layout) const {
+  if (!table_.valid()) throw Error("vulkan: SceneBuffers bound before finish()");
+  for (const auto& [binding, a] : arrays_) layout.bind_buffer(binding, addressed_ ? dummy_ : a.buffer);
+  layout.bind_buffer(MASQ_BINDING_ADDRESSES, table_);
+}
+
+void add_scene_arrays(SceneBuffers& b, Context& ctx, const char* backend, const PackedScene& s, bool with_bvh,
+                      bool with_instances) {
+  const std::vector<int> none;
+  // Whatever the node format: the kernels read w8 and q8 nodes as words of this array.
+  const std::uint64_t node_bytes = with_bvh ? s.node_bytes() : 0;
+  b.add(ctx, backend, MASQ_BINDING_NODES, "scene nodes", node_bytes,
+        [&](Buffer& buf) { buf.upload(s.node_data(), node_bytes); });
+  b.add(ctx, backend, MASQ_BINDING_REFS, "scene refs", with_bvh ? s.refs : none);
+  if (with_instances) b.add(ctx, backend, MASQ_BINDING_INSTANCES, "scene instances", s.instances);
+  b.add(ctx, backend, MASQ_BINDING_FRAMES, "scene frames", s.frames);
+  b.add(ctx, backend, MASQ_BINDING_GEOMS, "scene geoms", s.geoms);
+  b.add(ctx, backend, MASQ_BINDING_TRIANGLES, "scene triangles", s.triangles);
+  b.add(ctx, backend, MASQ_BINDING_CAPSULES, "scene capsules", s.capsules);
+  b.add(ctx, backend, MASQ_BINDING_CONES, "scene round cones", s.cones);
+  b.add(ctx, backend, MASQ_BINDING_SPHERES, "scene spheres", s.spheres);
+  b.add(ctx, backend, MASQ_BINDING_CURVES, "scene curves", s.curves);
 }
 
 std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, bool any_hit, std::uint32_t local_size) {

@@ -1,32 +1,73 @@
-// What the compute and ray-query backends share: the scene arrays as storage buffers
-// (bindings 0..6 and 10..12, each checked against maxStorageBufferRange), and tracing a batch of
-// rays in chunks small enough that the ray, hit and stats buffers fit one binding and
-// one dispatch.
+// What the compute, bv and ray-query kernels share: the scene arrays (bound as storage
+// buffers, or read through buffer device addresses when one exceeds
+// maxStorageBufferRange) and tracing a batch of rays in chunks small enough that the
+// ray, hit and stats buffers fit one binding and one dispatch.
 #pragma once
 #include "bvh/packed_scene.h"
 #include "kernels/kernel_data.h"
 #include "host/vulkan/vk_pipeline.h"
-#include <array>
+#include <functional>
+#include <map>
 #include <span>
+#include <string>
 
 namespace masq::vk {
 
 // Throws masq::Error "<backend>: <what> needs N bytes in one storage buffer; the device
-// allows M (maxStorageBufferRange)" when bytes exceed the (possibly overridden) limit.
+// allows M (maxStorageBufferRange)" when bytes exceed the (possibly lowered) limit.
 void check_storage_range(const Context& ctx, const char* backend, const char* what, std::uint64_t bytes);
 
-struct SceneBuffers {
-  // Indexed by binding: MASQ_BINDING_NODES .. MASQ_BINDING_CURVES (the per-ray
-  // bindings 7..9 stay empty here; RayBatch owns them).
-  std::array<Buffer, MASQ_BINDING_COUNT> arrays;
-  std::size_t bytes = 0;        // real sizes (no dummies)
+// Descriptor types of a kernel layout with `count` storage-buffer bindings (0..count-1)
+// plus the address table (MASQ_BINDING_ADDRESSES, a uniform buffer); bindings between
+// them stay unused.
+std::vector<VkDescriptorType> kernel_descriptor_types(std::uint32_t count);
+
+// The scene arrays of one kernel, by binding number (kernels/kernel_data.h). Bound mode:
+// each array is a storage buffer at its binding. Addressed mode (chosen by finish() when
+// an array exceeds maxStorageBufferRange and the device has bufferDeviceAddress): the
+// kernel's *_addr_spv variant reads every array through the device address stored at
+// slot `binding` of a uniform table; one array is then limited by
+// maxMemoryAllocationSize (2 GiB on lavapipe) instead of one binding (128 MiB).
+class SceneBuffers {
+ public:
+  // Throws masq::Error naming `what`, its size and the limit when one buffer cannot hold
+  // it (max_allocation_bytes) or the allocation fails. `fill` writes the contents.
+  void add(Context& ctx, const char* backend, std::uint32_t binding, const char* what, std::uint64_t size,
+           const std::function<void(Buffer&)>& fill);
+  template <class T>
+  void add(Context& ctx, const char* backend, std::uint32_t binding, const char* what, const std::vector<T>& v) {
+    std::uint64_t size = v.size() * sizeof(T);
+    add(ctx, backend, binding, what, size, [&](Buffer& b) { b.upload(v.data(), size); });
+  }
+  // After the last add: picks the mode; throws the maxStorageBufferRange error when an
+  // array exceeds one binding and the device cannot address it. prefer_addressed: use
+  // addressed mode whenever the device can, not only for arrays over one binding.
+  void finish(Context& ctx, const char* backend, bool prefer_addressed = false);
+  bool addressed() const { return addressed_; }
+  // Bound mode: every array at its binding and a dummy table; addressed mode: the table
+  // and a dummy at every array binding (no descriptor then exceeds the range limit).
   void bind(KernelLayout& layout) const;
+  std::size_t bytes = 0; // real sizes (no dummies)
+
+ private:
+  struct Array {
+    Buffer buffer;
+    std::string what;
+    std::uint64_t bytes = 0;
+  };
+  std::map<std::uint32_t, Array> arrays_;
+  Buffer table_, dummy_;
+  bool addressed_ = false;
 };
+
 // Specialisation constants of the kernels (ids as in kernels/variants.h).
 std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, bool any_hit, std::uint32_t local_size);
 
-// with_bvh false: nodes and refs (masq's own BVH) get 16-byte dummies (ray query).
-SceneBuffers upload_scene_arrays(Context& ctx, const char* backend, const PackedScene& scene, bool with_bvh = true);
+// Adds the PackedScene's arrays at their bindings. with_bvh false: no nodes and refs
+// (masq's own BVH; ray query), empty buffers there; with_instances false: the caller
+// adds its own instance records (ray query: in TLAS submission order).
+void add_scene_arrays(SceneBuffers& out, Context& ctx, const char* backend, const PackedScene& scene,
+                      bool with_bvh = true, bool with_instances = true);
 
 class RayBatch {
  public:

@@ -1,5 +1,6 @@
 #include "host/vulkan/vk_context.h"
 #include "host/backend.h"
+#include "host/limit_knob.h"
 #include "host/vulkan/vulkan_backends.h"
 #include <fmt/format.h>
 #include <cstdio>
@@ -186,7 +187,12 @@ void Context::create(const char* backend, bool want_ray_query) {
     vkGetPhysicalDeviceQueueFamilyProperties(physical, &nf, fams.data());
     timestamp_valid_bits = fams[queue_family].timestampValidBits;
   }
-  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  // maxBufferSize (Vulkan 1.3) is chained only where the device reports 1.3.
+  VkPhysicalDeviceMaintenance4Properties m4{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES};
+  const bool has_m4 = props.apiVersion >= VK_API_VERSION_1_3;
+  VkPhysicalDeviceMaintenance3Properties m3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES,
+                                            has_m4 ? static_cast<void*>(&m4) : nullptr};
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &m3};
   accel_props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
   accel_props.pNext = &driver;
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
@@ -195,6 +201,15 @@ void Context::create(const char* backend, bool want_ray_query) {
   vkGetPhysicalDeviceProperties2(physical, &p2);
   accel_props.pNext = nullptr;
   driver_info_ = driver.driverInfo;
+  max_allocation = m3.maxMemoryAllocationSize;
+  if (has_m4 && m4.maxBufferSize < max_allocation) {
+    max_allocation = m4.maxBufferSize;
+    max_allocation_name = "maxBufferSize";
+  }
+  VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceFeatures2 have{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &have12};
+  vkGetPhysicalDeviceFeatures2(physical, &have);
+  buffer_device_address = have12.bufferDeviceAddress == VK_TRUE;
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -208,7 +223,7 @@ void Context::create(const char* backend, bool want_ray_query) {
   as.accelerationStructure = VK_TRUE;
   VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
                                        want_ray_query ? &as : nullptr};
-  v12.bufferDeviceAddress = want_ray_query ? VK_TRUE : VK_FALSE;
+  v12.bufferDeviceAddress = buffer_device_address ? VK_TRUE : VK_FALSE;
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
@@ -277,9 +292,13 @@ std::string Context::device_name() const {
 }
 
 std::uint64_t Context::max_storage_buffer_range() const {
-  std::uint64_t limit = props.limits.maxStorageBufferRange;
-  std::uint64_t fake = limit_overrides_for_testing().max_storage_buffer_range;
-  return fake != 0 && fake < limit ? fake : limit;
+  return lowered_limit("vulkan", props.limits.maxStorageBufferRange, "MASQ_VK_MAX_BINDING_BYTES",
+                       limit_overrides_for_testing().max_storage_buffer_range);
+}
+
+std::uint64_t Context::max_allocation_bytes() const {
+  return lowered_limit("vulkan", max_allocation, "MASQ_VK_MAX_ALLOCATION_BYTES",
+                       limit_overrides_for_testing().max_allocation_bytes);
 }
 
 VkCommandBuffer Context::begin_commands() {

@@ -43,9 +43,20 @@ class Context {
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accel_props{};
   AccelFunctions accel;
 
+  // bufferDeviceAddress is enabled (always for ray query; for compute when the device
+  // has it): scene arrays over one binding are then read by address.
+  bool buffer_device_address = false;
+  // The largest buffer one allocation can hold: min(maxMemoryAllocationSize,
+  // maxBufferSize where the device reports it), and which of the two it is.
+  std::uint64_t max_allocation = 0;
+  const char* max_allocation_name = "maxMemoryAllocationSize";
+
   std::string device_name() const; // "llvmpipe (...) [Mesa 25.0.7 ...]"
-  // Largest storage-buffer binding, after the test override (see vulkan_backends.h).
+  // Largest storage-buffer binding, after MASQ_VK_MAX_BINDING_BYTES and the test
+  // override (host/limit_knob.h, vulkan_backends.h).
   std::uint64_t max_storage_buffer_range() const;
+  // Largest single array buffer, after MASQ_VK_MAX_ALLOCATION_BYTES and the override.
+  std::uint64_t max_allocation_bytes() const;
 
   // One-shot command buffer: begin, record, then submit_and_wait (blocks, frees it).
   // Backends on several threads share this context's command pool and queue, which

@@ -1,13 +1,18 @@
-// vulkan bv tracer: kernels/trace_bv.comp, one SPIR-V module per node type, the other
+// vulkan bv tracer: kernels/trace_bv.comp, one SPIR-V module per node type (and per
+// array access: bound, or by address for scenes over one storage binding), the other
 // switches as specialization constants (host/vulkan/trace_dispatch.h). The scene's
 // primitive arrays use the trace kernels' bindings; the hierarchy adds 13 and 14.
 #include "host/bv_tracer.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "kernels/kernel_data.h"
 #include "scenes/error.h"
+#include "spirv/trace_bv_aabb_addr_spv.h"
 #include "spirv/trace_bv_aabb_spv.h"
+#include "spirv/trace_bv_obb_addr_spv.h"
 #include "spirv/trace_bv_obb_spv.h"
+#include "spirv/trace_bv_scb_addr_spv.h"
 #include "spirv/trace_bv_scb_spv.h"
+#include "spirv/trace_bv_sphere_addr_spv.h"
 #include "spirv/trace_bv_sphere_spv.h"
 #include <chrono>
 
@@ -22,8 +27,7 @@ class VulkanBvTracer final : public BvTracer {
  public:
   VulkanBvTracer()
       : ctx_(vk::Context::get(kName, false)),
-        layout_(*ctx_, std::vector<VkDescriptorType>(MASQ_BV_BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-                sizeof(kernel::TraceParams)),
+        layout_(*ctx_, vk::kernel_descriptor_types(MASQ_BV_BINDING_COUNT), sizeof(kernel::TraceParams)),
         batch_(*ctx_) {}
 
   std::string name() const override { return kName; }
@@ -32,17 +36,17 @@ class VulkanBvTracer final : public BvTracer {
     auto t0 = Clock::now();
     if (scene.node_count() > std::size_t(INT32_MAX)) throw Error("vulkan bv: more than 2^31-1 nodes");
     scene_ = vk::SceneBuffers{};
-    scene_ = vk::upload_scene_arrays(*ctx_, kName, scene.prims);
+    vk::add_scene_arrays(scene_, *ctx_, kName, scene.prims);
+    constexpr std::uint32_t kNodes = MASQ_BINDING_BV_NODES;
     switch (scene.type) {
-      case BvType::Aabb: upload(nodes_, "bv nodes", scene.aabb); break;
-      case BvType::Sphere: upload(nodes_, "bv nodes", scene.sphere); break;
-      case BvType::Obb: upload(nodes_, "bv nodes", scene.obb); break;
-      case BvType::Scb: upload(nodes_, "bv nodes", scene.scb); break;
+      case BvType::Aabb: scene_.add(*ctx_, kName, kNodes, "bv nodes", scene.aabb); break;
+      case BvType::Sphere: scene_.add(*ctx_, kName, kNodes, "bv nodes", scene.sphere); break;
+      case BvType::Obb: scene_.add(*ctx_, kName, kNodes, "bv nodes", scene.obb); break;
+      case BvType::Scb: scene_.add(*ctx_, kName, kNodes, "bv nodes", scene.scb); break;
     }
-    upload(prims_, "bv primitive refs", scene.refs);
+    scene_.add(*ctx_, kName, MASQ_BINDING_BV_PRIMS, "bv primitive refs", scene.refs);
+    scene_.finish(*ctx_, kName);
     scene_.bind(layout_);
-    layout_.bind_buffer(MASQ_BINDING_BV_NODES, nodes_);
-    layout_.bind_buffer(MASQ_BINDING_BV_PRIMS, prims_);
     type_ = scene.type;
     node_count_ = int(scene.node_count());
     features_ = scene.prims.features;
@@ -61,22 +65,15 @@ class VulkanBvTracer final : public BvTracer {
   TraceTiming timing() const override { return timing_; }
 
  private:
-  template <class T>
-  void upload(vk::Buffer& out, const char* what, const std::vector<T>& v) {
-    std::uint64_t bytes = v.size() * sizeof(T);
-    vk::check_storage_range(*ctx_, kName, what, bytes);
-    out = vk::Buffer(*ctx_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    if (bytes > 0) out.upload(v.data(), bytes);
-  }
-
   vk::PipelineVariants& variants() {
+    const bool a = scene_.addressed();
     switch (type_) {
-      case BvType::Aabb: return aabb_;
-      case BvType::Sphere: return sphere_;
-      case BvType::Obb: return obb_;
+      case BvType::Aabb: return a ? aabb_addr_ : aabb_;
+      case BvType::Sphere: return a ? sphere_addr_ : sphere_;
+      case BvType::Obb: return a ? obb_addr_ : obb_;
       case BvType::Scb: break;
     }
-    return scb_;
+    return a ? scb_addr_ : scb_;
   }
 
   VkPipeline pipeline(bool stats) {
@@ -96,9 +93,12 @@ class VulkanBvTracer final : public BvTracer {
   vk::PipelineVariants sphere_{layout_, trace_bv_sphere_spv};
   vk::PipelineVariants obb_{layout_, trace_bv_obb_spv};
   vk::PipelineVariants scb_{layout_, trace_bv_scb_spv};
+  vk::PipelineVariants aabb_addr_{layout_, trace_bv_aabb_addr_spv};
+  vk::PipelineVariants sphere_addr_{layout_, trace_bv_sphere_addr_spv};
+  vk::PipelineVariants obb_addr_{layout_, trace_bv_obb_addr_spv};
+  vk::PipelineVariants scb_addr_{layout_, trace_bv_scb_addr_spv};
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
-  vk::Buffer nodes_, prims_;
   BvType type_ = BvType::Scb;
   int node_count_ = 0;
   KernelFeatures features_;

@@ -1,10 +1,13 @@
 // "vulkan" backend: the shared two-level traversal (kernels/trace.comp) as a compute
 // shader. One pipeline per variant (stats, triangles, capsules), created on first use
 // and cached; the first dispatch of each is part of its compile time, because lavapipe
-// JIT-compiles there.
+// JIT-compiles there. Where the device has bufferDeviceAddress the addressed module
+// (trace_comp_addr_spv; see SceneBuffers) runs; otherwise the bound one, and scenes with
+// an array over one storage binding are refused.
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "kernels/kernel_data.h"
+#include "spirv/trace_comp_addr_spv.h"
 #include "spirv/trace_comp_spv.h"
 #include <chrono>
 #include <cstdlib>
@@ -34,12 +37,23 @@ std::uint32_t local_size() {
 }
 const char* const kName = "vulkan";
 
+// How the kernel reads the scene arrays: "addressed" (buffer device address) whenever
+// the device supports it, or "bound" (storage-buffer descriptors) except for arrays over
+// one binding. Default addressed: on lavapipe it traced 1.3-1.7x faster than bound in
+// interleaved runs (bench/addressed_cost.cpp; docs/results.md), as llvmpipe
+// bounds-checks every descriptor access. MASQ_VK_ADDRESSING=bound|addressed picks.
+bool prefer_addressed() {
+  const char* v = std::getenv("MASQ_VK_ADDRESSING");
+  if (v == nullptr || *v == '\0' || std::string(v) == "addressed") return true;
+  if (std::string(v) == "bound") return false;
+  throw Error(std::string("vulkan: MASQ_VK_ADDRESSING='") + v + "' is not 'bound' or 'addressed'");
+}
+
 class VulkanComputeBackend final : public Backend {
  public:
   VulkanComputeBackend()
       : ctx_(vk::Context::get(kName, false)),
-        layout_(*ctx_, std::vector<VkDescriptorType>(MASQ_BINDING_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-                sizeof(kernel::TraceParams)),
+        layout_(*ctx_, vk::kernel_descriptor_types(MASQ_BINDING_COUNT), sizeof(kernel::TraceParams)),
         batch_(*ctx_) {}
 
 
@@ -49,7 +63,8 @@ class VulkanComputeBackend final : public Backend {
   void set_scene(const PackedScene& scene) override {
     auto t0 = Clock::now();
     scene_ = vk::SceneBuffers{}; // release the old scene first (memory)
-    scene_ = vk::upload_scene_arrays(*ctx_, kName, scene);
+    vk::add_scene_arrays(scene_, *ctx_, kName, scene);
+    scene_.finish(*ctx_, kName, prefer_addressed());
     scene_.bind(layout_);
     tlas_root_ = scene.tlas_root;
     features_ = scene.features;
@@ -69,8 +84,9 @@ class VulkanComputeBackend final : public Backend {
 
  private:
   VkPipeline pipeline(bool stats, bool any_hit) {
+    vk::PipelineVariants& variants = scene_.addressed() ? addressed_ : bound_;
     const vk::PipelineVariants::Variant& v =
-        variants_.get(vk::spec_constants(features_, stats, any_hit, local_size()), [&](VkPipeline p) {
+        variants.get(vk::spec_constants(features_, stats, any_hit, local_size()), [&](VkPipeline p) {
           // An empty dispatch (ray_count 0) triggers the driver's JIT.
           batch_.bind_minimal(layout_);
           kernel::TraceParams pc{0, tlas_root_, 0, 0};
@@ -82,7 +98,8 @@ class VulkanComputeBackend final : public Backend {
 
   std::shared_ptr<vk::Context> ctx_;
   vk::KernelLayout layout_;
-  vk::PipelineVariants variants_{layout_, trace_comp_spv}; // after layout_: destroyed first
+  vk::PipelineVariants bound_{layout_, trace_comp_spv}; // after layout_: destroyed first
+  vk::PipelineVariants addressed_{layout_, trace_comp_addr_spv};
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
   std::int32_t tlas_root_ = -1;

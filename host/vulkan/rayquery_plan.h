@@ -1,0 +1,52 @@
+// How the ray-query backend lays a PackedScene out for the driver, within its limits:
+// which bottom-level structures (BLAS) to build, the TLAS entries in submission order,
+// and the primitive id map the shader reads (kernels/rayquery.comp). Host-only, so the
+// splitting can be reasoned about apart from Vulkan.
+//  - BLAS ids: each geometry that a TLAS instance references by BLAS (ref, auto) gets
+//    runs of its BVH leaf order of at most max_primitives each; then each cluster BLAS.
+//    A TLAS entry's 24-bit SBT record offset is its BLAS id.
+//  - TLAS entries follow tlas_leaf_order; a scene instance of a split geometry gets one
+//    entry per run (each places its own BLAS with the same transform).
+//  - prim_map[b] (b < number of BLAS) is where BLAS b's primitive ids start in prim_map,
+//    in the order they are submitted to the driver.
+#pragma once
+#include "bvh/packed_scene.h"
+#include <cstdint>
+#include <map>
+#include <vector>
+
+namespace masq::vk {
+
+struct RayQueryPlan {
+  // A BLAS: the run [first, first + count) of geometry `geom`'s leaf order, or (geom < 0)
+  // the cluster whose masq BLAS root is `root`.
+  struct Blas {
+    int geom;
+    int root;
+    std::size_t first, count;
+  };
+  struct Entry {
+    std::int32_t inst; // index into PackedScene::instances
+    std::int32_t blas; // BLAS id (SBT record offset); 0 for masquerade (the unit box)
+  };
+  std::vector<Blas> blas;               // by BLAS id
+  std::vector<Entry> entries;           // TLAS entries in submission order
+  std::map<int, std::int32_t> clusters; // cluster's masq BLAS root -> BLAS id
+};
+
+// Throws masq::Error "rayquery: ..." for more than 2^24-1 BLAS (SBT offsets hold 24 bits)
+// or a malformed leaf order. tlas_leaf_order must name valid instances.
+RayQueryPlan plan_ray_query(const PackedScene& s, std::uint64_t max_primitives);
+
+// Primitive ids of geometry g in submission order (identity when the builder gave none;
+// auto may keep a subset in its ordinary BLAS).
+std::vector<std::int32_t> geometry_leaf_order(const PackedScene& s, std::size_t g);
+
+// Member ids of the cluster BLAS at node `root`, in depth-first leaf order (the order
+// its boxes are submitted in).
+std::vector<std::int32_t> cluster_members(const PackedScene& s, int root);
+
+// The offsets, then each BLAS's ids (see above).
+std::vector<std::int32_t> primitive_id_map(const PackedScene& s, const RayQueryPlan& plan);
+
+} // namespace masq::vk
