@@ -9,6 +9,7 @@
 #include "bench/table.h"
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,9 @@ struct HairCase {
   std::string variant;  // "capsule", "link", "phantom x4"
   std::size_t primitives = 0;
   std::vector<BenchRow> rows;
+  // Table 2: total bytes (primitives + acceleration data) of ref, masq and cluster per
+  // node format (w4, w8, q8), from builds only.
+  std::array<std::array<std::size_t, 3>, 3> total_bytes{};
 };
 
 // Shared by the suites of one run: backends opened once, the RT cost model (its

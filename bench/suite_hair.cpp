@@ -85,6 +85,31 @@ std::string rt_split(const RtCost& c) { return fmt::format("{:.1f}+{:.1f}", c.ha
 
 std::string mib(std::size_t b) { return fmt::format("{:.2f}", b / 1048576.0); }
 
+// Memory of ref, masq and cluster in each node format: the masquerade's overhead with
+// nodes as small as they come (q8) next to the default (w4).
+// {"w4": {"ref": bytes, "masq": bytes, "cluster": bytes}, "w8": ..., "q8": ...}
+nlohmann::json per_format_json(const HairCase& c) {
+  nlohmann::json j = nlohmann::json::object();
+  const char* names[3] = {"w4", "w8", "q8"};
+  for (int f = 0; f < 3; ++f) {
+    const auto& b = c.total_bytes[std::size_t(f)];
+    j[names[f]] = {{"ref", b[0]}, {"masq", b[1]}, {"cluster", b[2]}};
+  }
+  return j;
+}
+
+void record_memory_per_format(const Scene& s, const AccelOptions& base, HairCase& hc) {
+  const Method methods[3] = {Method::Ref, Method::Masq, Method::Cluster};
+  const NodeFormat formats[3] = {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8};
+  for (int f = 0; f < 3; ++f)
+    for (int m = 0; m < 3; ++m) {
+      AccelOptions o = base;
+      o.nodes = formats[f];
+      PackedScene ps = build_accel(s, methods[m], o);
+      hc.total_bytes[std::size_t(f)][std::size_t(m)] = ps.primitive_bytes() + ps.acceleration_bytes();
+    }
+}
+
 } // namespace
 
 void collect_hair_measurements(SuiteContext& ctx, bool timed) {
@@ -116,6 +141,7 @@ void collect_hair_measurements(SuiteContext& ctx, bool timed) {
         Scene s = make_case(ctx.config, hs, v);
         hc.primitives = s.primitive_count();
         hc.rows = run_bench(s, opt, ctx.pool);
+        record_memory_per_format(s, opt.accel, hc);
       } catch (const std::exception& e) {
         // A missing data file: every row of this case says why.
         BenchRow r;
@@ -218,12 +244,30 @@ SuiteResult table2_result(const SuiteContext& ctx) {
                         {"masq_accel_bytes", m->accel_bytes},
                         {"cluster_accel_bytes", cl ? cl->accel_bytes : 0},
                         {"rayquery_ref_device_bytes", rq_r ? rq_r->device_bytes : 0},
-                        {"rayquery_masq_device_bytes", rq_m ? rq_m->device_bytes : 0}});
+                        {"rayquery_masq_device_bytes", rq_m ? rq_m->device_bytes : 0},
+                        {"total_bytes_per_node_format", per_format_json(c)}});
   }
   t.notes = {"common: primitive data both methods share; accel: masq's own two-level BVH (nodes, references, instances, "
              "frames); masq +%: masq total over ref total (the paper's layout); rayquery: what the driver's acceleration "
              "structures and the primitives take on the device"};
   res.tables.push_back(t);
+  Table nf;
+  nf.header = {"scene", "intersector", "ref w4 MiB", "masq/ref w4", "cluster/ref w4", "ref w8 MiB", "masq/ref w8",
+               "cluster/ref w8", "ref q8 MiB", "masq/ref q8", "cluster/ref q8"};
+  nf.left_columns = 2;
+  for (const HairCase& c : ctx.hair) {
+    if (c.total_bytes[0][0] == 0) continue;
+    std::vector<std::string> row = {c.scene, c.variant};
+    for (const auto& b : c.total_bytes) {
+      row.push_back(mib(b[0]));
+      row.push_back(fmt::format("{:.2f}x", double(b[1]) / double(b[0])));
+      row.push_back(fmt::format("{:.2f}x", double(b[2]) / double(b[0])));
+    }
+    nf.add(row);
+  }
+  nf.notes = {"total = primitives + acceleration data, each method built in each node format (docs/kernels.md); the "
+              "issue-7 targets: masq at most 1.5x ref, cluster at most 1.2x"};
+  if (!nf.rows.empty()) res.tables.push_back(nf);
   res.images.push_back({"memory.png", "Memory per method: common data and acceleration data (scripts/plot_results.py)"});
   res.method = "Byte counts of the packed scenes each method uploads (host-side sizes of the GPU arrays), and the device "
                "memory the rayquery backend holds after the driver's acceleration-structure builds.";
