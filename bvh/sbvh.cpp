@@ -39,6 +39,43 @@ int centroid_bin(const Aabb& b, int axis, double lo, double ext, int nb) {
   return std::clamp(int(nb * (b.center()[axis] - lo) / ext), 0, nb - 1);
 }
 
+// The best plane between bins k and k+1 by A_l n_l + A_r n_r: bins [0, k] go left.
+// left_count[k] counts what starts in bin k (goes left once the plane is above it),
+// right_count[k] what ends in it; for object splits both are the bin's count.
+struct BinSweep {
+  int bin = -1;
+  double cost = INFINITY;
+  Aabb left, right;
+  int n_left = 0, n_right = 0;
+};
+
+BinSweep sweep_bins(const std::vector<Aabb>& bin_box, const std::vector<int>& left_count,
+                    const std::vector<int>& right_count) {
+  const int nb = int(bin_box.size());
+  std::vector<Aabb> right(static_cast<std::size_t>(nb));
+  std::vector<int> n_right(static_cast<std::size_t>(nb), 0);
+  Aabb acc;
+  int n = 0;
+  for (int k = nb - 1; k > 0; --k) {
+    acc.grow(bin_box[std::size_t(k)]);
+    n += right_count[std::size_t(k)];
+    right[std::size_t(k)] = acc;
+    n_right[std::size_t(k)] = n;
+  }
+  BinSweep best;
+  acc = Aabb{};
+  n = 0;
+  for (int k = 0; k < nb - 1; ++k) {
+    acc.grow(bin_box[std::size_t(k)]);
+    n += left_count[std::size_t(k)];
+    int nr = n_right[std::size_t(k) + 1];
+    if (n == 0 || nr == 0 || acc.empty() || right[std::size_t(k) + 1].empty()) continue;
+    double cost = acc.area() * n + right[std::size_t(k) + 1].area() * nr;
+    if (cost < best.cost) best = {k, cost, acc, right[std::size_t(k) + 1], n, nr};
+  }
+  return best;
+}
+
 ObjectSplit best_object_split(const std::vector<Ref>& refs, const Aabb& cbox, int nb) {
   ObjectSplit best;
   for (int axis = 0; axis < 3; ++axis) {
@@ -51,26 +88,8 @@ ObjectSplit best_object_split(const std::vector<Ref>& refs, const Aabb& cbox, in
       bin_box[std::size_t(k)].grow(r.box);
       ++bin_count[std::size_t(k)];
     }
-    std::vector<Aabb> right(static_cast<std::size_t>(nb));
-    std::vector<int> right_count(static_cast<std::size_t>(nb), 0);
-    Aabb acc;
-    int n = 0;
-    for (int k = nb - 1; k > 0; --k) {
-      acc.grow(bin_box[std::size_t(k)]);
-      n += bin_count[std::size_t(k)];
-      right[std::size_t(k)] = acc;
-      right_count[std::size_t(k)] = n;
-    }
-    acc = Aabb{};
-    n = 0;
-    for (int k = 0; k < nb - 1; ++k) {
-      acc.grow(bin_box[std::size_t(k)]);
-      n += bin_count[std::size_t(k)];
-      int nr = right_count[std::size_t(k) + 1];
-      if (n == 0 || nr == 0) continue;
-      double cost = acc.area() * n + right[std::size_t(k) + 1].area() * nr;
-      if (cost < best.cost) best = {axis, k, cost, acc, right[std::size_t(k) + 1]};
-    }
+    BinSweep sw = sweep_bins(bin_box, bin_count, bin_count);
+    if (sw.bin >= 0 && sw.cost < best.cost) best = {axis, sw.bin, sw.cost, sw.left, sw.right};
   }
   return best;
 }
@@ -117,26 +136,9 @@ SpatialSplit best_spatial_split(const std::vector<Ref>& refs, const Aabb& box, i
         if (!c.empty()) bin_box[std::size_t(b)].grow(c);
       }
     }
-    std::vector<Aabb> right(static_cast<std::size_t>(nb));
-    std::vector<int> right_count(static_cast<std::size_t>(nb), 0);
-    Aabb acc;
-    int n = 0;
-    for (int k = nb - 1; k > 0; --k) {
-      acc.grow(bin_box[std::size_t(k)]);
-      n += exit[std::size_t(k)];
-      right[std::size_t(k)] = acc;
-      right_count[std::size_t(k)] = n;
-    }
-    acc = Aabb{};
-    n = 0;
-    for (int k = 0; k < nb - 1; ++k) {
-      acc.grow(bin_box[std::size_t(k)]);
-      n += entry[std::size_t(k)];
-      int nr = right_count[std::size_t(k) + 1];
-      if (n == 0 || nr == 0 || acc.empty() || right[std::size_t(k) + 1].empty()) continue;
-      double cost = acc.area() * n + right[std::size_t(k) + 1].area() * nr;
-      if (cost < best.cost) best = {axis, k, cost, acc, right[std::size_t(k) + 1], n, nr};
-    }
+    BinSweep sw = sweep_bins(bin_box, entry, exit);
+    if (sw.bin >= 0 && sw.cost < best.cost)
+      best = {axis, sw.bin, sw.cost, sw.left, sw.right, sw.n_left, sw.n_right};
   }
   return best;
 }

@@ -11,11 +11,13 @@
 #include "scenes/generators.h"
 #include "tests/random_affine.h"
 #include "tests/test_env.h"
+#include "tests/random_rays.h"
 #include <gtest/gtest.h>
 #include <cmath>
 #include <random>
 
 using namespace masq;
+using masq::test::random_rays;
 
 namespace {
 
@@ -308,16 +310,6 @@ TEST(Reinsertion, WorksOnSbvhTreesWithDuplicateReferences) {
 
 namespace {
 
-std::vector<kernel::Ray> random_rays(std::mt19937_64& rng, int n) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<kernel::Ray> rays;
-  for (int i = 0; i < n; ++i) {
-    glm::dvec3 from = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng))) * 5.0;
-    glm::dvec3 to = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
-    rays.push_back(make_ray(from, (to - from) * ((0.3 + 2.0 * std::abs(u(rng))) / glm::length(to - from))));
-  }
-  return rays;
-}
 
 // Long thin triangles in every direction: their boxes overlap, so spatial splits cut
 // them (a bumpy grid sheet gives SBVH nothing to do).

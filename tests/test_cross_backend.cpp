@@ -20,6 +20,7 @@
 #include "scenes/camera.h"
 #include "scenes/curve_tools.h"
 #include "scenes/generators.h"
+#include "tests/random_rays.h"
 #include <gtest/gtest.h>
 #include <cmath>
 #include <random>
@@ -27,6 +28,7 @@
 #include "tests/test_env.h"
 
 using namespace masq;
+using masq::test::random_rays;
 using masq::test::random_affine;
 
 namespace {
@@ -164,17 +166,6 @@ TEST(CrossBackend, RandomInstancedScenes) {
   }
 }
 
-std::vector<kernel::Ray> random_rays(std::mt19937_64& rng, int n) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<kernel::Ray> rays;
-  for (int i = 0; i < n; ++i) {
-    glm::dvec3 from = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng))) * 5.0;
-    glm::dvec3 to = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
-    double scale = 0.3 + 2.0 * std::abs(u(rng)); // non-unit directions
-    rays.push_back(make_ray(from, (to - from) * (scale / glm::length(to - from))));
-  }
-  return rays;
-}
 
 class EveryPrimitive : public ::testing::TestWithParam<PrimType> {};
 

@@ -6,6 +6,7 @@
 #include "scenes/camera.h"
 #include "scenes/error.h"
 #include "scenes/generators.h"
+#include "tests/random_rays.h"
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include "tests/random_affine.h"
 
 using namespace masq;
+using masq::test::random_rays;
 using masq::test::random_affine;
 
 namespace {
@@ -26,19 +28,6 @@ namespace {
 #define REQUIRE_EMBREE() GTEST_SKIP() << EmbreePeer::unavailable_reason()
 #endif
 
-// Rays from a sphere of radius 5 towards random points of the [-1.5, 1.5]^3 box, with
-// non-unit directions (as tests/test_cross_backend.cpp).
-std::vector<kernel::Ray> random_rays(std::mt19937_64& rng, int n) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<kernel::Ray> rays;
-  for (int i = 0; i < n; ++i) {
-    glm::dvec3 from = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng))) * 5.0;
-    glm::dvec3 to = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
-    double scale = 0.3 + 2.0 * std::abs(u(rng));
-    rays.push_back(make_ray(from, (to - from) * (scale / glm::length(to - from))));
-  }
-  return rays;
-}
 
 
 // The length |dt| is measured against: the primitive's radius (object space), or for

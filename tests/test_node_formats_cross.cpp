@@ -10,6 +10,7 @@
 #include "host/backend.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"
+#include "tests/random_rays.h"
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstdlib>
@@ -18,6 +19,7 @@
 #include "tests/test_env.h"
 
 using namespace masq;
+using masq::test::random_rays;
 using masq::test::random_affine;
 
 namespace {
@@ -36,18 +38,6 @@ Scene every_primitive_scene(std::uint64_t seed) {
   return s;
 }
 
-std::vector<kernel::Ray> random_rays(std::uint64_t seed, int n) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<kernel::Ray> rays;
-  for (int i = 0; i < n; ++i) {
-    glm::dvec3 from = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng))) * 5.0;
-    glm::dvec3 to = glm::dvec3(u(rng), u(rng), u(rng)) * 1.5;
-    double scale = 0.3 + 2.0 * std::abs(u(rng)); // non-unit directions
-    rays.push_back(make_ray(from, (to - from) * (scale / glm::length(to - from))));
-  }
-  return rays;
-}
 
 std::vector<kernel::Hit> trace(Backend& be, const PackedScene& ps, const std::vector<kernel::Ray>& rays, Query q) {
   be.set_scene(ps);
