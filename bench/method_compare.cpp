@@ -16,7 +16,8 @@ std::string method_cell(const std::vector<BenchRow>& rows, const std::string& ba
     double best = std::max(ref->mrays_per_s(), masq->mrays_per_s());
     double r = automatic->mrays_per_s() / best;
     Method kept = automatic->build.auto_choice;
-    const BenchRow* same = kept == Method::Auto ? automatic : find_row(rows, backend, kept, set);
+    const BenchRow* same =
+        kept == Method::Auto ? automatic : find_row(rows, backend, kept, set, automatic->builder, automatic->nodes);
     double rk = (same ? same : automatic)->mrays_per_s() / best;
     a = fmt::format("{:.2f}x ({})", r, kept == Method::Auto ? "mix" : method_name(kept));
     tally.cells++;

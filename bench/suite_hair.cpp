@@ -98,10 +98,16 @@ nlohmann::json per_format_json(const HairCase& c) {
   return j;
 }
 
+// The w4 sizes come from hc.rows (the suite's builds); w8 and q8 are built here.
 void record_memory_per_format(const Scene& s, const AccelOptions& base, HairCase& hc) {
   const Method methods[3] = {Method::Ref, Method::Masq, Method::Cluster};
   const NodeFormat formats[3] = {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8};
-  for (int f = 0; f < 3; ++f)
+  for (int m = 0; m < 3; ++m) {
+    const BenchRow* r = any_row(hc, methods[m]);
+    if (!r || r->nodes != NodeFormat::W4) return; // no w4 build of this method to compare with
+    hc.total_bytes[0][std::size_t(m)] = r->prim_bytes + r->accel_bytes;
+  }
+  for (int f = 1; f < 3; ++f)
     for (int m = 0; m < 3; ++m) {
       AccelOptions o = base;
       o.nodes = formats[f];

@@ -7,6 +7,7 @@
 #include "bvh/structure_cost.h"
 #include "bvh/wide_bvh.h"
 #include "scenes/error.h"
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -265,14 +266,21 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
   // misjudges sparse scenes, where what an instance does to the TLAS decides
   // (docs/methods.md); the whole structures show it.
   // A candidate other than ref must be cheaper than ref by kAutoMargin: within that the
-  // model cannot tell them apart (docs/methods.md), and ref is the smaller structure.
+  // model cannot tell them apart (docs/methods.md).
   constexpr double kAutoMargin = 0.10;
   auto start = std::chrono::steady_clock::now();
+  // Triangles stay in a BLAS under every method: a mesh has one candidate, ref's.
+  bool thin = std::any_of(scene.geometries.begin(), scene.geometries.end(),
+                          [](const Geometry& g) { return g.type != PrimType::Triangle && g.primitive_count() > 0; });
   std::array<double, 4> costs{};
   PackedScene best;
   int best_i = -1;
   double best_key = 0;
   for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
+    if (m != Method::Ref && !thin) {
+      costs[std::size_t(m)] = costs[std::size_t(Method::Ref)];
+      continue;
+    }
     PackedScene cand = build_planned(scene, m, opt);
     int i = int(m);
     costs[std::size_t(i)] = cand.stats.model_cost;

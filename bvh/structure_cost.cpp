@@ -1,4 +1,5 @@
 #include "bvh/structure_cost.h"
+#include "bvh/obb.h"
 #include "bvh/wide_bvh.h"
 #include <cmath>
 #include <glm/glm.hpp>
@@ -18,12 +19,7 @@ double isect_type_factor(int kernel_prim_type) {
 
 namespace {
 
-glm::dmat3 linear_part(const Mat3x4f& m) {
-  glm::dmat3 l;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) l[c][r] = m[std::size_t(r * 4 + c)];
-  return l;
-}
+glm::dmat3 linear_part(const Mat3x4f& m) { return from_mat3x4f(m).linear; }
 
 // Surface area of the parallelepiped that the box of extents e becomes under l.
 double mapped_area(const glm::dmat3& l, const glm::dvec3& e) {
@@ -61,22 +57,17 @@ struct Walker {
     const glm::dmat3 l = linear_part(ps.instance_object_to_world[std::size_t(id)]);
     int type = ps.geoms[std::size_t(inst.geom)].type;
     double factor = isect_type_factor(type);
-    if (type == MASQ_PRIM_TRIANGLE) {
-      StructureCost before = c;
-      c.transforms += p_slot;
+    StructureCost before = c;
+    c.transforms += p_slot;
+    if (inst.blas_root >= 0)
       blas(inst.blas_root, p_slot, l, factor);
+    else // masquerade: the intersector runs when the ray is in the unit box's image (the OBB)
+      c.isects += std::min(p_slot, mapped_area(l, glm::dvec3(2.0)) / root_area) * factor;
+    if (type == MASQ_PRIM_TRIANGLE) {
       tri.nodes += c.nodes - before.nodes;
       tri.transforms += c.transforms - before.transforms;
       tri.isects += c.isects - before.isects;
-      return;
     }
-    c.transforms += p_slot;
-    if (inst.blas_root >= 0) {
-      blas(inst.blas_root, p_slot, l, factor);
-      return;
-    }
-    // Masquerade: the intersector runs when the ray is in the unit box's image (the OBB).
-    c.isects += std::min(p_slot, mapped_area(l, glm::dvec3(2.0)) / root_area) * factor;
   }
 
   void tlas(int node, double p) {

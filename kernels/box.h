@@ -40,21 +40,36 @@ FN WideHits intersect_wide_node(WideNode n, vec3 o, vec3 inv_d, float tmin, floa
   return r;
 }
 
-// The masquerade's "BLAS": the unit box [-1,1]^3 in the instance's object space, padded
-// per axis by the error bound of the fp32 ray transform (docs/robustness.md):
+// Per-axis error bound of the fp32 ray transform o' = A o + b, d' = A d at any t up to
+// t_bound (docs/robustness.md), before the bound's own rounding is covered:
 //   origin:    gamma_4 * (|A| |o| + |b|)
-//   direction: gamma_3 * |A| |d|, times the largest t at which the primitive can be hit
-//              (t_bound: the exit distance of the world box that holds the instance).
-FN bool hit_unit_box_padded(Affine m, vec3 wo, vec3 wd, vec3 oo, vec3 od, float tmin, float tmax,
-                            float t_bound) {
+//   direction: gamma_3 * |A| |d|, times t_bound
+FN vec3 transform_error(Affine m, vec3 wo, vec3 wd, float t_bound) {
   vec3 ao = vabs_(wo);
   vec3 ad = vabs_(wd);
   float tb = fabs_(t_bound);
   float px = MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r0), ad);
   float py = MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r1), ad);
   float pz = MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r2), ad);
+  return VEC3(px, py, pz);
+}
+
+// The padding a box in the transformed space needs when the primitives inside are
+// intersected with a different (untransformed) ray. The bound itself is evaluated in
+// fp32: a few more relative steps cover that.
+FN vec3 transform_pad(Affine m, vec3 wo, vec3 wd, float t_bound) {
+  return transform_error(m, wo, wd, t_bound) * (1.0f + 8.0f * MASQ_U);
+}
+
+// The masquerade's "BLAS": the unit box [-1,1]^3 in the instance's object space, padded
+// per axis by the error bound of the fp32 ray transform (transform_error), with t_bound
+// the exit distance of the world box that holds the instance (the largest t at which
+// the primitive can be hit).
+FN bool hit_unit_box_padded(Affine m, vec3 wo, vec3 wd, vec3 oo, vec3 od, float tmin, float tmax,
+                            float t_bound) {
+  vec3 p = transform_error(m, wo, wd, t_bound);
   // The bounds themselves are rounded outward by one more relative step.
-  vec3 ext = VEC3(1.0f + px, 1.0f + py, 1.0f + pz) * (1.0f + 2.0f * MASQ_U);
+  vec3 ext = VEC3(1.0f + p.x, 1.0f + p.y, 1.0f + p.z) * (1.0f + 2.0f * MASQ_U);
   vec3 inv = safe_rcp3(od);
   float tx0 = (-ext.x - oo.x) * inv.x;
   float tx1 = (ext.x - oo.x) * inv.x;
@@ -65,20 +80,6 @@ FN bool hit_unit_box_padded(Affine m, vec3 wo, vec3 wd, vec3 oo, vec3 od, float 
   float tn = widen_lo(vmax3_(min(tx0, tx1), min(ty0, ty1), min(tz0, tz1)));
   float tf = widen_hi(vmin3_(max(tx0, tx1), max(ty0, ty1), max(tz0, tz1)));
   return tn <= tf && tf >= tmin && tn <= tmax;
-}
-
-// Per-axis error bound of the fp32 ray transform o' = A o + b, d' = A d at any t up to
-// t_bound (docs/robustness.md): the padding a box in the transformed space needs when
-// the primitives inside are intersected with a different (untransformed) ray.
-FN vec3 transform_pad(Affine m, vec3 wo, vec3 wd, float t_bound) {
-  vec3 ao = vabs_(wo);
-  vec3 ad = vabs_(wd);
-  float tb = fabs_(t_bound);
-  float px = MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r0), ad);
-  float py = MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r1), ad);
-  float pz = MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r2), ad);
-  // The bound itself is evaluated in fp32: a few more relative steps cover that.
-  return VEC3(px, py, pz) * (1.0f + 8.0f * MASQ_U);
 }
 
 // The wide node test with every child box grown by pad on each axis (cluster BLAS of

@@ -117,3 +117,17 @@ TEST(AutoSelect, TrianglesShareIsCountedApart) {
   EXPECT_GT(ps.stats.model_triangles, 0.0);
   EXPECT_LT(ps.stats.model_triangles, ps.stats.model_cost);
 }
+
+TEST(AutoSelect, MeshHasOnlyRefsCandidate) {
+  // Triangles stay in a BLAS under every method, so auto builds ref's structure once.
+  Scene s;
+  s.name = "mesh";
+  s.geometries.push_back(make_random_mesh(200, 1.0, 5));
+  s.instances.push_back({0, {}});
+  PackedScene a = build_accel(s, Method::Auto);
+  PackedScene r = build_accel(s, Method::Ref);
+  EXPECT_EQ(a.stats.auto_choice, Method::Ref);
+  EXPECT_TRUE(same_bytes(a.nodes, r.nodes));
+  EXPECT_TRUE(same_bytes(a.instances, r.instances));
+  for (double c : a.stats.auto_candidates) EXPECT_EQ(c, r.stats.model_cost);
+}
