@@ -18,6 +18,12 @@ std::string method_cell(const std::vector<BenchRow>& rows, const std::string& ba
     Method kept = automatic->build.auto_choice;
     const BenchRow* same =
         kept == Method::Auto ? automatic : find_row(rows, backend, kept, set, automatic->builder, automatic->nodes);
+    // auto's cluster candidate may have another shape than the cluster row's: then no
+    // row holds the same bytes.
+    if (same && kept == Method::Cluster &&
+        (same->build.cluster_size != automatic->build.cluster_size ||
+         same->build.cluster_leaf_price != automatic->build.cluster_leaf_price))
+      same = automatic;
     double rk = (same ? same : automatic)->mrays_per_s() / best;
     a = fmt::format("{:.2f}x ({})", r, kept == Method::Auto ? "mix" : method_name(kept));
     tally.cells++;

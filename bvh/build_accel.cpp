@@ -136,6 +136,8 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   ps.features.mode = opt.mode;
   ps.features.curve_iters = opt.curve_iters;
   ps.features.nodes = opt.nodes; // before any node is appended (cluster BLAS read it)
+  ps.stats.cluster_size = opt.cluster.max_size;
+  ps.stats.cluster_leaf_price = opt.cluster.leaf_price;
   for (const Instance& inst : scene.instances) {
     PrimType t = scene.geometries[inst.geometry].type;
     note_feature(ps.features, t);
@@ -223,8 +225,8 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   }
   for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
     if (!plans[gi].clusters.empty())
-      append_cluster_instances(scene, int(gi), plans[gi].clusters, insts_of[gi], opt.sah, opt.builder, ps,
-                               inst_boxes);
+      append_cluster_instances(scene, int(gi), plans[gi].clusters, insts_of[gi], opt.sah, opt.cluster.leaf_price,
+                               opt.builder, ps, inst_boxes);
   ps.stats.instances = ps.instances.size();
   if (!inst_boxes.empty()) {
     BinaryBvh tlas = build_boxes_binary(inst_boxes, opt.sah, opt.builder);
@@ -254,6 +256,20 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
 
 } // namespace
 
+std::vector<ClusterOptions> auto_cluster_shapes(const ClusterOptions& given) {
+  std::vector<ClusterOptions> out = {given};
+  for (int size : {given.max_size, kAutoLargeCluster})
+    for (double price : {given.leaf_price, 1.0}) {
+      ClusterOptions c = given;
+      c.max_size = size;
+      c.leaf_price = price;
+      bool seen = std::any_of(out.begin(), out.end(),
+                              [&](const ClusterOptions& o) { return o.max_size == size && o.leaf_price == price; });
+      if (!seen) out.push_back(c);
+    }
+  return out;
+}
+
 PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt) {
   if (opt.curve_iters < 1 || opt.curve_iters > 64)
     throw Error("accel: curve_iters " + std::to_string(opt.curve_iters) + " outside 1..64");
@@ -281,7 +297,20 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
       costs[std::size_t(m)] = costs[std::size_t(Method::Ref)];
       continue;
     }
-    PackedScene cand = build_planned(scene, m, opt);
+    // The cluster candidate in several shapes, the cheapest by the model standing for
+    // it: how many members a cluster takes and how full its leaves are decide between
+    // transforms, node visits and intersector calls, and which wins depends on the
+    // scene (a bundle of parallel strands wants a few large clusters, fur many small
+    // ones; docs/methods.md).
+    std::vector<ClusterOptions> shapes = {opt.cluster};
+    if (m == Method::Cluster) shapes = auto_cluster_shapes(opt.cluster);
+    PackedScene cand;
+    for (std::size_t k = 0; k < shapes.size(); ++k) {
+      AccelOptions one = opt;
+      one.cluster = shapes[k];
+      PackedScene c = build_planned(scene, m, one);
+      if (k == 0 || c.stats.model_cost < cand.stats.model_cost) cand = std::move(c);
+    }
     int i = int(m);
     costs[std::size_t(i)] = cand.stats.model_cost;
     // Compared without the triangles' share, which every candidate has alike.

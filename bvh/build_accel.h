@@ -35,4 +35,9 @@ struct AccelOptions {
 
 PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt = {});
 
+// The cluster shapes auto builds for its cluster candidate: the given one, then with
+// kAutoLargeCluster members and with leaf price 1 (one member per leaf), and both.
+inline constexpr int kAutoLargeCluster = 256;
+std::vector<ClusterOptions> auto_cluster_shapes(const ClusterOptions& given);
+
 } // namespace masq

@@ -39,8 +39,8 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
 }
 
 void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
-                              const std::vector<int>& scene_insts, const SahOptions& sah, const BuilderOptions& builder,
-                              PackedScene& ps, std::vector<Aabb>& inst_boxes) {
+                              const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
+                              const BuilderOptions& builder, PackedScene& ps, std::vector<Aabb>& inst_boxes) {
   const Geometry& g = scene.geometries.at(std::size_t(geom));
   for (const Cluster& c : clusters) {
     if (c.members.empty()) throw Error("cluster: an empty cluster in geometry " + std::to_string(geom));
@@ -65,9 +65,10 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
     // A cluster's members are parallel and side by side, so their local boxes barely
     // overlap and the plain SAH splits down to one primitive per leaf: four times the
     // nodes of ref's BLAS (61 vs 26 B per primitive on the default scene). A traversal
-    // price of 4 fills the leaves (27 B) at ~2 more intersector calls per ray.
+    // price of 4 (the default leaf_price) fills the leaves (27 B) at ~2 more intersector
+    // calls per ray; auto also tries price 1 (docs/methods.md).
     SahOptions leaf_sah = sah;
-    leaf_sah.traversal_cost = std::max(sah.traversal_cost, 4.0 * sah.intersection_cost);
+    leaf_sah.traversal_cost = std::max(sah.traversal_cost, leaf_price * sah.intersection_cost);
     BinaryBvh bvh = build_boxes_binary(local, leaf_sah, builder);
     WideBvhInfo info = append_bvh_nodes(bvh, c.members, ps.features.nodes, ps);
     ps.stats.blas_references += bvh.order.size();

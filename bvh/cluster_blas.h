@@ -24,8 +24,9 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
 // The cluster BLAS get no spatial splits (their members are parallel and side by side,
 // so their local boxes barely overlap; and a piece would have to be clipped under every
 // instance's realised map): reinsertion only, where the builder has it.
+// `leaf_price`: ClusterOptions::leaf_price.
 void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
-                              const std::vector<int>& scene_insts, const SahOptions& sah, const BuilderOptions& builder,
-                              PackedScene& ps, std::vector<Aabb>& inst_boxes);
+                              const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
+                              const BuilderOptions& builder, PackedScene& ps, std::vector<Aabb>& inst_boxes);
 
 } // namespace masq

@@ -16,6 +16,11 @@ namespace masq {
 struct ClusterOptions {
   int max_size = 32;     // members per cluster (2..256); docs/methods.md shows the sweep
   int classes = 32;      // orientation classes over the hemisphere of axis directions (1..1024)
+  // The cluster BLAS's SAH price of a node visit, in intersector calls (>= 1). Members
+  // are parallel and side by side, so at price 1 the SAH splits down to one member per
+  // leaf: the fewest intersector calls, at 2-2.5x the node bytes of ref's BLAS. 4 fills
+  // the leaves (cluster bytes <= ref's) at ~2 more calls per ray. docs/methods.md.
+  double leaf_price = 4.0;
 };
 
 struct Cluster {

@@ -66,6 +66,10 @@ struct BuildStats {
   // cluster/auto: the same for the members of clusters (their local boxes' world areas).
   double obb_area = 0, aabb_area = 0;
   std::size_t clusters = 0;     // cluster instances (cluster and auto)
+  // The cluster shape the structure was built with (ClusterOptions max_size and
+  // leaf_price; auto tries several, bvh/build_accel.cpp).
+  int cluster_size = 0;
+  double cluster_leaf_price = 0;
   std::size_t masq_prims = 0;   // masquerade instances (masq and auto)
   // Expected work per ray of this structure under the auto prices (bvh/structure_cost.h).
   double model_cost = 0;

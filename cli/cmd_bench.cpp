@@ -162,10 +162,12 @@ int bench(BenchCli& c) {
     if (r.method == Method::Auto && r.unavailable.empty()) {
       // What auto kept, and why: each candidate's expected work per ray (bvh/structure_cost.h).
       const auto& k = r.build.auto_candidates;
-      fmt::print("auto kept {}: model cost per ray ref {:.3g}, masq {:.3g}, cluster {:.3g}, mix {:.3g} (triangles' "
-                 "share {:.3g}; docs/methods.md)\n",
-                 r.build.auto_choice == Method::Auto ? "the mix" : method_name(r.build.auto_choice), k[0], k[1], k[2], k[3],
-                 r.build.model_triangles);
+      std::string kept = r.build.auto_choice == Method::Auto ? "the mix" : method_name(r.build.auto_choice);
+      if (r.build.auto_choice == Method::Cluster)
+        kept += fmt::format(" (size {}, leaf price {:g})", r.build.cluster_size, r.build.cluster_leaf_price);
+      fmt::print("auto kept {}: model cost per ray ref {:.3g}, masq {:.3g}, cluster {:.3g} (its cheapest shape), mix {:.3g} "
+                 "(triangles' share {:.3g}; docs/methods.md)\n",
+                 kept, k[0], k[1], k[2], k[3], r.build.model_triangles);
       break;
     }
   if (!builders.rows.empty()) fmt::print("\nbuilders side by side:\n{}", builders.text());

@@ -45,6 +45,11 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
   cmd.add_option("--cluster-classes", opt.cluster_classes, "Methods cluster/auto: orientation classes (hemisphere bins)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1024));
+  cmd.add_option("--cluster-leaf-price", opt.cluster_leaf_price,
+                 "Method cluster: SAH price of a cluster BLAS node visit in intersector calls (1: one member per leaf, "
+                 "fewest calls; 4: full leaves, fewer bytes); auto tries 1 and this (docs/methods.md)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 64.0));
   cmd.add_option("--nodes", opt.nodes,
                  "BVH node format of the TLAS and every BLAS: w4 (4-wide float boxes), w8 (8-wide float boxes) or q8 "
                  "(8-wide, boxes quantised to 8 bits per plane); bench takes a list (w4,w8,q8) and runs each")
@@ -135,6 +140,7 @@ AccelOptions accel_options(const SceneOptions& opt) {
   a.curve_iters = opt.curve_iters;
   a.cluster.max_size = opt.cluster_size;
   a.cluster.classes = opt.cluster_classes;
+  a.cluster.leaf_price = opt.cluster_leaf_price;
   if (opt.prices.size() == 3) a.prices = {opt.prices[0], opt.prices[1], opt.prices[2]};
   std::vector<Builder> builders = parse_builders(opt);
   a.builder.kind = builders.empty() ? Builder::Sah : builders.front();

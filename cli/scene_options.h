@@ -23,6 +23,7 @@ struct SceneOptions {
   int curve_iters = 24;
   int cluster_size = 32;     // cluster, auto
   int cluster_classes = 32;  // cluster, auto
+  double cluster_leaf_price = 4.0; // cluster, auto: ClusterOptions::leaf_price
   std::vector<double> prices; // auto: node transform isect (empty: defaults)
   // Binary BVH builders (bvh/builder_kind.h): bench runs each side by side; the other
   // subcommands take one.

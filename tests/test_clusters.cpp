@@ -155,19 +155,26 @@ TEST_P(ClusterTypes, NoFalseCullsFarFromTheOrigin) {
       be->set_scene(build_accel(s, Method::Ref));
       be->trace(rays, ref, {});
     }
-    be->set_scene(build_accel(s, Method::Cluster));
-    be->trace(rays, clu, {});
-    int hits = 0, culled = 0, differ = 0;
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      hits += ref[i].prim >= 0;
-      culled += ref[i].prim >= 0 && clu[i].prim < 0;
-      // Across languages (C++ vs GLSL) the same formula may round differently (FMA).
-      double tol = name == "rayquery" ? 1e-4 * std::abs(double(ref[i].t)) : 0.0;
-      differ += ref[i].prim != clu[i].prim || std::abs(double(ref[i].t) - double(clu[i].t)) > tol;
+    // Full leaves (the default) and one member per leaf in clusters as large as auto
+    // tries: other boxes, the same hits.
+    for (double leaf_price : {4.0, 1.0}) {
+      AccelOptions o;
+      o.cluster.leaf_price = leaf_price;
+      o.cluster.max_size = leaf_price == 1.0 ? kAutoLargeCluster : o.cluster.max_size;
+      be->set_scene(build_accel(s, Method::Cluster, o));
+      be->trace(rays, clu, {});
+      int hits = 0, culled = 0, differ = 0;
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        hits += ref[i].prim >= 0;
+        culled += ref[i].prim >= 0 && clu[i].prim < 0;
+        // Across languages (C++ vs GLSL) the same formula may round differently (FMA).
+        double tol = name == "rayquery" ? 1e-4 * std::abs(double(ref[i].t)) : 0.0;
+        differ += ref[i].prim != clu[i].prim || std::abs(double(ref[i].t) - double(clu[i].t)) > tol;
+      }
+      EXPECT_GT(hits, 200) << name;
+      EXPECT_EQ(culled, 0) << name << ", leaf price " << leaf_price;
+      EXPECT_EQ(differ, 0) << name << ", leaf price " << leaf_price << ": same intersector on the same ray";
     }
-    EXPECT_GT(hits, 200) << name;
-    EXPECT_EQ(culled, 0) << name;
-    EXPECT_EQ(differ, 0) << name << ": same intersector on the same ray";
   }
 }
 

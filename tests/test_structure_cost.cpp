@@ -101,7 +101,10 @@ TEST(AutoSelect, KeepsTheCandidatesBytes) {
     Method kept = a.stats.auto_choice;
     AccelOptions mix;
     mix.auto_select = AutoSelect::MixOnly;
-    PackedScene c = kept == Method::Auto ? build_accel(s, Method::Auto, mix) : build_accel(s, kept);
+    AccelOptions shape; // the cluster candidate's shape auto kept
+    shape.cluster.max_size = a.stats.cluster_size;
+    shape.cluster.leaf_price = a.stats.cluster_leaf_price;
+    PackedScene c = kept == Method::Auto ? build_accel(s, Method::Auto, mix) : build_accel(s, kept, shape);
     SCOPED_TRACE("tilt " + std::to_string(tilt) + " kept " + method_name(kept));
     EXPECT_TRUE(same_bytes(a.nodes, c.nodes));
     EXPECT_TRUE(same_bytes(a.refs, c.refs));
@@ -130,4 +133,39 @@ TEST(AutoSelect, MeshHasOnlyRefsCandidate) {
   EXPECT_TRUE(same_bytes(a.nodes, r.nodes));
   EXPECT_TRUE(same_bytes(a.instances, r.instances));
   for (double c : a.stats.auto_candidates) EXPECT_EQ(c, r.stats.model_cost);
+}
+
+TEST(AutoSelect, ClusterShapesAreDistinctAndStartWithTheGivenOne) {
+  ClusterOptions given;
+  given.max_size = 16;
+  given.leaf_price = 3.0;
+  std::vector<ClusterOptions> shapes = auto_cluster_shapes(given);
+  ASSERT_EQ(shapes.size(), 4u);
+  EXPECT_EQ(shapes[0].max_size, 16);
+  EXPECT_EQ(shapes[0].leaf_price, 3.0);
+  for (std::size_t i = 0; i < shapes.size(); ++i)
+    for (std::size_t j = i + 1; j < shapes.size(); ++j)
+      EXPECT_FALSE(shapes[i].max_size == shapes[j].max_size && shapes[i].leaf_price == shapes[j].leaf_price);
+  given.max_size = kAutoLargeCluster;
+  given.leaf_price = 1.0;
+  EXPECT_EQ(auto_cluster_shapes(given).size(), 1u); // nothing else to try
+}
+
+TEST(AutoSelect, KeepsTheCheapestClusterShape) {
+  // The dense tilted bundle: every member parallel, so auto keeps a cluster, in the shape
+  // the model prices lowest among those it tries, and reports that shape.
+  Scene s = bundle(1000, 0.002f, 45.0);
+  PackedScene a = build_accel(s, Method::Auto);
+  ASSERT_EQ(a.stats.auto_choice, Method::Cluster);
+  double cheapest = 0;
+  for (const ClusterOptions& shape : auto_cluster_shapes(AccelOptions{}.cluster)) {
+    AccelOptions o;
+    o.cluster = shape;
+    PackedScene c = build_accel(s, Method::Cluster, o);
+    EXPECT_EQ(c.stats.cluster_size, shape.max_size);
+    EXPECT_GE(c.stats.model_cost, a.stats.model_cost);
+    if (cheapest == 0 || c.stats.model_cost < cheapest) cheapest = c.stats.model_cost;
+  }
+  EXPECT_EQ(a.stats.model_cost, cheapest);
+  EXPECT_EQ(a.stats.auto_candidates[std::size_t(Method::Cluster)], cheapest);
 }
