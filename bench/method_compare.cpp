@@ -1,7 +1,9 @@
 #include "bench/method_compare.h"
 #include "bench/bench_report.h"
+#include "bench/price_fit.h"
 #include <algorithm>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace masq {
 
@@ -46,6 +48,33 @@ std::string method_note(const MethodTally& tally) {
   return "each backend: cluster/ref speedup / auto over the better of ref and masq (rays/s, same rays) and the "
          "candidate auto kept (bvh/structure_cost.h: ref, masq, cluster or its per-cluster mix); " +
          held;
+}
+
+std::string price_fit_note(const std::vector<std::vector<BenchRow>>& groups, const std::vector<std::string>& backends,
+                           nlohmann::json& data) {
+  std::vector<BenchRow> all;
+  for (const std::vector<BenchRow>& g : groups) all.insert(all.end(), g.begin(), g.end());
+  std::vector<std::string> parts;
+  for (const std::string& b : backends) {
+    std::optional<PriceFit> f = fit_prices(all, b);
+    if (!f) continue;
+    FitChoices c = fit_choices(groups, b, *f);
+    parts.push_back(fmt::format("{} {} of {} (prices 1 : {:.2g} : {:.2g}, fit error median {:.0f}%)", b, c.within,
+                                c.cells, f->prices.transform, f->prices.isect, 100.0 * f->median_rel_error));
+    data[b] = {{"cells", c.cells},
+               {"within_5_percent", c.within},
+               {"ns_per_ray", f->ns_per_ray},
+               {"ns_per_node", f->ns_per_node},
+               {"transform", f->prices.transform},
+               {"isect", f->prices.isect},
+               {"median_rel_error", f->median_rel_error},
+               {"max_rel_error", f->max_rel_error}};
+  }
+  if (parts.empty()) return "price fit: no backend had rows with counters to fit";
+  return "a linear price model fitted per backend to all these rows (per ray + node + transform + intersector call; "
+         "bench/price_fit.h), choosing among ref, masq and cluster from the MEASURED counters (the best a counter model "
+         "can do), is within 5% of the better of ref and masq in: " +
+         fmt::format("{}", fmt::join(parts, "; "));
 }
 
 } // namespace masq

@@ -4,6 +4,7 @@
 #pragma once
 #include "bench/bench_runner.h"
 #include "bench/table.h"
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -26,5 +27,12 @@ std::string method_cell(const std::vector<BenchRow>& rows, const std::string& ba
 
 // The note under such a table: what the cells mean and how often the target held.
 std::string method_note(const MethodTally& tally);
+
+// Whether any per-backend price model could meet the target on these rows: per backend,
+// prices fitted to all of them (bench/price_fit.h) choose among ref, masq and cluster
+// from the measured counters; the note says in how many cells that choice is within 5%
+// and how well the fit explains the times. Also written to `data` per backend.
+std::string price_fit_note(const std::vector<std::vector<BenchRow>>& groups, const std::vector<std::string>& backends,
+                           nlohmann::json& data);
 
 } // namespace masq

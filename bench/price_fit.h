@@ -1,9 +1,11 @@
 // Fits the auto method's cost-model prices (bvh/method_plan.h: CostPrices) to measured
-// rows: time per ray = node * (TLAS + BLAS node visits) + transform * transforms +
+// rows: time per ray = ray + node * (TLAS + BLAS node visits) + transform * transforms +
 // isect * intersector calls, by least squares over one backend's rows (every method and
-// ray set it ran), then scaled so that node = 1. Rows without counters (rayquery) are
-// skipped. Needs rows that vary the three counters independently: ref, masq and
-// cluster on the same scene do.
+// ray set it ran), then scaled so that node = 1. `ray` (set-up, hit write-back) is the
+// same for every structure, so it does not enter auto's choice, but leaving it out
+// pushes its cost into the other prices. Rows without counters (rayquery) are skipped.
+// Needs rows that vary the counters independently: ref, masq and cluster on the same
+// scene do.
 #pragma once
 #include "bench/bench_runner.h"
 #include "bvh/method_plan.h"
@@ -16,11 +18,24 @@ namespace masq {
 struct PriceFit {
   CostPrices prices;       // node == 1
   double ns_per_node = 0;  // the fitted node price in nanoseconds per ray
+  double ns_per_ray = 0;   // the fitted constant per ray
   int rows = 0;            // rows used
-  double max_rel_error = 0; // of the fit's predicted times
+  double median_rel_error = 0, max_rel_error = 0; // of the fit's predicted times
 };
 
-// nullopt when the backend has fewer than three usable rows or the system is singular.
+// nullopt when the backend has fewer than four usable rows or the system is singular.
+// Prices come out as fitted, negative ones included: a negative price says the
+// counters do not explain the times, which is what the fit is there to show.
 std::optional<PriceFit> fit_prices(const std::vector<BenchRow>& rows, const std::string& backend);
+
+// How well a linear price model can choose at all: per group of rows (one scene and
+// ray set each), the structure among ref, masq and cluster that the fitted prices
+// rank cheapest from the MEASURED counters (the best a counter model can do; auto's
+// model has to predict them), and whether that one is within 5% of the faster of ref
+// and masq.
+struct FitChoices {
+  int cells = 0, within = 0;
+};
+FitChoices fit_choices(const std::vector<std::vector<BenchRow>>& groups, const std::string& backend, const PriceFit& fit);
 
 } // namespace masq

@@ -154,7 +154,9 @@ SuiteResult run_fig3(SuiteContext& ctx) {
     for (const std::string& b : opt.backends) line.push_back(method_cell(measured[i], b, RaySet::Primary, tally));
     mt.add(line);
   }
-  mt.notes = {method_note(tally)};
+  nlohmann::json fit;
+  mt.notes = {method_note(tally), price_fit_note(measured, opt.backends, fit)};
+  res.data["price_fit"] = fit;
   res.tables.push_back(mt);
   res.data["auto_target"] = {{"cells", tally.cells}, {"within_5_percent", tally.auto_within}, {"worst", tally.worst},
                              {"kept_within_5_percent", tally.kept_within}, {"kept_worst", tally.kept_worst}};

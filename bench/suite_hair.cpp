@@ -197,7 +197,11 @@ SuiteResult table1_result(const SuiteContext& ctx) {
       for (const std::string& b : backends) line.push_back(method_cell(c.rows, b, set, tally));
       mt.add(line);
     }
-  mt.notes = {method_note(tally)};
+  std::vector<std::vector<BenchRow>> groups;
+  for (const HairCase& c : ctx.hair) groups.push_back(c.rows);
+  nlohmann::json fit;
+  mt.notes = {method_note(tally), price_fit_note(groups, backends, fit)};
+  res.data["price_fit"] = fit;
   res.data["auto_target"] = {{"cells", tally.cells}, {"within_5_percent", tally.auto_within}, {"worst", tally.worst},
                              {"kept_within_5_percent", tally.kept_within}, {"kept_worst", tally.kept_worst}};
   res.tables.push_back(mt);

@@ -179,8 +179,10 @@ int bench(BenchCli& c) {
         fmt::print("prices {}: not enough rows with counters to fit (run ref, masq and cluster)\n", b);
         continue;
       }
-      fmt::print("prices {}: --prices 1 {:.3g} {:.3g}  (node {:.3g} ns/ray-visit, {} rows, worst fit error {:.0f}%)\n", b,
-                 f->prices.transform, f->prices.isect, f->ns_per_node, f->rows, 100.0 * f->max_rel_error);
+      fmt::print("prices {}: --prices 1 {:.3g} {:.3g}  (node {:.3g} ns per visit, {:.3g} ns per ray, {} rows, fit error "
+                 "median {:.0f}%, worst {:.0f}%)\n",
+                 b, f->prices.transform, f->prices.isect, f->ns_per_node, f->ns_per_ray, f->rows,
+                 100.0 * f->median_rel_error, 100.0 * f->max_rel_error);
     }
   }
   if (!c.json_path.empty()) {

@@ -2,6 +2,7 @@
 // tables, and one real suite run (fig3 quick on cpu) whose figures must be consistent
 // with the counters it measured.
 #include "bench/bench_report.h"
+#include "bench/price_fit.h"
 #include "bench/ray_sets.h"
 #include "bench/rt_cost_model.h"
 #include "bench/suite.h"
@@ -216,4 +217,60 @@ TEST(Bench, NodeFormatsSideBySide) {
   EXPECT_EQ(bench_node_ratios(rows).rows.size(), 6u);
   EXPECT_EQ(bench_row_json(rows[2])["nodes"], "q8");
   EXPECT_EQ(bench_row_json(rows[2])["build"]["node_bytes"], rows[2].build.node_bytes);
+}
+
+namespace {
+
+// A row whose time follows given prices exactly: ns/ray = 7 + 3 node + 5 transform + 11 isect.
+BenchRow priced_row(Method m, RaySet set, double nodes, double transforms, double isect) {
+  BenchRow r;
+  r.backend = "cpu";
+  r.method = m;
+  r.ray_set = set;
+  r.rays = 1000;
+  r.blas_nodes = nodes;
+  r.transforms = transforms;
+  r.isect_calls = isect;
+  r.median_s = r.rays * (7.0 + 3.0 * nodes + 5.0 * transforms + 11.0 * isect) * 1e-9;
+  return r;
+}
+
+} // namespace
+
+TEST(PriceFit, RecoversExactPricesAndTheConstant) {
+  std::vector<BenchRow> rows = {priced_row(Method::Ref, RaySet::Primary, 10, 1, 30),
+                                priced_row(Method::Masq, RaySet::Primary, 40, 35, 2),
+                                priced_row(Method::Cluster, RaySet::Primary, 8, 4, 5),
+                                priced_row(Method::Ref, RaySet::Diffuse, 20, 1, 12),
+                                priced_row(Method::Masq, RaySet::Diffuse, 25, 60, 1)};
+  std::optional<PriceFit> f = fit_prices(rows, "cpu");
+  ASSERT_TRUE(f);
+  EXPECT_NEAR(f->ns_per_ray, 7.0, 1e-6);
+  EXPECT_NEAR(f->ns_per_node, 3.0, 1e-6);
+  EXPECT_NEAR(f->prices.transform, 5.0 / 3.0, 1e-6);
+  EXPECT_NEAR(f->prices.isect, 11.0 / 3.0, 1e-6);
+  EXPECT_LT(f->max_rel_error, 1e-9);
+  EXPECT_FALSE(fit_prices(rows, "opencl")); // no rows of that backend
+  rows.resize(3);
+  EXPECT_FALSE(fit_prices(rows, "cpu")); // four prices need four rows
+}
+
+TEST(PriceFit, ChoicesCountWhereTheCheapestByPriceIsSlow) {
+  // Exact prices choose right everywhere; prices that ignore intersector calls choose
+  // ref (fewest nodes and transforms) where masq, with 15x fewer calls, is faster.
+  std::vector<BenchRow> g = {priced_row(Method::Ref, RaySet::Primary, 10, 1, 30),
+                             priced_row(Method::Masq, RaySet::Primary, 12, 12, 2),
+                             priced_row(Method::Cluster, RaySet::Primary, 11, 3, 25)};
+  PriceFit exact;
+  exact.ns_per_ray = 7;
+  exact.ns_per_node = 3;
+  exact.prices = {1.0, 5.0 / 3.0, 11.0 / 3.0};
+  FitChoices c = fit_choices({g}, "cpu", exact);
+  EXPECT_EQ(c.cells, 1);
+  EXPECT_EQ(c.within, 1);
+  PriceFit blind = exact;
+  blind.prices.isect = 0;
+  c = fit_choices({g}, "cpu", blind);
+  EXPECT_EQ(c.cells, 1);
+  EXPECT_EQ(c.within, 0);
 }
