@@ -40,6 +40,7 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
   ao.nodes = options.nodes == NodeFormat::W8   ? masq::NodeFormat::W8
              : options.nodes == NodeFormat::Q8 ? masq::NodeFormat::Q8
                                                : masq::NodeFormat::W4;
+  ao.masq_instances = options.compact_masquerade ? masq::MasqInstances::Compact : masq::MasqInstances::Full;
   auto impl = std::make_shared<Impl>();
   impl->packed = build_accel(s, internal_method(options.method), ao);
   impl->options = o;

@@ -108,7 +108,7 @@ Table bench_node_ratios(const std::vector<BenchRow>& rows) {
            fmt::format("{:.1f}", double(r.build.node_bytes) / double(std::max<std::size_t>(1, r.primitives)))});
   }
   t.notes = {"node visits/r: TLAS + BLAS node visits per ray (masquerade unit-box tests included, as in blas/r); "
-             "node MiB / B/prim: the TLAS and BLAS nodes alone, in the row's format (refs, instances and frames "
+             "node MiB / B/prim: the TLAS and BLAS nodes alone, in the row's format (refs, instances, compact entries and frames "
              "are the same for every format)",
              "speed vs w4: Mrays/s of this row over the w4 row of the same backend, method and rays (one run, "
              "same rays)"};
@@ -140,7 +140,8 @@ Table bench_table(const std::vector<BenchRow>& rows) {
   }
   t.notes = {"per ray: tlas/blas = wide-node visits, xf = instance transforms, isect = intersector calls (rayquery: the "
              "driver's traversal is not observable, n/a); hit% for shadow rays is the occluded fraction",
-             "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, frames); dev MiB: what the backend "
+             "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, compact masquerade entries and "
+             "their owners, frames); dev MiB: what the backend "
              "holds on the device (rayquery: the driver's acceleration structures plus primitives); build ms: host "
              "build + upload/driver build; compile ms: kernel/pipeline compile on first use of the variant (0: cached)"};
   for (std::size_t k = 0; k < why.size(); ++k) t.notes.push_back(fmt::format("[{}] {}", k + 1, why[k]));

@@ -258,8 +258,8 @@ SuiteResult table2_result(const SuiteContext& ctx) {
                         {"total_bytes_per_node_format", per_format_json(c)}});
   }
   t.notes = {"common: primitive data both methods share; accel: masq's own two-level BVH (nodes, references, instances, "
-             "frames); masq +%: masq total over ref total (the paper's layout); rayquery: what the driver's acceleration "
-             "structures and the primitives take on the device"};
+             "compact masquerade entries and their owners, frames); masq +%: masq total over ref total (the paper's "
+             "layout); rayquery: what the driver's acceleration structures and the primitives take on the device"};
   res.tables.push_back(t);
   Table nf;
   nf.header = {"scene", "intersector", "ref w4 MiB", "masq/ref w4", "cluster/ref w4", "ref w8 MiB", "masq/ref w8",

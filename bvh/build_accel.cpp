@@ -2,6 +2,7 @@
 #include "bvh/builder.h"
 #include "bvh/clip_bounds.h"
 #include "bvh/cluster_blas.h"
+#include "bvh/compact_instance.h"
 #include "bvh/obb.h"
 #include "bvh/prim_bounds.h"
 #include "bvh/structure_cost.h"
@@ -10,8 +11,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <map>
+#include <utility>
 
 namespace masq {
+
+const char* masq_instances_name(MasqInstances m) { return m == MasqInstances::Compact ? "compact" : "full"; }
+
+MasqInstances parse_masq_instances(const std::string& name) {
+  if (name == "compact") return MasqInstances::Compact;
+  if (name == "full") return MasqInstances::Full;
+  throw Error("unknown masquerade instance form '" + name + "' (expected compact or full)");
+}
 
 namespace {
 
@@ -200,8 +211,13 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   }
 
   // TLAS entries: per scene instance its BLAS and masquerade instances, then per
-  // geometry its cluster instances (their BLAS are shared by the scene instances).
+  // geometry its cluster instances (their BLAS are shared by the scene instances); the
+  // compact masquerade entries come last (entry ids: PackedScene::tlas_ref).
   std::vector<Aabb> inst_boxes;
+  std::vector<Aabb> compact_boxes;
+  std::vector<Mat3x4f> compact_unit_to_world;
+  std::map<std::pair<int, int>, std::uint32_t> owner_of; // (geometry, scene instance) -> owner
+  const std::size_t owner_limit = std::size_t(std::clamp(opt.masq_owner_limit, 0, MASQ_MAX_OWNERS));
   for (std::size_t si = 0; si < scene.instances.size(); ++si) {
     const Instance& inst = scene.instances[si];
     const Geometry& g = scene.geometries[inst.geometry];
@@ -214,6 +230,25 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
       inst_boxes.push_back(transform_box(blas_box[gi], inst.object_to_world));
     }
     for (std::int32_t p : plans[std::size_t(gi)].masq_prims) {
+      if (opt.masq_instances == MasqInstances::Compact) {
+        auto owner = owner_of.find({gi, int(si)});
+        if (owner == owner_of.end() && owner_of.size() < owner_limit) {
+          owner = owner_of.emplace(std::pair<int, int>{gi, int(si)}, std::uint32_t(ps.masq_owners.size())).first;
+          ps.masq_owners.push_back({gi, int(si), {0, 0}});
+        }
+        std::optional<CompactMasquerade> cm;
+        if (owner != owner_of.end()) cm = compact_masquerade(g, std::size_t(p), inst.object_to_world, opt.curve_obb);
+        if (cm) { // else: a 64-byte Instance below
+          set_masq_owner(cm->inst, owner->second);
+          ps.stats.obb_area += cm->box.obb_area;
+          ps.stats.aabb_area += cm->box.aabb_area;
+          ps.stats.masq_prims += 1;
+          ps.masq_instances.push_back(cm->inst);
+          compact_unit_to_world.push_back(cm->box.unit_to_world);
+          compact_boxes.push_back(cm->box.world_box);
+          continue;
+        }
+      }
       MasqueradeBox mb = masquerade_box(g, std::size_t(p), inst.object_to_world, opt.curve_obb);
       ps.stats.obb_area += mb.obb_area;
       ps.stats.aabb_area += mb.aabb_area;
@@ -227,11 +262,16 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     if (!plans[gi].clusters.empty())
       append_cluster_instances(scene, int(gi), plans[gi].clusters, insts_of[gi], opt.sah, opt.cluster.leaf_price,
                                opt.builder, ps, inst_boxes);
-  ps.stats.instances = ps.instances.size();
+  if (ps.masq_instances.size() > std::size_t(INT32_MAX) - ps.instances.size())
+    throw Error("accel: more than 2^31-1 TLAS entries");
+  inst_boxes.insert(inst_boxes.end(), compact_boxes.begin(), compact_boxes.end());
+  ps.instance_object_to_world.insert(ps.instance_object_to_world.end(), compact_unit_to_world.begin(),
+                                     compact_unit_to_world.end());
+  ps.stats.instances = ps.tlas_entry_count();
   if (!inst_boxes.empty()) {
     BinaryBvh tlas = build_boxes_binary(inst_boxes, opt.sah, opt.builder);
-    std::vector<std::int32_t> ids(inst_boxes.size());
-    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
+    std::vector<std::int32_t> ids(inst_boxes.size()); // the leaves' references (entry e: tlas_ref(e))
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = ps.tlas_ref(i);
     WideBvhInfo info = append_bvh_nodes(tlas, ids, opt.nodes, ps);
     ps.tlas_root = info.root;
     ps.tlas_leaf_order.assign(tlas.order.begin(), tlas.order.end());
@@ -243,7 +283,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   // A single BLAS under an identity instance: the kernels skip the TLAS stage and the
   // ray transform (the TLAS is still built, for the rayquery backend and the stats).
   // Not for a cluster instance: its transform is the cluster's frame, not the scene's.
-  ps.features.single_blas = ps.instances.size() == 1 && ps.instances[0].blas_root >= 0 &&
+  ps.features.single_blas = ps.instances.size() == 1 && ps.masq_instances.empty() && ps.instances[0].blas_root >= 0 &&
                             ps.instances[0].prim != MASQ_INST_CLUSTER &&
                             scene.instances[ps.instances[0].scene_inst].object_to_world.is_identity();
   ps.stats.node_bytes = ps.node_bytes();

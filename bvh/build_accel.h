@@ -13,6 +13,7 @@
 #include "bvh/obb.h"
 #include "bvh/packed_scene.h"
 #include "scenes/scene.h"
+#include <string>
 
 namespace masq {
 
@@ -20,6 +21,14 @@ namespace masq {
 // keep the one bvh/structure_cost.h prices lowest, or build the mix alone (cheaper to
 // build; the tests use it to exercise TLASes that mix every instance kind).
 enum class AutoSelect { WholeStructure, MixOnly };
+
+// How masquerade primitives are stored (docs/kernels.md, "Compact masquerade
+// instances"): compact: a 32-byte MasqInstance each (kernels/layout.h); full: the
+// 64-byte Instance a hardware TLAS entry takes. Cluster and BLAS instances are always
+// Instances.
+enum class MasqInstances { Compact, Full };
+const char* masq_instances_name(MasqInstances m);
+MasqInstances parse_masq_instances(const std::string& name); // throws masq::Error
 
 struct AccelOptions {
   SahOptions sah;
@@ -31,6 +40,11 @@ struct AccelOptions {
   CostPrices prices;                    // auto: the whole-structure cost model's prices
   AutoSelect auto_select = AutoSelect::WholeStructure;
   NodeFormat nodes = NodeFormat::W4;    // BVH node layout of the TLAS and every BLAS
+  MasqInstances masq_instances = MasqInstances::Compact;
+  // Compact entries name their (geometry, scene instance) pair by a 16-bit owner index;
+  // the masquerade primitives of pairs beyond this many get 64-byte Instances (tests
+  // lower it; above MASQ_MAX_OWNERS it has no effect).
+  int masq_owner_limit = MASQ_MAX_OWNERS;
 };
 
 PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt = {});

@@ -91,8 +91,12 @@ struct PackedScene {
   std::vector<kernel::WideNode> nodes;     // w4
   std::vector<kernel::WideNode8> nodes8;   // w8
   std::vector<kernel::QuantNode8> qnodes;  // q8
-  std::vector<std::int32_t> refs;        // leaf references: instance ids (TLAS), prim ids (BLAS)
+  // Leaf references: prim ids (BLAS); TLAS entries: r >= 0 is instances[r], r < 0 the
+  // compact masquerade entry masq_instances[~r] (kernels/layout.h, MasqInstance).
+  std::vector<std::int32_t> refs;
   std::vector<kernel::Instance> instances;
+  std::vector<kernel::MasqInstance> masq_instances; // AccelOptions::masq_instances == compact
+  std::vector<kernel::MasqOwner> masq_owners;       // their (geometry, scene instance) pairs
   std::vector<kernel::Frame> frames;     // one per scene instance
   std::vector<kernel::Geometry> geoms;
   std::vector<kernel::Triangle> triangles;
@@ -103,10 +107,11 @@ struct PackedScene {
   std::int32_t tlas_root = -1;
   KernelFeatures features;
 
-  // For the rayquery backend.
+  // For the rayquery backend and the host's own walks. TLAS entry ids: e < instances.size()
+  // is instances[e], the others masq_instances[e - instances.size()] (see tlas_ref).
   std::vector<Mat3x4f> frame_object_to_world;    // per scene instance
-  std::vector<Mat3x4f> instance_object_to_world; // per TLAS instance (masquerade: unit box -> world)
-  std::vector<std::int32_t> tlas_leaf_order;     // instance ids in TLAS leaf order (submission order)
+  std::vector<Mat3x4f> instance_object_to_world; // per TLAS entry (masquerade: unit box -> world)
+  std::vector<std::int32_t> tlas_leaf_order;     // TLAS entry ids in leaf order (submission order)
   // Per geometry: its primitive ids in BLAS leaf order (submission order for the driver).
   std::vector<std::vector<std::int32_t>> geometry_leaf_order;
 
@@ -116,7 +121,16 @@ struct PackedScene {
   const void* node_data() const;
   std::size_t node_count() const;
   std::size_t node_bytes() const;
-  std::size_t acceleration_bytes() const; // nodes + refs + instances + frames
+  std::size_t acceleration_bytes() const; // nodes + refs + instances + compact entries + owners + frames
+
+  // TLAS entries: Instances, then compact masquerade entries.
+  std::size_t tlas_entry_count() const { return instances.size() + masq_instances.size(); }
+  std::int32_t tlas_ref(std::size_t entry) const; // the TLAS leaf reference of an entry
+  std::size_t tlas_entry(std::int32_t ref) const; // and back
+  // Entry e as a full Instance record (a compact entry with its decoded map rounded to
+  // fp32, geometry and scene instance from its owner): what the rayquery backend
+  // uploads and the host walks read. Throws masq::Error for an entry out of range.
+  kernel::Instance entry_instance(std::size_t entry) const;
   std::size_t primitive_bytes() const;    // geoms + all primitive arrays
 };
 

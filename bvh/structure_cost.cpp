@@ -52,9 +52,11 @@ struct Walker {
     }
   }
 
-  void instance(int id, double p_slot) {
-    const kernel::Instance& inst = ps.instances[std::size_t(id)];
-    const glm::dmat3 l = linear_part(ps.instance_object_to_world[std::size_t(id)]);
+  // A TLAS leaf reference: an Instance or a compact masquerade entry (PackedScene::tlas_ref).
+  void instance(std::int32_t ref, double p_slot) {
+    const std::size_t entry = ps.tlas_entry(ref);
+    const kernel::Instance inst = ps.entry_instance(entry);
+    const glm::dmat3 l = linear_part(ps.instance_object_to_world[entry]);
     int type = ps.geoms[std::size_t(inst.geom)].type;
     double factor = isect_type_factor(type);
     StructureCost before = c;

@@ -142,13 +142,13 @@ int bench(BenchCli& c) {
   c.bench.node_formats = node_formats(c.scene);
   c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
-  fmt::print("scene '{}': {} primitives{}, {} mode, nodes {}, {}x{} camera rays; ray sets: {}; {} warm-up + {} timed "
-             "traces, median (min-max) of device time; builders: {}\n",
+  fmt::print("scene '{}': {} primitives{}, {} mode, nodes {}, {} masquerade entries, {}x{} camera rays; ray sets: {}; "
+             "{} warm-up + {} timed traces, median (min-max) of device time; builders: {}\n",
              scene.name, scene.primitive_count(),
              bundle ? fmt::format(" ({} {} strands r={} tilt {} deg + ground plane)", c.scene.bundle.count, c.scene.prim,
                                   c.scene.bundle.radius, c.scene.bundle.tilt_deg)
                     : std::string(),
-             c.scene.mode, fmt::join(c.scene.nodes, ","), c.bench.width, c.bench.height,
+             c.scene.mode, fmt::join(c.scene.nodes, ","), c.scene.masq_instance, c.bench.width, c.bench.height,
              ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup, c.bench.repetitions,
              fmt::join(c.scene.builders, ", "));
   std::vector<BenchRow> rows = run_bench(scene, c.bench);

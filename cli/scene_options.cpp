@@ -56,6 +56,11 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->delimiter(',')
       ->capture_default_str()
       ->check(CLI::IsMember({"w4", "w8", "q8"}));
+  cmd.add_option("--masq-instance", opt.masq_instance,
+                 "Masquerade TLAS entries: compact (32 bytes: quaternion, bfloat16 scales, owner index) or full (the "
+                 "64-byte instance of RT hardware); docs/kernels.md")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"compact", "full"}));
   cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (default 1 1.5 2.5; docs/methods.md)")
       ->expected(3)
       ->check(CLI::PositiveNumber);
@@ -138,6 +143,7 @@ AccelOptions accel_options(const SceneOptions& opt) {
   a.mode = parse_mode(opt.mode);
   a.curve_obb = parse_curve_obb(opt.curve_obb);
   a.curve_iters = opt.curve_iters;
+  a.masq_instances = parse_masq_instances(opt.masq_instance);
   a.cluster.max_size = opt.cluster_size;
   a.cluster.classes = opt.cluster_classes;
   a.cluster.leaf_price = opt.cluster_leaf_price;

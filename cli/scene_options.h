@@ -32,6 +32,7 @@ struct SceneOptions {
   double sbvh_alpha = 1e-5;  // sbvh: overlap / root area that makes a spatial split worth trying
   // BVH node formats (docs/kernels.md): bench runs each side by side; the others take one.
   std::vector<std::string> nodes{"w4"};
+  std::string masq_instance = "compact"; // masquerade entries: compact (32 B) or full (64 B)
 };
 void add_scene_options(CLI::App& cmd, SceneOptions& opt);
 Scene make_scene(const SceneOptions& opt);

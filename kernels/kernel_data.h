@@ -19,12 +19,17 @@
 #define MASQ_BINDING_CONES 10
 #define MASQ_BINDING_SPHERES 11
 #define MASQ_BINDING_CURVES 12
-#define MASQ_BINDING_COUNT 13
 // The binary bounding-volume hierarchies (kernels/bv_traverse.h) add two arrays; their
 // kernels use bindings 0..MASQ_BV_BINDING_COUNT-1 (0 and 1, the wide BVH, stay unused).
+// Ray query uses 13 and 14 for its own arrays (kernels/rayquery.comp).
 #define MASQ_BINDING_BV_NODES 13
 #define MASQ_BINDING_BV_PRIMS 14
 #define MASQ_BV_BINDING_COUNT 15
+// Compact masquerade entries and their owners (kernels/layout.h, MasqInstance): after
+// the numbers the bv and ray query kernels take, so every kernel keeps its bindings.
+#define MASQ_BINDING_MASQ_INSTANCES 15
+#define MASQ_BINDING_MASQ_OWNERS 16
+#define MASQ_BINDING_COUNT 17 // the trace kernel's bindings: 0..16 (13 and 14 unused there)
 
 // Vulkan, addressed mode (MASQ_KD_ADDRESSES=1, a glslang -D): no array is bound; a
 // uniform table holds each array's buffer device address at slot = its binding number,
@@ -33,7 +38,7 @@
 // the binding limit (host/vulkan/trace_dispatch.h, docs/kernels.md).
 #define MASQ_BINDING_ADDRESSES 20
 #define MASQ_ADDRESS_SLOTS 20
-#if MASQ_BV_BINDING_COUNT > MASQ_ADDRESS_SLOTS
+#if MASQ_BV_BINDING_COUNT > MASQ_ADDRESS_SLOTS || MASQ_BINDING_COUNT > MASQ_ADDRESS_SLOTS
 #error "kernel_data.h: more bindings than address slots"
 #endif
 
@@ -60,6 +65,8 @@ MASQ_KD_ARRAY(WideNode, nodes, MASQ_BINDING_NODES)
 MASQ_KD_ARRAY(uint, node_words, MASQ_BINDING_NODES) // the same array as words (node formats w8, q8)
 MASQ_KD_ARRAY(int, refs, MASQ_BINDING_REFS)
 MASQ_KD_ARRAY(Instance, instances, MASQ_BINDING_INSTANCES)
+MASQ_KD_ARRAY(MasqInstance, masq_instances, MASQ_BINDING_MASQ_INSTANCES)
+MASQ_KD_ARRAY(MasqOwner, masq_owners, MASQ_BINDING_MASQ_OWNERS)
 MASQ_KD_ARRAY(Frame, frames, MASQ_BINDING_FRAMES)
 MASQ_KD_ARRAY(Geometry, geoms, MASQ_BINDING_GEOMS)
 MASQ_KD_ARRAY(Triangle, triangles, MASQ_BINDING_TRIANGLES)
@@ -79,6 +86,8 @@ STRUCT_BEGIN(KernelData)
   MASQ_GLOBAL const uint* node_words; // the same array as words (node formats w8, q8)
   MASQ_GLOBAL const int* refs;
   MASQ_GLOBAL const Instance* instances;
+  MASQ_GLOBAL const MasqInstance* masq_instances; // compact masquerade entries (TLAS refs < 0)
+  MASQ_GLOBAL const MasqOwner* masq_owners;
   MASQ_GLOBAL const Frame* frames;
   MASQ_GLOBAL const Geometry* geoms;
   MASQ_GLOBAL const Triangle* triangles;

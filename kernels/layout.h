@@ -107,7 +107,8 @@ STRUCT_END(QuantNode8)
 // blas_root < 0: a masquerade instance: the transform maps the primitive's OBB onto
 // the unit box [-1,1]^3, whose test is the whole BLAS; then the world-space
 // intersector runs on primitive `prim` of geometry `geom`, in the frame of scene
-// instance `scene_inst`. 64 bytes: the masquerade's per-primitive memory cost.
+// instance `scene_inst`. 64 bytes, as a hardware instance; masq's default packs a
+// masquerade entry into a 32-byte MasqInstance instead (below).
 // blas_root >= 0 and prim == MASQ_INST_CLUSTER: an oriented cluster (method cluster,
 // docs/methods.md): the transform maps the world into the cluster's local frame, the
 // BLAS boxes are the members' bounds in that frame (OBBs in the world), and the BLAS
@@ -121,6 +122,41 @@ STRUCT_BEGIN(Instance)
   int prim;
   int scene_inst;
 STRUCT_END(Instance)
+
+// A compact masquerade entry (docs/kernels.md, "Compact masquerade instances"): the
+// same world -> unit-box map as a masquerade Instance in 32 bytes instead of 64, so
+// that masq's memory stays within 1.5x ref's. TLAS leaves reference it by a negative
+// ref r (entry ~r); refs >= 0 are Instances, so both kinds share one TLAS.
+//  t:   the translation of the map, fp32, as verified by the host.
+//  q01, q23: a rotation as a quaternion (x, y | z, w), 16-bit two's complement
+//       integers (x in the low half of q01). The kernel forms N = |q|^2 R(q) with the
+//       homogeneous formula in EXACT integer arithmetic (|N_ij| <= |q|^2 < 2^31), so
+//       the decoded axes are exactly orthonormal whatever q's norm.
+//  s01, s2_owner: per-axis scales sigma_x (low half of s01), sigma_y (high half),
+//       sigma_z (high half of s2_owner) as bfloat16, i.e. the upper 16 bits of an fp32;
+//       the host folds 1/|q|^2 into them. The low half of s2_owner is an index into
+//       the MasqOwner table (geometry and scene instance).
+// Linear part: M_ij = sigma_i * N_ji (M = diag(s) R^T), two roundings per entry and no
+// addition, so fma contraction cannot change it: each entry is within two roundings of
+// sigma_i * N_ji, and the host proves the primitive inside the unit box under every
+// matrix that close (with a 2x margin; bvh/compact_instance.cpp).
+#define MASQ_OWNER_MASK 0xFFFFu
+#define MASQ_MAX_OWNERS 65536
+STRUCT_BEGIN(MasqInstance)
+  float t[3];
+  int prim;
+  uint q01;
+  uint q23;
+  uint s01;
+  uint s2_owner;
+STRUCT_END(MasqInstance)
+
+// What compact masquerade entries share: their geometry and scene instance.
+STRUCT_BEGIN(MasqOwner)
+  int geom;
+  int scene_inst;
+  int pad[2];
+STRUCT_END(MasqOwner)
 
 // A scene instance's frame (what the user placed): world-to-object, row-major 3x4.
 STRUCT_BEGIN(Frame)
@@ -220,6 +256,8 @@ STATIC_ASSERT(sizeof(WideNode) == 128, wide_node_size);
 STATIC_ASSERT(sizeof(WideNode8) == 4 * MASQ_W8_WORDS, wide_node8_size);
 STATIC_ASSERT(sizeof(QuantNode8) == 4 * MASQ_Q8_WORDS, quant_node8_size);
 STATIC_ASSERT(sizeof(Instance) == 64, instance_size);
+STATIC_ASSERT(sizeof(MasqInstance) == 32, masq_instance_size);
+STATIC_ASSERT(sizeof(MasqOwner) == 16, masq_owner_size);
 STATIC_ASSERT(sizeof(Frame) == 64, frame_size);
 STATIC_ASSERT(sizeof(Geometry) == 16, geometry_size);
 STATIC_ASSERT(sizeof(Triangle) == 48, triangle_size);

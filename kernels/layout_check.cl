@@ -8,7 +8,7 @@
 #include "layout.h"
 
 #define MASQ_LAYOUT_STRUCTS(S) \
-  S(WideNode) S(Instance) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(RoundCone) S(Sphere) S(Curve) S(Ray) \
+  S(WideNode) S(Instance) S(MasqInstance) S(MasqOwner) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(RoundCone) S(Sphere) S(Curve) S(Ray) \
   S(Hit) S(RayStats) S(TraceParams) S(WideNode8) S(QuantNode8) S(BvNodeAabb) S(BvNodeSphere) S(BvNodeObb) S(BvNodeScb) S(BvPrimRef)
 
 #define MASQ_LAYOUT_WideNode(F, A) \
@@ -25,6 +25,10 @@
   A(QuantNode8, qhi_y, 2) A(QuantNode8, qlo_z, 2) A(QuantNode8, qhi_z, 2)
 #define MASQ_LAYOUT_Instance(F, A) \
   A(Instance, world_to_object, 12) F(Instance, blas_root) F(Instance, geom) F(Instance, prim) F(Instance, scene_inst)
+#define MASQ_LAYOUT_MasqInstance(F, A) \
+  A(MasqInstance, t, 3) F(MasqInstance, prim) F(MasqInstance, q01) F(MasqInstance, q23) F(MasqInstance, s01) \
+  F(MasqInstance, s2_owner)
+#define MASQ_LAYOUT_MasqOwner(F, A) F(MasqOwner, geom) F(MasqOwner, scene_inst) A(MasqOwner, pad, 2)
 #define MASQ_LAYOUT_Frame(F, A) A(Frame, world_to_object, 12) A(Frame, pad, 4)
 #define MASQ_LAYOUT_Geometry(F, A) F(Geometry, type) F(Geometry, first) F(Geometry, count) F(Geometry, pad)
 #define MASQ_LAYOUT_Triangle(F, A) A(Triangle, v0, 3) A(Triangle, v1, 3) A(Triangle, v2, 3) A(Triangle, pad, 3)

@@ -28,23 +28,27 @@ layout(std430, binding = 11) readonly buffer In11 { RayStats in_stats[]; };
 layout(std430, binding = 12) readonly buffer In12 { TraceParams in_params[]; };
 layout(std430, binding = 13) readonly buffer In13 { WideNode8 in_nodes8[]; };
 layout(std430, binding = 14) readonly buffer In14 { QuantNode8 in_qnodes[]; };
-layout(std430, binding = 15) writeonly buffer FlatOut { uint flat_out[]; };
-layout(std430, binding = 16) readonly buffer FlatIn { uint flat_in[]; };
-layout(std430, binding = 17) writeonly buffer Out0 { WideNode out_nodes[]; };
-layout(std430, binding = 18) writeonly buffer Out1 { Instance out_instances[]; };
-layout(std430, binding = 19) writeonly buffer Out2 { Frame out_frames[]; };
-layout(std430, binding = 20) writeonly buffer Out3 { Geometry out_geoms[]; };
-layout(std430, binding = 21) writeonly buffer Out4 { Triangle out_triangles[]; };
-layout(std430, binding = 22) writeonly buffer Out5 { Capsule out_capsules[]; };
-layout(std430, binding = 23) writeonly buffer Out6 { RoundCone out_round_cones[]; };
-layout(std430, binding = 24) writeonly buffer Out7 { Sphere out_spheres[]; };
-layout(std430, binding = 25) writeonly buffer Out8 { Curve out_curves[]; };
-layout(std430, binding = 26) writeonly buffer Out9 { Ray out_rays[]; };
-layout(std430, binding = 27) writeonly buffer Out10 { Hit out_hits[]; };
-layout(std430, binding = 28) writeonly buffer Out11 { RayStats out_stats[]; };
-layout(std430, binding = 29) writeonly buffer Out12 { TraceParams out_params[]; };
-layout(std430, binding = 30) writeonly buffer Out13 { WideNode8 out_nodes8[]; };
-layout(std430, binding = 31) writeonly buffer Out14 { QuantNode8 out_qnodes[]; };
+layout(std430, binding = 15) readonly buffer In15 { MasqInstance in_masq[]; };
+layout(std430, binding = 16) readonly buffer In16 { MasqOwner in_owners[]; };
+layout(std430, binding = 17) writeonly buffer FlatOut { uint flat_out[]; };
+layout(std430, binding = 18) readonly buffer FlatIn { uint flat_in[]; };
+layout(std430, binding = 19) writeonly buffer Out0 { WideNode out_nodes[]; };
+layout(std430, binding = 20) writeonly buffer Out1 { Instance out_instances[]; };
+layout(std430, binding = 21) writeonly buffer Out2 { Frame out_frames[]; };
+layout(std430, binding = 22) writeonly buffer Out3 { Geometry out_geoms[]; };
+layout(std430, binding = 23) writeonly buffer Out4 { Triangle out_triangles[]; };
+layout(std430, binding = 24) writeonly buffer Out5 { Capsule out_capsules[]; };
+layout(std430, binding = 25) writeonly buffer Out6 { RoundCone out_round_cones[]; };
+layout(std430, binding = 26) writeonly buffer Out7 { Sphere out_spheres[]; };
+layout(std430, binding = 27) writeonly buffer Out8 { Curve out_curves[]; };
+layout(std430, binding = 28) writeonly buffer Out9 { Ray out_rays[]; };
+layout(std430, binding = 29) writeonly buffer Out10 { Hit out_hits[]; };
+layout(std430, binding = 30) writeonly buffer Out11 { RayStats out_stats[]; };
+layout(std430, binding = 31) writeonly buffer Out12 { TraceParams out_params[]; };
+layout(std430, binding = 32) writeonly buffer Out13 { WideNode8 out_nodes8[]; };
+layout(std430, binding = 33) writeonly buffer Out14 { QuantNode8 out_qnodes[]; };
+layout(std430, binding = 34) writeonly buffer Out15 { MasqInstance out_masq[]; };
+layout(std430, binding = 35) writeonly buffer Out16 { MasqOwner out_owners[]; };
 layout(push_constant) uniform Params { uint n; } pc;
 
 // Words per struct, and the running start of each section (in units of n).
@@ -63,6 +67,8 @@ layout(push_constant) uniform Params { uint n; } pc;
 #define W_PARAMS 4u
 #define W_NODE8 64u
 #define W_QNODE 20u
+#define W_MASQ 8u
+#define W_OWNER 4u
 
 uint w; // next flat word
 #define PUTF(x) flat_out[w++] = floatBitsToUint(x)
@@ -354,4 +360,38 @@ void main() {
   for (j = 0; j < 2; ++j) qb.qlo_z[j] = flat_in[w++];
   for (j = 0; j < 2; ++j) qb.qhi_z[j] = flat_in[w++];
   out_qnodes[i] = qb;
+  base += pc.n * W_QNODE;
+
+  // MasqInstance
+  w = base + i * W_MASQ;
+  MasqInstance ma = in_masq[i];
+  for (j = 0; j < 3; ++j) PUTF(ma.t[j]);
+  PUTI(ma.prim);
+  PUTI(ma.q01);
+  PUTI(ma.q23);
+  PUTI(ma.s01);
+  PUTI(ma.s2_owner);
+  w = base + i * W_MASQ;
+  MasqInstance mb;
+  for (j = 0; j < 3; ++j) mb.t[j] = GETF;
+  mb.prim = GETI;
+  mb.q01 = flat_in[w++];
+  mb.q23 = flat_in[w++];
+  mb.s01 = flat_in[w++];
+  mb.s2_owner = flat_in[w++];
+  out_masq[i] = mb;
+  base += pc.n * W_MASQ;
+
+  // MasqOwner
+  w = base + i * W_OWNER;
+  MasqOwner oa = in_owners[i];
+  PUTI(oa.geom);
+  PUTI(oa.scene_inst);
+  for (j = 0; j < 2; ++j) PUTI(oa.pad[j]);
+  w = base + i * W_OWNER;
+  MasqOwner ob;
+  ob.geom = GETI;
+  ob.scene_inst = GETI;
+  for (j = 0; j < 2; ++j) ob.pad[j] = GETI;
+  out_owners[i] = ob;
 }

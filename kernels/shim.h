@@ -48,6 +48,7 @@ inline bool isfinite_(float x) { return std::isfinite(x); }
 inline float as_float_(uint u) { return std::bit_cast<float>(u); }
 inline int u2i_(uint u) { return std::bit_cast<int>(u); }
 inline float u2f_(uint u) { return float(u); }
+inline float i2f_(int i) { return float(i); }
 } // namespace masq::kernel
 
 #elif defined(__OPENCL_VERSION__)
@@ -72,6 +73,7 @@ typedef float3 vec3;
 #define as_float_(u) as_float(u)
 #define u2i_(u) as_int(u)
 #define u2f_(u) convert_float(u)
+#define i2f_(i) convert_float(i)
 
 #else
 // ---------------------------------------------------------------- GLSL 4.60 (Vulkan)
@@ -93,6 +95,7 @@ typedef float3 vec3;
 #define as_float_(u) uintBitsToFloat(u)
 #define u2i_(u) int(u)
 #define u2f_(u) float(u)
+#define i2f_(i) float(i)
 #endif
 
 // Buffer access. GLSL binds each array as a global SSBO (or reads it by device address); OpenCL and C++ pass one struct

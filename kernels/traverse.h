@@ -7,6 +7,7 @@
 #define MASQ_KERNEL_TRAVERSE_H
 #include "node_formats.h"
 #include "intersect_primitive.h"
+#include "masq_instance.h"
 
 KERNEL_NS_BEGIN
 
@@ -196,25 +197,45 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
       int i = co.slot[k];
       if (wh.count[i] <= 0 || wh.tnear[i] > best.t) continue;
       for (int j = 0; j < wh.count[i]; ++j) {
-        Instance inst = KD(instances)[KD(refs)[wh.child[i] + j]];
-        Affine m = affine_from_instance(inst);
+        // ref >= 0: an Instance; ref < 0: compact masquerade entry ~ref (same branch).
+        int ref = KD(refs)[wh.child[i] + j];
+        Affine m;
+        int blas_root = -1;
+        int geom;
+        int prim;
+        int scene_inst;
+        if (ref >= 0) {
+          Instance inst = KD(instances)[ref];
+          m = affine_from_instance(inst);
+          blas_root = inst.blas_root;
+          geom = inst.geom;
+          prim = inst.prim;
+          scene_inst = inst.scene_inst;
+        } else {
+          MasqInstance c = KD(masq_instances)[-1 - ref];
+          MasqOwner owner = KD(masq_owners)[masq_owner_index(c)];
+          m = affine_from_masq(c);
+          geom = owner.geom;
+          prim = c.prim;
+          scene_inst = owner.scene_inst;
+        }
         vec3 oo = affine_point(m, wo);
         vec3 od = affine_vector(m, wd);
         if (MASQ_STATS) res.stats.transforms = res.stats.transforms + 1;
-        if (inst.blas_root >= 0) {
+        if (blas_root >= 0) {
           // Cluster: boxes in the cluster's frame, primitives on the scene-frame ray.
-          bool cluster = inst.prim == MASQ_INST_CLUSTER;
+          bool cluster = prim == MASQ_INST_CLUSTER;
           vec3 po = oo;
           vec3 pd = od;
           vec3 pad = VEC3(0.0f, 0.0f, 0.0f);
           if (cluster) {
-            Affine f = affine_from_frame(KD(frames)[inst.scene_inst]);
+            Affine f = affine_from_frame(KD(frames)[scene_inst]);
             po = affine_point(f, wo);
             pd = affine_vector(f, wd);
             if (MASQ_ROBUST) pad = transform_pad(m, wo, wd, wh.tfar[i]);
           }
           int padded = (cluster && MASQ_ROBUST) ? 1 : 0;
-          BlasOut bo = traverse_blas(KD_ARG inst.blas_root, inst.geom, inst.scene_inst, oo, od, padded, pad, po, pd,
+          BlasOut bo = traverse_blas(KD_ARG blas_root, geom, scene_inst, oo, od, padded, pad, po, pd,
                                      tmin, best);
           best = bo.nearest;
           if (MASQ_STATS) {
@@ -232,11 +253,11 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
           bool in_box = MASQ_ROBUST ? hit_unit_box_padded(m, wo, wd, oo, od, tmin, best.t, wh.tfar[i])
                                     : hit_unit_box(oo, od, tmin, best.t);
           if (!in_box) continue;
-          Affine f = affine_from_frame(KD(frames)[inst.scene_inst]);
-          Geometry g = KD(geoms)[inst.geom];
+          Affine f = affine_from_frame(KD(frames)[scene_inst]);
+          Geometry g = KD(geoms)[geom];
           if (MASQ_STATS) res.stats.isect_calls = res.stats.isect_calls + 1;
-          PrimHit ph = intersect_primitive(KD_ARG g, inst.prim, affine_point(f, wo), affine_vector(f, wd), tmin, best.t);
-          best = nearest_take(best, ph, inst.prim, inst.geom, inst.scene_inst);
+          PrimHit ph = intersect_primitive(KD_ARG g, prim, affine_point(f, wo), affine_vector(f, wd), tmin, best.t);
+          best = nearest_take(best, ph, prim, geom, scene_inst);
           if (MASQ_ANY_HIT && best.prim >= 0) {
             res.hit = hit_from_nearest(KD_ARG best);
             return res;

@@ -96,7 +96,20 @@ TEST(Bvh, MasqueradeMakesOneInstancePerCapsule) {
   PackedScene ref = build_accel(s, Method::Ref);
   PackedScene masq = build_accel(s, Method::Masq);
   EXPECT_EQ(ref.instances.size(), 2u);
-  EXPECT_EQ(masq.instances.size(), 1001u); // 1000 capsules + the ground plane's BLAS instance
-  EXPECT_EQ(masq.tlas_leaf_order.size(), masq.instances.size());
+  EXPECT_EQ(masq.tlas_entry_count(), 1001u); // 1000 capsules + the ground plane's BLAS instance
+  EXPECT_EQ(masq.instances.size(), 1u);      // the BLAS instance; the capsules are compact entries
+  EXPECT_EQ(masq.masq_instances.size(), 1000u);
+  EXPECT_EQ(masq.masq_owners.size(), 1u);
+  EXPECT_EQ(masq.tlas_leaf_order.size(), masq.tlas_entry_count());
+  EXPECT_EQ(masq.stats.instances, masq.tlas_entry_count());
   EXPECT_EQ(sizeof(kernel::Instance), 64u);
+  EXPECT_EQ(sizeof(kernel::MasqInstance), 32u);
+  AccelOptions full;
+  full.masq_instances = MasqInstances::Full;
+  PackedScene masq64 = build_accel(s, Method::Masq, full);
+  EXPECT_EQ(masq64.instances.size(), 1001u);
+  EXPECT_TRUE(masq64.masq_instances.empty());
+  // 32 bytes less per capsule, plus one owner (the TLAS nodes may differ: other boxes).
+  EXPECT_EQ((masq64.acceleration_bytes() - masq64.node_bytes()) - (masq.acceleration_bytes() - masq.node_bytes()),
+            1000u * 32u - 16u);
 }

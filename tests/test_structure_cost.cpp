@@ -109,6 +109,8 @@ TEST(AutoSelect, KeepsTheCandidatesBytes) {
     EXPECT_TRUE(same_bytes(a.nodes, c.nodes));
     EXPECT_TRUE(same_bytes(a.refs, c.refs));
     EXPECT_TRUE(same_bytes(a.instances, c.instances));
+    EXPECT_TRUE(same_bytes(a.masq_instances, c.masq_instances));
+    EXPECT_TRUE(same_bytes(a.masq_owners, c.masq_owners));
     EXPECT_EQ(a.tlas_root, c.tlas_root);
     EXPECT_EQ(a.stats.model_cost, a.stats.auto_candidates[std::size_t(kept)]);
   }

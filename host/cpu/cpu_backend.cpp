@@ -34,6 +34,8 @@ class CpuBackend final : public Backend {
     kd_.node_words = static_cast<const std::uint32_t*>(scene_.node_data()); // w8, q8
     kd_.refs = scene_.refs.data();
     kd_.instances = scene_.instances.data();
+    kd_.masq_instances = scene_.masq_instances.data();
+    kd_.masq_owners = scene_.masq_owners.data();
     kd_.frames = scene_.frames.data();
     kd_.geoms = scene_.geoms.data();
     kd_.triangles = scene_.triangles.data();

@@ -23,7 +23,8 @@ constexpr std::size_t kMaxWindowRays = std::size_t{1} << 30;
 constexpr std::size_t kDummyBytes = 16;
 
 struct SceneBuffers {
-  cl::Buffer nodes, refs, instances, frames, geoms, triangles, capsules, cones, spheres, curves;
+  cl::Buffer nodes, refs, instances, masq_instances, masq_owners, frames, geoms, triangles, capsules, cones, spheres,
+      curves;
   int tlas_root = -1;
   KernelFeatures features;
   std::size_t bytes = 0;
@@ -55,6 +56,8 @@ class OpenClBackend final : public Backend {
     sb.nodes = upload_bytes("nodes", scene.node_data(), scene.node_bytes(), sb.bytes); // any node format
     sb.refs = upload("refs", scene.refs, sb.bytes);
     sb.instances = upload("instances", scene.instances, sb.bytes);
+    sb.masq_instances = upload("compact masquerade instances", scene.masq_instances, sb.bytes);
+    sb.masq_owners = upload("compact masquerade owners", scene.masq_owners, sb.bytes);
     sb.frames = upload("frames", scene.frames, sb.bytes);
     sb.geoms = upload("geoms", scene.geoms, sb.bytes);
     sb.triangles = upload("triangles", scene.triangles, sb.bytes);
@@ -111,6 +114,8 @@ class OpenClBackend final : public Backend {
     check(k.setArg(11, hit_buf_), "clSetKernelArg(hits)");
     check(k.setArg(12, stat_buf_), "clSetKernelArg(stats)");
     check(k.setArg(14, cl_int(sb.tlas_root)), "clSetKernelArg(tlas_root)");
+    check(k.setArg(16, sb.masq_instances), "clSetKernelArg(masq_instances)");
+    check(k.setArg(17, sb.masq_owners), "clSetKernelArg(masq_owners)");
 
     std::vector<cl::Event> events;
     for (std::size_t w0 = 0; w0 < n; w0 += window) {

@@ -175,12 +175,12 @@ class RayQueryBackend final : public Backend {
     if (s.frame_object_to_world.size() != s.frames.size())
       throw Error(fmt::format("rayquery: {} frames but {} frame_object_to_world transforms", s.frames.size(),
                               s.frame_object_to_world.size()));
-    if (s.tlas_leaf_order.size() != s.instances.size())
+    if (s.tlas_leaf_order.size() != s.tlas_entry_count())
       throw Error(fmt::format("rayquery: tlas_leaf_order has {} entries for {} instances", s.tlas_leaf_order.size(),
-                              s.instances.size()));
+                              s.tlas_entry_count()));
     for (std::int32_t i : s.tlas_leaf_order)
-      if (i < 0 || static_cast<std::size_t>(i) >= s.instances.size())
-        throw Error(fmt::format("rayquery: tlas_leaf_order names instance {} of {}", i, s.instances.size()));
+      if (i < 0 || static_cast<std::size_t>(i) >= s.tlas_entry_count())
+        throw Error(fmt::format("rayquery: tlas_leaf_order names instance {} of {}", i, s.tlas_entry_count()));
   }
 
   std::uint64_t max_instances() const {
@@ -196,7 +196,8 @@ class RayQueryBackend final : public Backend {
   void plan(const PackedScene& s) { plan_ = vk::plan_ray_query(s, max_primitives()); }
 
   // One Instance record per TLAS entry, in submission order (the shader reads record
-  // parts[p].first + custom index).
+  // parts[p].first + custom index); compact masquerade entries are expanded, since the
+  // driver's instance, not the record, carries their map.
   void upload_instance_records(const PackedScene& s) {
     scene_.add(*ctx_, kName, MASQ_BINDING_INSTANCES, "instance records (one per TLAS entry)",
                plan_.entries.size() * sizeof(kernel::Instance), [&](vk::Buffer& b) {
@@ -206,7 +207,7 @@ class RayQueryBackend final : public Backend {
                    std::size_t n = std::min(kChunk, plan_.entries.size() - first);
                    chunk.resize(n);
                    for (std::size_t k = 0; k < n; ++k)
-                     chunk[k] = s.instances[static_cast<std::size_t>(plan_.entries[first + k].inst)];
+                     chunk[k] = s.entry_instance(static_cast<std::size_t>(plan_.entries[first + k].inst));
                    b.upload(chunk.data(), n * sizeof(kernel::Instance), first * sizeof(kernel::Instance));
                  }
                });
@@ -321,7 +322,7 @@ class RayQueryBackend final : public Backend {
                                                 std::uint32_t rank) {
     const bool robust = s.features.mode == Mode::Robust;
     const std::size_t i = static_cast<std::size_t>(en.inst);
-    const kernel::Instance& inst = s.instances[i];
+    const kernel::Instance inst = s.entry_instance(i); // a compact entry with its decoded map
     VkAccelerationStructureInstanceKHR e{};
     e.instanceCustomIndex = rank;
     e.mask = 0xFF;

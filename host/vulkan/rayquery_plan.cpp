@@ -27,7 +27,7 @@ RayQueryPlan plan_ray_query(const PackedScene& s, std::uint64_t max_primitives) 
     throw Error(fmt::format("rayquery: {} bottom-level structures; SBT record offsets hold 24 bits",
                             plan.blas.size()));
   for (std::int32_t i : s.tlas_leaf_order) {
-    const kernel::Instance& inst = s.instances.at(static_cast<std::size_t>(i));
+    const kernel::Instance inst = s.entry_instance(static_cast<std::size_t>(i)); // compact ones expanded
     if (inst.prim == MASQ_INST_CLUSTER) plan.entries.push_back({i, plan.clusters.at(inst.blas_root)});
     else if (inst.blas_root >= 0)
       for (std::int32_t b : geom_blas[static_cast<std::size_t>(inst.geom)]) plan.entries.push_back({i, b});

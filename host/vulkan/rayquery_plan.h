@@ -26,7 +26,7 @@ struct RayQueryPlan {
     std::size_t first, count;
   };
   struct Entry {
-    std::int32_t inst; // index into PackedScene::instances
+    std::int32_t inst; // TLAS entry id (PackedScene::entry_instance)
     std::int32_t blas; // BLAS id (SBT record offset); 0 for masquerade (the unit box)
   };
   std::vector<Blas> blas;               // by BLAS id
@@ -35,7 +35,7 @@ struct RayQueryPlan {
 };
 
 // Throws masq::Error "rayquery: ..." for more than 2^24-1 BLAS (SBT offsets hold 24 bits)
-// or a malformed leaf order. tlas_leaf_order must name valid instances.
+// or a malformed leaf order. tlas_leaf_order must name valid TLAS entries.
 RayQueryPlan plan_ray_query(const PackedScene& s, std::uint64_t max_primitives);
 
 // Primitive ids of geometry g in submission order (identity when the builder gave none;

@@ -74,6 +74,12 @@ void add_scene_arrays(SceneBuffers& b, Context& ctx, const char* backend, const 
         [&](Buffer& buf) { buf.upload(s.node_data(), node_bytes); });
   b.add(ctx, backend, MASQ_BINDING_REFS, "scene refs", with_bvh ? s.refs : none);
   if (with_instances) b.add(ctx, backend, MASQ_BINDING_INSTANCES, "scene instances", s.instances);
+  // Compact masquerade entries are TLAS leaves of masq's own BVH (none for ray query).
+  const std::vector<kernel::MasqInstance> no_compact;
+  const std::vector<kernel::MasqOwner> no_owners;
+  b.add(ctx, backend, MASQ_BINDING_MASQ_INSTANCES, "compact masquerade instances",
+        with_bvh ? s.masq_instances : no_compact);
+  b.add(ctx, backend, MASQ_BINDING_MASQ_OWNERS, "compact masquerade owners", with_bvh ? s.masq_owners : no_owners);
   b.add(ctx, backend, MASQ_BINDING_FRAMES, "scene frames", s.frames);
   b.add(ctx, backend, MASQ_BINDING_GEOMS, "scene geoms", s.geoms);
   b.add(ctx, backend, MASQ_BINDING_TRIANGLES, "scene triangles", s.triangles);

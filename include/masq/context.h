@@ -17,6 +17,9 @@ struct AccelOptions {
   Mode mode = Mode::Robust;
   Builder builder = Builder::Sah;
   NodeFormat nodes = NodeFormat::W4;
+  /// Masquerade TLAS entries as 32-byte compact records (quaternion, bfloat16 scales;
+  /// default) or, when false, as the 64-byte instances RT hardware stores (same hits).
+  bool compact_masquerade = true;
 };
 
 /// Figures of a built Accel.
