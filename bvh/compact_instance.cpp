@@ -191,24 +191,9 @@ std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size
   c.s01 = (sigma[0] >> 16) | (sigma[1] & 0xFFFF0000u);
   c.s2_owner = sigma[2] & 0xFFFF0000u;
 
-  CompactMasquerade out;
-  out.inst = c;
-  const Affine3 dec = decode_masq_instance(c);
-  const Affine3 u2w = inverse(dec);
-  out.box.world_to_unit = to_mat3x4f(dec);
-  out.box.unit_to_world = to_mat3x4f(u2w);
-  Aabb corners;
-  for (int k = 0; k < 8; ++k) corners.grow(u2w.apply_point(glm::dvec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1)));
-  out.box.world_box = Aabb::intersect(exact, corners);
-  for (int k = 0; k < 3; ++k)
-    if (!(out.box.world_box.lo[k] <= out.box.world_box.hi[k]) || !std::isfinite(out.box.world_box.lo[k]) ||
-        !std::isfinite(out.box.world_box.hi[k]))
-      return std::nullopt;
-  const glm::dvec3 e0 = u2w.linear[0], e1 = u2w.linear[1], e2 = u2w.linear[2];
-  out.box.obb_area =
-      8.0 * (glm::length(glm::cross(e0, e1)) + glm::length(glm::cross(e1, e2)) + glm::length(glm::cross(e2, e0)));
-  out.box.aabb_area = exact.area();
-  return out;
+  std::optional<MasqueradeBox> box = complete_masquerade_box(decode_masq_instance(c), exact);
+  if (!box) return std::nullopt;
+  return CompactMasquerade{c, *box};
 }
 
 } // namespace masq

@@ -154,7 +154,7 @@ MasqueradeBox masquerade_box(const Geometry& g, std::size_t prim, const Affine3&
   unit_to_world.translation = xf.apply_point(unit_to_object.translation);
   Affine3 world_to_unit = inverse(unit_to_world);
 
-  MasqueradeBox out;
+  Mat3x4f stored;
   // Round to fp32, then shrink the map until the stored matrix provably maps the
   // primitive inside [-1,1]^3. Rounding can push it out by a few ulps of the map's
   // largest entry, and re-rounding after a shrink errs again by as much (for a thin
@@ -165,26 +165,31 @@ MasqueradeBox masquerade_box(const Geometry& g, std::size_t prim, const Affine3&
     Affine3 scaled = world_to_unit;
     scaled.linear *= shrink;
     scaled.translation *= shrink;
-    out.world_to_unit = to_mat3x4f(scaled);
-    double e = unit_extent(h, xf, out.world_to_unit);
+    stored = to_mat3x4f(scaled);
+    double e = unit_extent(h, xf, stored);
     if (e <= 1.0) break;
     if (attempt == 24 || !std::isfinite(e)) throw Error("obb: could not fit a conservative fp32 masquerade transform");
     shrink *= (1.0 - 4.0 * 5.96e-8) / (1.0 + double(1 << attempt) * (e - 1.0));
   }
-  out.unit_to_world = to_mat3x4f(inverse(from_mat3x4f(out.world_to_unit)));
-  Aabb exact = hull_world_box(h, xf);
-  out.world_box = Aabb::intersect(exact, [&] {
-    Aabb corners;
-    Affine3 u2w = inverse(from_mat3x4f(out.world_to_unit));
-    for (int i = 0; i < 8; ++i)
-      corners.grow(u2w.apply_point(glm::dvec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1)));
-    return corners;
-  }());
+  std::optional<MasqueradeBox> done = complete_masquerade_box(from_mat3x4f(stored), hull_world_box(h, xf));
+  if (!done)
+    throw Error(std::string("obb: the oriented box of a ") + prim_type_name(g.type) + " came out empty or not finite");
+  return *done;
+}
+
+std::optional<MasqueradeBox> complete_masquerade_box(const Affine3& world_to_unit, const Aabb& exact) {
+  MasqueradeBox out;
+  const Affine3 u2w = inverse(world_to_unit);
+  out.world_to_unit = to_mat3x4f(world_to_unit);
+  out.unit_to_world = to_mat3x4f(u2w);
+  Aabb corners;
+  for (int i = 0; i < 8; ++i) corners.grow(u2w.apply_point(glm::dvec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1)));
+  out.world_box = Aabb::intersect(exact, corners);
   for (int k = 0; k < 3; ++k)
     if (!(out.world_box.lo[k] <= out.world_box.hi[k]) || !std::isfinite(out.world_box.lo[k]) ||
         !std::isfinite(out.world_box.hi[k]))
-      throw Error(std::string("obb: the oriented box of a ") + prim_type_name(g.type) + " came out empty or not finite");
-  glm::dvec3 e0 = unit_to_world.linear[0], e1 = unit_to_world.linear[1], e2 = unit_to_world.linear[2];
+      return std::nullopt;
+  const glm::dvec3 e0 = u2w.linear[0], e1 = u2w.linear[1], e2 = u2w.linear[2];
   out.obb_area = 8.0 * (glm::length(glm::cross(e0, e1)) + glm::length(glm::cross(e1, e2)) + glm::length(glm::cross(e2, e0)));
   out.aabb_area = exact.area();
   return out;

@@ -5,6 +5,7 @@
 #include "bvh/packed_scene.h"
 #include "bvh/prim_bounds.h"
 #include "scenes/scene.h"
+#include <optional>
 #include <string>
 
 namespace masq {
@@ -46,6 +47,12 @@ struct MasqueradeBox {
 MasqueradeBox masquerade_box(const Geometry& g, std::size_t prim, const Affine3& object_to_world,
                              CurveObb curve_obb = CurveObb::Tight);
 MasqueradeBox capsule_masquerade_box(const CapsulePrim& c, const Affine3& object_to_world);
+
+// The rest of a MasqueradeBox once its world-to-unit map is final (as stored, or as the
+// kernel decodes a compact entry): the inverse, the TLAS box (the primitive's exact
+// world box `exact` clipped by the unit box's world image) and both areas. nullopt when
+// the box comes out empty or not finite.
+std::optional<MasqueradeBox> complete_masquerade_box(const Affine3& world_to_unit, const Aabb& exact);
 
 // World AABB of a capsule under an affine map (exact).
 Aabb capsule_world_box(const CapsulePrim& c, const Affine3& object_to_world);
