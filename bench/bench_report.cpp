@@ -185,6 +185,16 @@ nlohmann::json bench_row_json(const BenchRow& r) {
                 {"clusters", r.build.clusters},   {"masq_prims", r.build.masq_prims},
                 {"blas_references", r.build.blas_references}, {"blas_primitives", r.build.blas_primitives},
                 {"seconds", r.build.build_seconds}};
+  if (r.method == Method::Auto) {
+    const auto& k = r.build.auto_candidates;
+    e["auto"] = {{"kept", r.build.auto_choice == Method::Auto ? "mix" : method_name(r.build.auto_choice)},
+                 {"model_cost", {{"ref", k[0]}, {"masq", k[1]}, {"cluster", k[2]}, {"mix", k[3]}}}};
+    if (r.pilot_rays > 0) {
+      const auto& p = r.pilot_seconds;
+      e["auto"]["pilot"] = {{"rays", r.pilot_rays}, {"wall_seconds", r.pilot_s},
+                            {"seconds", {{"ref", p[0]}, {"masq", p[1]}, {"cluster", p[2]}, {"mix", p[3]}}}};
+    }
+  }
   if (!r.unavailable.empty()) {
     e["unavailable"] = r.unavailable;
     return e;

@@ -31,36 +31,9 @@ void fill_counters(BenchRow& row, const std::vector<kernel::RayStats>& stats, co
   row.hit_fraction = h / n;
 }
 
-// The scene is already uploaded: counters first (stats variant), then warm-up and timed
-// traces of the counter-free variant.
-void measure_one(BenchRow& row, Backend& be, std::span<const kernel::Ray> rays, const BenchOptions& opt) {
-  const std::string tag = fmt::format("{} {} {}", row.backend, method_name(row.method), ray_set_name(row.ray_set));
-  std::vector<kernel::Hit> hits(rays.size());
-  std::vector<kernel::RayStats> stats(rays.size());
-  say(opt, tag + ": counters");
-  be.trace(rays, hits, stats, row.query);
-  fill_counters(row, stats, hits);
-  if (opt.keep_per_ray) {
-    row.hits = hits;
-    row.stats = std::move(stats);
-  }
-  std::vector<double> times;
-  for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
-    be.trace(rays, hits, {}, row.query);
-    if (i == 0) row.compile_s = be.timing().compile_seconds;
-    if (i >= opt.warmup) times.push_back(be.timing().trace_seconds);
-    say(opt, fmt::format("{}: trace {}/{}", tag, i + 1, opt.warmup + opt.repetitions));
-  }
-  std::sort(times.begin(), times.end());
-  row.median_s = times[times.size() / 2];
-  row.min_s = times.front();
-  row.max_s = times.back();
-  row.device_bytes = be.device_bytes();
-}
-
-std::vector<kernel::Hit> primary_hits(const std::map<Method, PackedScene>& built, std::span<const kernel::Ray> rays,
+std::vector<kernel::Hit> primary_hits(const BuiltMethods& built, std::span<const kernel::Ray> rays,
                                       const BenchOptions& opt, BackendPool& pool) {
-  const PackedScene& ps = built.count(Method::Ref) ? built.at(Method::Ref) : built.begin()->second;
+  const PackedScene& ps = built.scenes.count(Method::Ref) ? built.scenes.at(Method::Ref) : built.scenes.begin()->second;
   std::string why;
   for (const std::string& name : opt.backends) {
     Backend* be = pool.get(name);
@@ -78,19 +51,243 @@ std::vector<kernel::Hit> primary_hits(const std::map<Method, PackedScene>& built
               (why.empty() ? std::string() : ": " + why));
 }
 
+// One method of one build (builder x node format) on one backend: its own backend slot
+// keeps its structure uploaded between the rounds of timed traces.
+struct Lane {
+  Method method = Method::Ref;
+  const BuiltMethods* built = nullptr;
+  const BenchOptions* opt = nullptr; // this build's options (builder, node format)
+  Backend* be = nullptr;
+  const PackedScene* uploaded = nullptr;
+  std::string upload_failed; // an upload failure fails every set of the lane
+  PackedScene auto_kept;     // auto by pilot: the kept candidate for the current set
+  // auto by pilot: per batch, the pilot's outcome, or why it failed.
+  std::vector<PilotResult> pilots;
+  std::vector<std::string> pilot_errors;
+};
+
+// Backend slots past the lanes' for the pilot's candidates (bench/backend_pool.h): lane
+// l's candidate i is in kFirstPilotSlot + 8 l + i.
+constexpr int kFirstPilotSlot = 1000;
+
+Query batch_query(const RayBatch& batch, const BenchOptions& opt) {
+  return batch.set == RaySet::Shadow && opt.shadow_any_hit ? Query::Any : Query::Closest;
+}
+
+BenchRow lane_row(const Lane& lane, const std::string& backend, const RayBatch& batch, std::size_t primitives) {
+  const PackedScene& ps = lane.built->scenes.at(lane.method);
+  BenchRow row;
+  row.backend = backend;
+  row.method = lane.method;
+  row.builder = ps.builder;
+  row.nodes = ps.features.nodes;
+  row.ray_set = batch.set;
+  row.query = batch_query(batch, *lane.opt);
+  row.rays = double(batch.rays.size());
+  row.primitives = primitives;
+  return row;
+}
+
+void describe_structure(BenchRow& row, const PackedScene& ps) {
+  row.build = ps.stats;
+  row.build_s = ps.stats.build_seconds;
+  row.accel_bytes = ps.acceleration_bytes();
+  row.prim_bytes = ps.primitive_bytes();
+}
+
+bool pilots(const Lane& lane) {
+  return lane.method == Method::Auto && lane.opt->auto_by == AutoBy::Pilot && !lane.built->auto_candidates.built.empty();
+}
+
+// auto by pilot: every batch's pilot before any lane uploads, each candidate in its own
+// slot (or, when those cannot be opened, one after the other in the lane's own); the
+// slots are closed afterwards, so that only the lanes' structures stay on the device.
+void run_pilots(Lane& lane, int lane_index, const std::string& name, const std::vector<RayBatch>& batches,
+                BackendPool& pool) {
+  const AutoCandidates& cands = lane.built->auto_candidates;
+  std::vector<int> slot_ids;
+  std::vector<Backend*> slots;
+  for (std::size_t i = 0; i < cands.built.size(); ++i) {
+    slot_ids.push_back(kFirstPilotSlot + 8 * lane_index + int(i));
+    slots.push_back(pool.get(name, slot_ids.back()));
+  }
+  if (std::find(slots.begin(), slots.end(), nullptr) != slots.end()) slots = {lane.be};
+  lane.pilots.assign(batches.size(), {});
+  lane.pilot_errors.assign(batches.size(), {});
+  bool held = false; // the slots hold the candidates since an earlier batch's pilot
+  for (std::size_t b = 0; b < batches.size(); ++b) {
+    if (batches[b].rays.empty()) continue;
+    say(*lane.opt, fmt::format("{} auto {}: pilot of auto's candidates", name, ray_set_name(batches[b].set)));
+    PilotOptions popt = lane.opt->pilot;
+    popt.slots_hold_candidates = held;
+    try {
+      lane.pilots[b] = run_pilot(slots, cands, batches[b].rays, batch_query(batches[b], *lane.opt), popt);
+      held = slots.size() > 1;
+    } catch (const std::exception& e) {
+      lane.pilot_errors[b] = std::string("auto pilot: ") + e.what();
+      held = false;
+    }
+  }
+  for (int id : slot_ids) pool.close(name, id);
+}
+
+// The structure the lane traces batch b: auto by pilot's kept candidate for it.
+const PackedScene& lane_structure(Lane& lane, BenchRow& row, std::size_t b) {
+  if (!pilots(lane)) return lane.built->scenes.at(lane.method);
+  if (!lane.pilot_errors[b].empty()) throw Error(lane.pilot_errors[b]);
+  const AutoCandidates& cands = lane.built->auto_candidates;
+  const PilotResult& pilot = lane.pilots[b];
+  lane.uploaded = nullptr;
+  lane.auto_kept = cands.built[pilot.kept];
+  mark_as_auto(lane.auto_kept, cands);
+  for (std::size_t i = 0; i < cands.built.size(); ++i)
+    row.pilot_seconds[std::size_t(cands.built[i].method)] = pilot.seconds[i];
+  row.pilot_rays = pilot.rays;
+  row.pilot_s = pilot.wall_seconds;
+  return lane.auto_kept;
+}
+
+// Uploads (when needed) and runs the counters: the stats variant once per set.
+void prepare_lane(Lane& lane, BenchRow& row, const RayBatch& batch, std::size_t b, const std::string& tag) {
+  const PackedScene& ps = lane_structure(lane, row, b);
+  describe_structure(row, ps);
+  if (lane.uploaded != &ps) {
+    say(*lane.opt, tag + ": upload");
+    try {
+      lane.be->set_scene(ps);
+    } catch (const std::exception& e) {
+      lane.upload_failed = e.what();
+      throw;
+    }
+    lane.uploaded = &ps;
+  }
+  row.device = lane.be->device_name();
+  row.scene_s = lane.be->timing().scene_seconds;
+  std::vector<kernel::Hit> hits(batch.rays.size());
+  std::vector<kernel::RayStats> stats(batch.rays.size());
+  say(*lane.opt, tag + ": counters");
+  lane.be->trace(batch.rays, hits, stats, row.query);
+  fill_counters(row, stats, hits);
+  if (lane.opt->keep_per_ray) {
+    row.hits = std::move(hits);
+    row.stats = std::move(stats);
+  }
+}
+
+// Warm-up and timed traces of the counter-free variants, the lanes taking turns.
+void time_lanes(std::vector<Lane>& lanes, std::vector<BenchRow>& rows, const RayBatch& batch, const BenchOptions& opt) {
+  std::vector<std::vector<double>> times(lanes.size());
+  std::vector<kernel::Hit> hits(batch.rays.size());
+  const int rounds = opt.warmup + opt.repetitions;
+  for (int round = 0; round < rounds; ++round) {
+    say(opt, fmt::format("{} {}: trace round {}/{}", rows.empty() ? "" : rows[0].backend, ray_set_name(batch.set),
+                         round + 1, rounds));
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      BenchRow& row = rows[i];
+      if (!row.unavailable.empty()) continue;
+      try {
+        lanes[i].be->trace(batch.rays, hits, {}, row.query);
+        if (round == 0) row.compile_s = lanes[i].be->timing().compile_seconds;
+        if (round >= opt.warmup) times[i].push_back(lanes[i].be->timing().trace_seconds);
+      } catch (const std::exception& e) {
+        row.unavailable = e.what();
+      }
+    }
+  }
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    BenchRow& row = rows[i];
+    if (!row.unavailable.empty() || times[i].empty()) continue;
+    std::sort(times[i].begin(), times[i].end());
+    row.median_s = times[i][times[i].size() / 2];
+    row.min_s = times[i].front();
+    row.max_s = times[i].back();
+    row.device_bytes = lanes[i].be->device_bytes();
+  }
+}
+
+// Every lane of one backend through every batch. Rows: lane, then set. The lanes' slots
+// other than the first are closed at the end (BackendPool::close).
+std::vector<BenchRow> measure_backend(const std::string& name, std::vector<Lane>& lanes, std::size_t primitives,
+                                      const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool) {
+  for (std::size_t i = 0; i < lanes.size(); ++i)
+    if (lanes[i].be && pilots(lanes[i])) run_pilots(lanes[i], int(i), name, batches, pool);
+  std::vector<std::vector<BenchRow>> by_lane(lanes.size());
+  for (std::size_t b = 0; b < batches.size(); ++b) {
+    const RayBatch& batch = batches[b];
+    std::vector<BenchRow> rows;
+    for (Lane& lane : lanes) {
+      BenchRow row = lane_row(lane, name, batch, primitives);
+      describe_structure(row, lane.built->scenes.at(lane.method));
+      const std::string tag = fmt::format("{} {} {}", name, method_name(lane.method), ray_set_name(batch.set));
+      if (!lane.be) {
+        row.unavailable = pool.why(name);
+      } else if (batch.rays.empty()) {
+        row.unavailable = "no rays in this set (no primary hits)";
+      } else if (!lane.upload_failed.empty()) {
+        row.unavailable = lane.upload_failed;
+      } else {
+        try {
+          prepare_lane(lane, row, batch, b, tag);
+        } catch (const std::exception& e) {
+          row.unavailable = e.what();
+        }
+      }
+      rows.push_back(std::move(row));
+    }
+    time_lanes(lanes, rows, batch, opt);
+    for (std::size_t i = 0; i < lanes.size(); ++i) by_lane[i].push_back(std::move(rows[i]));
+  }
+  for (std::size_t i = 1; i < lanes.size(); ++i) pool.close(name, int(i));
+  std::vector<BenchRow> out;
+  for (std::vector<BenchRow>& l : by_lane)
+    for (BenchRow& r : l) out.push_back(std::move(r));
+  return out;
+}
+
+// The lanes of one backend: every method of every build, each in its own slot.
+std::vector<Lane> open_lanes(const std::string& name, const std::vector<const BuiltMethods*>& builds,
+                             const std::vector<const BenchOptions*>& build_opts, BackendPool& pool) {
+  std::vector<Lane> lanes;
+  for (std::size_t k = 0; k < builds.size(); ++k)
+    for (Method m : build_opts[k]->methods) {
+      Lane lane;
+      lane.method = m;
+      lane.built = builds[k];
+      lane.opt = build_opts[k];
+      lane.be = pool.get(name, int(lanes.size()));
+      lanes.push_back(std::move(lane));
+    }
+  return lanes;
+}
+
 } // namespace
 
-std::map<Method, PackedScene> build_methods(const Scene& scene, const BenchOptions& opt) {
-  std::map<Method, PackedScene> built;
+const char* auto_by_name(AutoBy a) { return a == AutoBy::Pilot ? "pilot" : "model"; }
+
+AutoBy parse_auto_by(const std::string& name) {
+  if (name == "pilot") return AutoBy::Pilot;
+  if (name == "model") return AutoBy::Model;
+  throw Error("unknown auto choice '" + name + "' (expected pilot or model)");
+}
+
+BuiltMethods build_methods(const Scene& scene, const BenchOptions& opt) {
+  BuiltMethods built;
   for (Method m : opt.methods) {
     say(opt, std::string("building ") + method_name(m) + " (" + builder_name(opt.accel.builder.kind) + ", " +
                  node_format_name(opt.accel.nodes) + ")");
-    built[m] = build_accel(scene, m, opt.accel);
+    if (m == Method::Auto && opt.auto_by == AutoBy::Pilot && opt.accel.auto_select == AutoSelect::WholeStructure) {
+      built.auto_candidates = build_auto_candidates(scene, opt.accel);
+      PackedScene model = built.auto_candidates.built[model_choice(built.auto_candidates)];
+      mark_as_auto(model, built.auto_candidates);
+      built.scenes[m] = std::move(model);
+    } else {
+      built.scenes[m] = build_accel(scene, m, opt.accel);
+    }
   }
   return built;
 }
 
-std::vector<RayBatch> make_ray_batches(const Scene& scene, const std::map<Method, PackedScene>& built,
+std::vector<RayBatch> make_ray_batches(const Scene& scene, const BuiltMethods& built,
                                        const BenchOptions& opt, BackendPool& pool) {
   std::vector<kernel::Ray> primary = make_camera_rays(scene.camera, opt.width, opt.height);
   std::vector<kernel::Hit> hits;
@@ -106,52 +303,12 @@ std::vector<RayBatch> make_ray_batches(const Scene& scene, const std::map<Method
   return batches;
 }
 
-std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::size_t primitives,
+std::vector<BenchRow> measure(const BuiltMethods& built, std::size_t primitives,
                               const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool) {
   std::vector<BenchRow> rows;
   for (const std::string& name : opt.backends) {
-    Backend* be = pool.get(name);
-    for (Method m : opt.methods) {
-      const PackedScene& ps = built.at(m);
-      std::string failed; // upload failure: every set of this backend and method
-      bool uploaded = false;
-      for (const RayBatch& batch : batches) {
-        BenchRow row;
-        row.backend = name;
-        row.method = m;
-        row.builder = ps.builder;
-        row.nodes = ps.features.nodes;
-        row.ray_set = batch.set;
-        row.query = batch.set == RaySet::Shadow && opt.shadow_any_hit ? Query::Any : Query::Closest;
-        row.rays = double(batch.rays.size());
-        row.primitives = primitives;
-        row.build = ps.stats;
-        row.build_s = ps.stats.build_seconds;
-        row.accel_bytes = ps.acceleration_bytes();
-        row.prim_bytes = ps.primitive_bytes();
-        if (!be) {
-          row.unavailable = pool.why(name);
-        } else if (batch.rays.empty()) {
-          row.unavailable = "no rays in this set (no primary hits)";
-        } else {
-          try {
-            if (!uploaded && failed.empty()) {
-              say(opt, fmt::format("{} {}: upload", name, method_name(m)));
-              be->set_scene(ps);
-              uploaded = true;
-            }
-            if (!failed.empty()) throw Error(failed);
-            row.device = be->device_name();
-            row.scene_s = be->timing().scene_seconds;
-            measure_one(row, *be, batch.rays, opt);
-          } catch (const std::exception& e) {
-            row.unavailable = e.what();
-            if (!uploaded) failed = e.what();
-          }
-        }
-        rows.push_back(std::move(row));
-      }
-    }
+    std::vector<Lane> lanes = open_lanes(name, {&built}, {&opt}, pool);
+    for (BenchRow& r : measure_backend(name, lanes, primitives, batches, opt, pool)) rows.push_back(std::move(r));
   }
   return rows;
 }
@@ -159,11 +316,11 @@ std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::s
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool) {
   if (opt.builders.empty()) throw Error("bench: no builder to run");
   if (opt.node_formats.empty()) throw Error("bench: no node format to run");
-  // Every builder's and node format's scenes first, then per backend each of them in
-  // turn: the rows compared for one backend are measured close together in time, which
-  // matters on a shared machine. The rays come from the first one's scenes.
-  std::vector<std::map<Method, PackedScene>> built;
+  // Every builder's and node format's scenes first, then per backend all of them.
+  std::vector<BuiltMethods> built;
   std::vector<BenchOptions> per_build;
+  built.reserve(opt.builders.size() * opt.node_formats.size());
+  per_build.reserve(built.capacity());
   for (Builder b : opt.builders)
     for (NodeFormat f : opt.node_formats) {
       BenchOptions one = opt;
@@ -173,15 +330,21 @@ std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, Bac
       per_build.push_back(std::move(one));
     }
   std::vector<RayBatch> batches = make_ray_batches(scene, built.front(), per_build.front(), pool);
+  std::vector<const BuiltMethods*> builds;
+  std::vector<const BenchOptions*> build_opts;
+  for (std::size_t k = 0; k < built.size(); ++k) {
+    builds.push_back(&built[k]);
+    build_opts.push_back(&per_build[k]);
+  }
+  // Per backend, every builder's and node format's methods take turns in the same
+  // rounds: the rows compared for one backend are measured together, which matters on
+  // a shared machine. The rays come from the first build's scenes.
   std::vector<BenchRow> rows;
-  for (const std::string& backend : opt.backends)
-    for (Method m : opt.methods)
-      for (std::size_t k = 0; k < built.size(); ++k) {
-        BenchOptions one = per_build[k];
-        one.backends = {backend};
-        one.methods = {m};
-        for (BenchRow& r : measure(built[k], scene.primitive_count(), batches, one, pool)) rows.push_back(std::move(r));
-      }
+  for (const std::string& backend : opt.backends) {
+    std::vector<Lane> lanes = open_lanes(backend, builds, build_opts, pool);
+    for (BenchRow& r : measure_backend(backend, lanes, scene.primitive_count(), batches, opt, pool))
+      rows.push_back(std::move(r));
+  }
   auto index = [](const auto& list, const auto& x) {
     return std::size_t(std::find(list.begin(), list.end(), x) - list.begin());
   };

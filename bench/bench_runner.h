@@ -1,14 +1,18 @@
 // Measures one scene through every backend x method with the same rays: device time
 // after warm-up, median and min-max over repetitions, counters per ray, memory. Each
 // ray set (primary, shadow, diffuse) is measured separately with the same rays on
-// every backend and method.
+// every backend and method. On one backend the methods' timed traces take turns, round
+// by round (each method's structure stays uploaded in its own backend slot), so a load
+// that comes and goes on a shared machine falls on all of them alike.
 #pragma once
 #include "bench/backend_pool.h"
 #include "bench/ray_sets.h"
 #include "bvh/build_accel.h"
 #include "bvh/packed_scene.h"
+#include "host/auto_pilot.h"
 #include "host/backend.h"
 #include "scenes/scene.h"
+#include <array>
 #include <functional>
 #include <map>
 #include <span>
@@ -16,6 +20,14 @@
 #include <vector>
 
 namespace masq {
+
+// How the bench's auto rows keep a candidate: Pilot: per backend and ray set, the one
+// that traces a sample of those rays fastest on that backend (host/auto_pilot.h); Model:
+// the structure cost model's choice (bvh/build_accel.h), as masq render and the library
+// make it.
+enum class AutoBy { Pilot, Model };
+const char* auto_by_name(AutoBy a);
+AutoBy parse_auto_by(const std::string& name); // throws masq::Error
 
 struct BenchOptions {
   std::vector<std::string> backends = backend_names();
@@ -35,6 +47,8 @@ struct BenchOptions {
   std::vector<Builder> builders = {Builder::Sah};
   // Node formats run side by side the same way (each replaces accel.nodes in turn).
   std::vector<NodeFormat> node_formats = {NodeFormat::W4};
+  AutoBy auto_by = AutoBy::Pilot;
+  PilotOptions pilot;
   std::function<void(const std::string&)> progress; // one line per step, may be empty
 };
 
@@ -56,13 +70,22 @@ struct BenchRow {
   std::size_t accel_bytes = 0, prim_bytes = 0, device_bytes = 0;
   std::size_t primitives = 0;
   BuildStats build;
+  // auto by pilot: each candidate's fastest pilot trace (s), indexed by Method like
+  // build.auto_candidates (0: not a candidate); the sample's size; the pilot's wall time.
+  std::array<double, 4> pilot_seconds{};
+  std::size_t pilot_rays = 0;
+  double pilot_s = 0;
   std::vector<kernel::Hit> hits;        // keep_per_ray only
   std::vector<kernel::RayStats> stats;  // keep_per_ray only
   double mrays_per_s() const { return median_s > 0 ? rays / median_s * 1e-6 : 0; }
 };
 
 // The scene built once per method (host BVH build time is in each PackedScene's stats).
-std::map<Method, PackedScene> build_methods(const Scene& scene, const BenchOptions& opt);
+struct BuiltMethods {
+  std::map<Method, PackedScene> scenes; // auto: the model's choice
+  AutoCandidates auto_candidates;       // auto by pilot: all of its candidates (else empty)
+};
+BuiltMethods build_methods(const Scene& scene, const BenchOptions& opt);
 
 struct RayBatch {
   RaySet set = RaySet::Primary;
@@ -71,12 +94,13 @@ struct RayBatch {
 
 // Camera rays of opt.width x opt.height and the secondary sets of opt.ray_sets, derived
 // from the primary hits on the first backend of `opt` that runs (ref method when built).
-std::vector<RayBatch> make_ray_batches(const Scene& scene, const std::map<Method, PackedScene>& built,
+std::vector<RayBatch> make_ray_batches(const Scene& scene, const BuiltMethods& built,
                                        const BenchOptions& opt, BackendPool& pool);
 
-// Every batch through every backend x method of `opt` (the scene is uploaded once per
-// backend and method); backends come from `pool`. Rows: backend, then method, then set.
-std::vector<BenchRow> measure(const std::map<Method, PackedScene>& built, std::size_t primitives,
+// Every batch through every backend x method of `opt` (each method's scene uploaded once
+// per backend, into its own slot; auto by pilot once per ray set); backends come from
+// `pool`. Rows: backend, then method, then set.
+std::vector<BenchRow> measure(const BuiltMethods& built, std::size_t primitives,
                               const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool);
 
 // Everything: build, camera rays of opt.width x opt.height, each ray set of opt, for

@@ -16,6 +16,7 @@ BenchOptions SuiteContext::bench_options(int width, int height) const {
   o.warmup = 1;
   o.repetitions = config.quick ? 3 : 5;
   o.accel.mode = config.mode;
+  o.auto_by = config.auto_by;
   return o;
 }
 

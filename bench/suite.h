@@ -21,6 +21,7 @@ struct SuiteConfig {
   std::string out_dir;                // images are written here ("" : none)
   std::vector<std::string> backends = backend_names();
   Mode mode = Mode::Robust;
+  AutoBy auto_by = AutoBy::Pilot;     // how the auto rows keep a candidate (bench/bench_runner.h)
   std::function<void(const std::string&)> progress; // may be empty
 };
 
@@ -70,6 +71,9 @@ const std::vector<std::string>& suite_names(); // fig3 table1 table2 fig9 fig10 
 // Runs the named suites in a fixed order (fig3 first: it calibrates the RT model).
 std::vector<SuiteResult> run_suites(SuiteContext& ctx, const std::vector<std::string>& names);
 
+// fig3's scene: N parallel capsules (length 1, radius r, bundle radius 0.5) tilted by
+// `tilt` degrees in the x-y plane, seen by an orthographic camera along +z.
+Scene fig3_bundle_scene(int n, float r, double tilt);
 SuiteResult run_fig3(SuiteContext& ctx);
 void collect_hair_measurements(SuiteContext& ctx, bool timed); // table1's scenes x intersectors
 SuiteResult table1_result(const SuiteContext& ctx);

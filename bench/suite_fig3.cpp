@@ -38,21 +38,7 @@ std::string paper_speedup(const Cell& c) {
   return "-";
 }
 
-Scene fig3_scene(const Cell& c) {
-  BundleParams bp;
-  bp.count = c.n;
-  bp.radius = c.r;
-  bp.tilt_deg = c.tilt;
-  Scene s;
-  s.name = fmt::format("bundle N={} r={} tilt {}", c.n, c.r, c.tilt);
-  s.geometries.push_back(make_bundle(bp));
-  s.instances.push_back({0, {}});
-  s.camera.eye = {0.0, 0.0, -5.0};
-  s.camera.target = {0.0, 0.0, 0.0};
-  s.camera.orthographic = true;
-  s.camera.ortho_height = 1.8;
-  return s;
-}
+Scene fig3_scene(const Cell& c) { return fig3_bundle_scene(c.n, c.r, c.tilt); }
 
 std::vector<Cell> fig3_cells(bool quick) {
   std::vector<std::pair<int, float>> pairs = {{10, 0.01f}, {100, 0.005f}, {1000, 0.002f}};
@@ -76,6 +62,22 @@ const BenchRow* counter_row(const std::vector<BenchRow>& rows, Method m) {
 }
 
 } // namespace
+
+Scene fig3_bundle_scene(int n, float r, double tilt) {
+  BundleParams bp;
+  bp.count = n;
+  bp.radius = r;
+  bp.tilt_deg = tilt;
+  Scene s;
+  s.name = fmt::format("bundle N={} r={} tilt {}", n, r, tilt);
+  s.geometries.push_back(make_bundle(bp));
+  s.instances.push_back({0, {}});
+  s.camera.eye = {0.0, 0.0, -5.0};
+  s.camera.target = {0.0, 0.0, 0.0};
+  s.camera.orthographic = true;
+  s.camera.ortho_height = 1.8;
+  return s;
+}
 
 SuiteResult run_fig3(SuiteContext& ctx) {
   auto t0 = std::chrono::steady_clock::now();

@@ -154,7 +154,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
       continue;
     }
     opt.progress = [&](const std::string& line) { ctx.say("peers " + ps.label + ": " + line); };
-    std::map<Method, PackedScene> built = build_methods(scene, opt);
+    BuiltMethods built = build_methods(scene, opt);
     std::vector<RayBatch> batches = make_ray_batches(scene, built, opt, ctx.pool);
     std::vector<BenchRow> rows = measure(built, scene.primitive_count(), batches, opt, ctx.pool);
     std::unique_ptr<EmbreePeer> embree;

@@ -310,31 +310,28 @@ std::vector<ClusterOptions> auto_cluster_shapes(const ClusterOptions& given) {
   return out;
 }
 
-PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt) {
+namespace {
+
+void check_accel_input(const Scene& scene, const AccelOptions& opt) {
   if (opt.curve_iters < 1 || opt.curve_iters > 64)
     throw Error("accel: curve_iters " + std::to_string(opt.curve_iters) + " outside 1..64");
   validate_scene(scene);
   if (scene.primitive_count() > std::size_t(INT32_MAX) / 2)
     throw Error("scene: " + std::to_string(scene.primitive_count()) + " primitives exceed the 32-bit index range");
-  if (method != Method::Auto || opt.auto_select == AutoSelect::MixOnly) return build_planned(scene, method, opt);
-  // auto: build every candidate whole and keep the one the structure cost model prices
-  // lowest (ties to the earlier: ref, masq, cluster, mix). The per-cluster mix alone
-  // misjudges sparse scenes, where what an instance does to the TLAS decides
-  // (docs/methods.md); the whole structures show it.
-  // A candidate other than ref must be cheaper than ref by kAutoMargin: within that the
-  // model cannot tell them apart (docs/methods.md).
-  constexpr double kAutoMargin = 0.10;
+}
+
+} // namespace
+
+AutoCandidates build_auto_candidates(const Scene& scene, const AccelOptions& opt) {
+  check_accel_input(scene, opt);
   auto start = std::chrono::steady_clock::now();
+  AutoCandidates out;
   // Triangles stay in a BLAS under every method: a mesh has one candidate, ref's.
   bool thin = std::any_of(scene.geometries.begin(), scene.geometries.end(),
                           [](const Geometry& g) { return g.type != PrimType::Triangle && g.primitive_count() > 0; });
-  std::array<double, 4> costs{};
-  PackedScene best;
-  int best_i = -1;
-  double best_key = 0;
   for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
     if (m != Method::Ref && !thin) {
-      costs[std::size_t(m)] = costs[std::size_t(Method::Ref)];
+      out.costs[std::size_t(m)] = out.costs[std::size_t(Method::Ref)];
       continue;
     }
     // The cluster candidate in several shapes, the cheapest by the model standing for
@@ -351,21 +348,51 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
       PackedScene c = build_planned(scene, m, one);
       if (k == 0 || c.stats.model_cost < cand.stats.model_cost) cand = std::move(c);
     }
-    int i = int(m);
-    costs[std::size_t(i)] = cand.stats.model_cost;
-    // Compared without the triangles' share, which every candidate has alike.
-    double key = cand.stats.model_cost - cand.stats.model_triangles;
-    if (m != Method::Ref) key /= 1.0 - kAutoMargin;
-    if (best_i < 0 || key < best_key) {
-      best = std::move(cand);
-      best_i = i;
+    out.costs[std::size_t(m)] = cand.stats.model_cost;
+    out.built.push_back(std::move(cand));
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+std::size_t model_choice(const AutoCandidates& c) {
+  // The lowest model cost, ties to the earlier (ref, masq, cluster, mix), compared
+  // without the triangles' share, which every candidate has alike. A candidate other
+  // than ref must be cheaper than ref by kAutoMargin: within that the model cannot tell
+  // them apart (docs/methods.md).
+  constexpr double kAutoMargin = 0.10;
+  std::size_t best = 0;
+  double best_key = 0;
+  for (std::size_t i = 0; i < c.built.size(); ++i) {
+    const PackedScene& p = c.built[i];
+    double key = p.stats.model_cost - p.stats.model_triangles;
+    if (p.method != Method::Ref) key /= 1.0 - kAutoMargin;
+    if (i == 0 || key < best_key) {
+      best = i;
       best_key = key;
     }
   }
-  best.method = Method::Auto;
-  best.stats.auto_choice = Method(best_i);
-  best.stats.auto_candidates = costs;
-  best.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return best;
+}
+
+void mark_as_auto(PackedScene& kept, const AutoCandidates& c) {
+  kept.stats.auto_choice = kept.method;
+  kept.method = Method::Auto;
+  kept.stats.auto_candidates = c.costs;
+  kept.stats.build_seconds = c.seconds;
+}
+
+PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt) {
+  if (method != Method::Auto || opt.auto_select == AutoSelect::MixOnly) {
+    check_accel_input(scene, opt);
+    return build_planned(scene, method, opt);
+  }
+  // auto: build every candidate whole and keep the one the structure cost model prices
+  // lowest. The per-cluster mix alone misjudges sparse scenes, where what an instance
+  // does to the TLAS decides (docs/methods.md); the whole structures show it.
+  AutoCandidates c = build_auto_candidates(scene, opt);
+  PackedScene best = std::move(c.built[model_choice(c)]);
+  mark_as_auto(best, c);
   return best;
 }
 

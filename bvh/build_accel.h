@@ -13,7 +13,9 @@
 #include "bvh/obb.h"
 #include "bvh/packed_scene.h"
 #include "scenes/scene.h"
+#include <array>
 #include <string>
+#include <vector>
 
 namespace masq {
 
@@ -48,6 +50,23 @@ struct AccelOptions {
 };
 
 PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt = {});
+
+// auto's candidates, each built whole: ref, then, when the scene has other primitives
+// than triangles, masq, cluster (of auto_cluster_shapes the shape the model prices
+// lowest) and the per-cluster mix (PackedScene::method Auto). A mesh has ref alone.
+struct AutoCandidates {
+  std::vector<PackedScene> built;
+  std::array<double, 4> costs{}; // each one's model cost, indexed by Method (a mesh: ref's in all)
+  double seconds = 0;            // host time to build them all
+};
+AutoCandidates build_auto_candidates(const Scene& scene, const AccelOptions& opt);
+// The index into c.built the structure cost model keeps (build_accel's auto rule;
+// docs/methods.md). host/auto_pilot.h chooses by measurement instead.
+std::size_t model_choice(const AutoCandidates& c);
+// Makes `kept` (one of c.built, or a copy) auto's structure: method Auto, the candidate
+// in stats.auto_choice, every candidate's cost in stats.auto_candidates, and the build
+// time of all of them.
+void mark_as_auto(PackedScene& kept, const AutoCandidates& c);
 
 // The cluster shapes auto builds for its cluster candidate: the given one, then with
 // kAutoLargeCluster members and with leaf price 1 (one member per leaf), and both.

@@ -29,6 +29,7 @@ struct BenchCli {
   BenchOptions bench;
   std::vector<std::string> ray_sets;
   std::string shadow_query = "any";
+  std::string auto_by = "pilot";
   std::string json_path;
   bool quiet = false;
   bool error_mode = false;
@@ -96,6 +97,36 @@ int bench_error(BenchCli& c) {
   return 0;
 }
 
+// What auto kept, and why: the model's cost per candidate (bvh/structure_cost.h) and, by
+// pilot, each candidate's pilot time on each backend and ray set.
+void print_auto_choices(const std::vector<BenchRow>& rows, AutoBy by) {
+  auto kept_name = [](const BenchRow& r) {
+    std::string kept = r.build.auto_choice == Method::Auto ? "the mix" : method_name(r.build.auto_choice);
+    if (r.build.auto_choice == Method::Cluster)
+      kept += fmt::format(" (size {}, leaf price {:g})", r.build.cluster_size, r.build.cluster_leaf_price);
+    return kept;
+  };
+  bool first = true;
+  for (const BenchRow& r : rows) {
+    if (r.method != Method::Auto || !r.unavailable.empty()) continue;
+    const auto& k = r.build.auto_candidates;
+    if (first)
+      fmt::print("auto's candidates, model cost per ray: ref {:.3g}, masq {:.3g}, cluster {:.3g} (its cheapest shape), "
+                 "mix {:.3g} (triangles' share {:.3g}; docs/methods.md)\n",
+                 k[0], k[1], k[2], k[3], r.build.model_triangles);
+    first = false;
+    if (by == AutoBy::Model) {
+      fmt::print("auto kept {} (by the model)\n", kept_name(r));
+      return;
+    }
+    const auto& p = r.pilot_seconds;
+    auto ms = [](double s) { return s > 0 ? fmt::format("{:.2f}", s * 1e3) : std::string("-"); };
+    fmt::print("auto {} {}: kept {} by pilot ({} rays; ms ref {}, masq {}, cluster {}, mix {}; pilot {:.2f} s)\n",
+               r.backend, ray_set_name(r.ray_set), kept_name(r), r.pilot_rays, ms(p[0]), ms(p[1]), ms(p[2]), ms(p[3]),
+               r.pilot_s);
+  }
+}
+
 // --suite: the papers' tables and figures, the results document and its raw figures.
 int bench_suites(BenchCli& c) {
   std::vector<std::string> names = c.suites;
@@ -105,6 +136,7 @@ int bench_suites(BenchCli& c) {
   if (c.out_dir.empty()) c.out_dir = c.quick ? "bench/results-quick" : "bench/results";
   ctx.config.out_dir = c.out_dir;
   ctx.config.mode = parse_mode(c.scene.mode);
+  ctx.config.auto_by = parse_auto_by(c.auto_by);
   if (!c.backends.empty()) ctx.config.backends = c.backends;
   ctx.config.data_dir = !c.data_dir.empty() ? c.data_dir : std::getenv("MASQ_DATA") ? std::getenv("MASQ_DATA") : MASQ_DATA_DIR;
   ctx.config.progress = progress_line(c.quiet);
@@ -138,6 +170,7 @@ int bench(BenchCli& c) {
     for (const std::string& r : c.ray_sets) c.bench.ray_sets.push_back(parse_ray_set(r));
   }
   c.bench.shadow_any_hit = c.shadow_query == "any";
+  c.bench.auto_by = parse_auto_by(c.auto_by);
   c.bench.builders = parse_builders(c.scene);
   c.bench.node_formats = node_formats(c.scene);
   c.bench.progress = progress_line(c.quiet);
@@ -158,18 +191,7 @@ int bench(BenchCli& c) {
   fmt::print("{}\n{}", bench_table(rows).text(),
              ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n") : ratios.text());
   if (c.bench.node_formats.size() > 1) fmt::print("\nnode formats side by side:\n{}", bench_node_ratios(rows).text());
-  for (const BenchRow& r : rows)
-    if (r.method == Method::Auto && r.unavailable.empty()) {
-      // What auto kept, and why: each candidate's expected work per ray (bvh/structure_cost.h).
-      const auto& k = r.build.auto_candidates;
-      std::string kept = r.build.auto_choice == Method::Auto ? "the mix" : method_name(r.build.auto_choice);
-      if (r.build.auto_choice == Method::Cluster)
-        kept += fmt::format(" (size {}, leaf price {:g})", r.build.cluster_size, r.build.cluster_leaf_price);
-      fmt::print("auto kept {}: model cost per ray ref {:.3g}, masq {:.3g}, cluster {:.3g} (its cheapest shape), mix {:.3g} "
-                 "(triangles' share {:.3g}; docs/methods.md)\n",
-                 kept, k[0], k[1], k[2], k[3], r.build.model_triangles);
-      break;
-    }
+  print_auto_choices(rows, c.bench.auto_by);
   if (!builders.rows.empty()) fmt::print("\nbuilders side by side:\n{}", builders.text());
   if (c.fit_prices) {
     // The auto method's cost-model prices for each backend, fitted to these rows.
@@ -217,6 +239,12 @@ Action add_bench(CLI::App& app) {
                   "Shadow rays as an occlusion query (any: first hit ends the ray) or for the closest hit")
       ->capture_default_str()
       ->check(CLI::IsMember({"any", "closest"}));
+  cmd->add_option("--auto-by", c->auto_by,
+                  "How auto keeps one of its candidates (ref, masq, cluster, the mix): pilot (trace a sample of each ray "
+                  "set through each on the backend measured, keep the fastest) or model (the cost model's choice, as "
+                  "masq render makes it)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"pilot", "model"}));
   cmd->add_flag("--fit-prices", c->fit_prices,
                 "Fit the auto method's cost-model prices per backend to the measured rows (docs/methods.md)");
   cmd->add_option("--json", c->json_path, "Also write every raw figure as JSON");
