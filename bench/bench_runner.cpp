@@ -3,6 +3,7 @@
 #include "scenes/camera.h"
 #include "scenes/error.h"
 #include <algorithm>
+#include <cstdint>
 #include <tuple>
 #include <fmt/format.h>
 
@@ -61,6 +62,7 @@ struct Lane {
   const PackedScene* uploaded = nullptr;
   std::string upload_failed; // an upload failure fails every set of the lane
   PackedScene auto_kept;     // auto by pilot: the kept candidate for the current set
+  std::size_t auto_kept_index = SIZE_MAX; // which of the candidates auto_kept is
   // auto by pilot: per batch, the pilot's outcome, or why it failed.
   std::vector<PilotResult> pilots;
   std::vector<std::string> pilot_errors;
@@ -95,7 +97,7 @@ void describe_structure(BenchRow& row, const PackedScene& ps) {
   row.prim_bytes = ps.primitive_bytes();
 }
 
-bool pilots(const Lane& lane) {
+bool runs_pilot(const Lane& lane) {
   return lane.method == Method::Auto && lane.opt->auto_by == AutoBy::Pilot && !lane.built->auto_candidates.built.empty();
 }
 
@@ -133,13 +135,16 @@ void run_pilots(Lane& lane, int lane_index, const std::string& name, const std::
 
 // The structure the lane traces batch b: auto by pilot's kept candidate for it.
 const PackedScene& lane_structure(Lane& lane, BenchRow& row, std::size_t b) {
-  if (!pilots(lane)) return lane.built->scenes.at(lane.method);
+  if (!runs_pilot(lane)) return lane.built->scenes.at(lane.method);
   if (!lane.pilot_errors[b].empty()) throw Error(lane.pilot_errors[b]);
   const AutoCandidates& cands = lane.built->auto_candidates;
   const PilotResult& pilot = lane.pilots[b];
-  lane.uploaded = nullptr;
-  lane.auto_kept = cands.built[pilot.kept];
-  mark_as_auto(lane.auto_kept, cands);
+  if (pilot.kept != lane.auto_kept_index) { // else it is uploaded already
+    lane.uploaded = nullptr;
+    lane.auto_kept = cands.built[pilot.kept];
+    mark_as_auto(lane.auto_kept, cands);
+    lane.auto_kept_index = pilot.kept;
+  }
   for (std::size_t i = 0; i < cands.built.size(); ++i)
     row.pilot_seconds[std::size_t(cands.built[i].method)] = pilot.seconds[i];
   row.pilot_rays = pilot.rays;
@@ -210,7 +215,7 @@ void time_lanes(std::vector<Lane>& lanes, std::vector<BenchRow>& rows, const Ray
 std::vector<BenchRow> measure_backend(const std::string& name, std::vector<Lane>& lanes, std::size_t primitives,
                                       const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool) {
   for (std::size_t i = 0; i < lanes.size(); ++i)
-    if (lanes[i].be && pilots(lanes[i])) run_pilots(lanes[i], int(i), name, batches, pool);
+    if (lanes[i].be && runs_pilot(lanes[i])) run_pilots(lanes[i], int(i), name, batches, pool);
   std::vector<std::vector<BenchRow>> by_lane(lanes.size());
   for (std::size_t b = 0; b < batches.size(); ++b) {
     const RayBatch& batch = batches[b];
