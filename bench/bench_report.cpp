@@ -215,6 +215,7 @@ nlohmann::json bench_json(const Scene& scene, const BenchOptions& opt, const std
   j["camera_rays"] = {{"width", opt.width}, {"height", opt.height}};
   j["warmup"] = opt.warmup;
   j["repetitions"] = opt.repetitions;
+  j["auto_by"] = auto_by_name(opt.auto_by);
   j["results"] = nlohmann::json::array();
   for (const BenchRow& r : rows) j["results"].push_back(bench_row_json(r));
   return j;

@@ -76,6 +76,15 @@ Query batch_query(const RayBatch& batch, const BenchOptions& opt) {
   return batch.set == RaySet::Shadow && opt.shadow_any_hit ? Query::Any : Query::Closest;
 }
 
+void describe_structure(BenchRow& row, const PackedScene& ps) {
+  row.build = ps.stats;
+  row.build_s = ps.stats.build_seconds;
+  row.accel_bytes = ps.acceleration_bytes();
+  row.prim_bytes = ps.primitive_bytes();
+}
+
+// The row of a lane and batch, describing the method's own structure (auto by pilot:
+// prepare_lane describes the kept candidate instead).
 BenchRow lane_row(const Lane& lane, const std::string& backend, const RayBatch& batch, std::size_t primitives) {
   const PackedScene& ps = lane.built->scenes.at(lane.method);
   BenchRow row;
@@ -87,15 +96,10 @@ BenchRow lane_row(const Lane& lane, const std::string& backend, const RayBatch& 
   row.query = batch_query(batch, *lane.opt);
   row.rays = double(batch.rays.size());
   row.primitives = primitives;
+  describe_structure(row, ps);
   return row;
 }
 
-void describe_structure(BenchRow& row, const PackedScene& ps) {
-  row.build = ps.stats;
-  row.build_s = ps.stats.build_seconds;
-  row.accel_bytes = ps.acceleration_bytes();
-  row.prim_bytes = ps.primitive_bytes();
-}
 
 bool runs_pilot(const Lane& lane) {
   return lane.method == Method::Auto && lane.opt->auto_by == AutoBy::Pilot && !lane.built->auto_candidates.built.empty();
@@ -155,7 +159,7 @@ const PackedScene& lane_structure(Lane& lane, BenchRow& row, std::size_t b) {
 // Uploads (when needed) and runs the counters: the stats variant once per set.
 void prepare_lane(Lane& lane, BenchRow& row, const RayBatch& batch, std::size_t b, const std::string& tag) {
   const PackedScene& ps = lane_structure(lane, row, b);
-  describe_structure(row, ps);
+  if (&ps != &lane.built->scenes.at(lane.method)) describe_structure(row, ps);
   if (lane.uploaded != &ps) {
     say(*lane.opt, tag + ": upload");
     try {
@@ -222,7 +226,6 @@ std::vector<BenchRow> measure_backend(const std::string& name, std::vector<Lane>
     std::vector<BenchRow> rows;
     for (Lane& lane : lanes) {
       BenchRow row = lane_row(lane, name, batch, primitives);
-      describe_structure(row, lane.built->scenes.at(lane.method));
       const std::string tag = fmt::format("{} {} {}", name, method_name(lane.method), ray_set_name(batch.set));
       if (!lane.be) {
         row.unavailable = pool.why(name);

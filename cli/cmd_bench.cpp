@@ -176,14 +176,14 @@ int bench(BenchCli& c) {
   c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
   fmt::print("scene '{}': {} primitives{}, {} mode, nodes {}, {} masquerade entries, {}x{} camera rays; ray sets: {}; "
-             "{} warm-up + {} timed traces, median (min-max) of device time; builders: {}\n",
+             "{} warm-up + {} timed traces, median (min-max) of device time; builders: {}; auto by {}\n",
              scene.name, scene.primitive_count(),
              bundle ? fmt::format(" ({} {} strands r={} tilt {} deg + ground plane)", c.scene.bundle.count, c.scene.prim,
                                   c.scene.bundle.radius, c.scene.bundle.tilt_deg)
                     : std::string(),
              c.scene.mode, fmt::join(c.scene.nodes, ","), c.scene.masq_instance, c.bench.width, c.bench.height,
              ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup, c.bench.repetitions,
-             fmt::join(c.scene.builders, ", "));
+             fmt::join(c.scene.builders, ", "), auto_by_name(c.bench.auto_by));
   std::vector<BenchRow> rows = run_bench(scene, c.bench);
   clear_progress(c.quiet);
   Table ratios = bench_ratios(rows);
