@@ -3,6 +3,7 @@
 #ifndef MASQ_KERNEL_BOX_H
 #define MASQ_KERNEL_BOX_H
 #include "math.h"
+#include "slab_simd_cpp.h"
 
 KERNEL_NS_BEGIN
 
@@ -20,7 +21,9 @@ STRUCT_END(WideHits)
 FN float widen_lo(float t) { return t - fabs_(t) * MASQ_BOX_WIDEN; }
 FN float widen_hi(float t) { return t + fabs_(t) * MASQ_BOX_WIDEN; }
 
-FN WideHits intersect_wide_node(WideNode n, vec3 o, vec3 inv_d, float tmin, float tmax) {
+// The one-source form: GLSL and OpenCL run it (PoCL vectorises across work-items); the
+// cpu dialect runs the same operations on four slots at once (slab_simd_cpp.h).
+FN WideHits intersect_wide_node_loop(WideNode n, vec3 o, vec3 inv_d, float tmin, float tmax) {
   WideHits r;
   for (int i = 0; i < MASQ_WIDTH; ++i) {
     float tx0 = (n.lo_x[i] - o.x) * inv_d.x;
@@ -38,6 +41,21 @@ FN WideHits intersect_wide_node(WideNode n, vec3 o, vec3 inv_d, float tmin, floa
     r.count[i] = n.count[i];
   }
   return r;
+}
+
+FN WideHits intersect_wide_node(WideNode n, vec3 o, vec3 inv_d, float tmin, float tmax) {
+#if defined(MASQ_LANG_CPP)
+  WideHits r;
+  simd::slab_hits4(n.lo_x, n.hi_x, n.lo_y, n.hi_y, n.lo_z, n.hi_z, n.count, o, inv_d, 0, vec3(0.0f), tmin, tmax,
+                   MASQ_BOX_WIDEN, 2.0f * MASQ_U, r.tnear, r.tfar);
+  for (int i = 0; i < MASQ_WIDTH; ++i) {
+    r.child[i] = n.child[i];
+    r.count[i] = n.count[i];
+  }
+  return r;
+#else
+  return intersect_wide_node_loop(n, o, inv_d, tmin, tmax);
+#endif
 }
 
 // Per-axis error bound of the fp32 ray transform o' = A o + b, d' = A d at any t up to
@@ -85,7 +103,7 @@ FN bool hit_unit_box_padded(Affine m, vec3 wo, vec3 wd, vec3 oo, vec3 od, float 
 // The wide node test with every child box grown by pad on each axis (cluster BLAS of
 // the robust mode). lo - pad is rounded to nearest, so the bounds also move outward by
 // 2u of their magnitude; the slab interval is widened as in intersect_wide_node.
-FN WideHits intersect_wide_node_padded(WideNode n, vec3 o, vec3 inv_d, vec3 pad, float tmin, float tmax) {
+FN WideHits intersect_wide_node_padded_loop(WideNode n, vec3 o, vec3 inv_d, vec3 pad, float tmin, float tmax) {
   WideHits r;
   for (int i = 0; i < MASQ_WIDTH; ++i) {
     float tx0 = (n.lo_x[i] - (pad.x + fabs_(n.lo_x[i]) * 2.0f * MASQ_U) - o.x) * inv_d.x;
@@ -103,6 +121,21 @@ FN WideHits intersect_wide_node_padded(WideNode n, vec3 o, vec3 inv_d, vec3 pad,
     r.count[i] = n.count[i];
   }
   return r;
+}
+
+FN WideHits intersect_wide_node_padded(WideNode n, vec3 o, vec3 inv_d, vec3 pad, float tmin, float tmax) {
+#if defined(MASQ_LANG_CPP)
+  WideHits r;
+  simd::slab_hits4(n.lo_x, n.hi_x, n.lo_y, n.hi_y, n.lo_z, n.hi_z, n.count, o, inv_d, 1, pad, tmin, tmax,
+                   MASQ_BOX_WIDEN, 2.0f * MASQ_U, r.tnear, r.tfar);
+  for (int i = 0; i < MASQ_WIDTH; ++i) {
+    r.child[i] = n.child[i];
+    r.count[i] = n.count[i];
+  }
+  return r;
+#else
+  return intersect_wide_node_padded_loop(n, o, inv_d, pad, tmin, tmax);
+#endif
 }
 
 // Fast mode: the plain unit-box test of the transformed ray, as RT hardware does it

@@ -44,7 +44,7 @@ FN float node_word_f(KD_PARAM int w) { return as_float_(KD(node_words)[w]); }
 // Byte `slot` of the pair of words at w (slot j: word j / 4, bits 8 (j % 4)).
 FN uint node_byte(KD_PARAM int w, int slot) { return (KD(node_words)[w + (slot >> 2)] >> ((slot & 3) * 8)) & 255u; }
 
-FN WideHits hits_w8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+FN WideHits hits_w8_loop(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
   WideHits r;
   int b = node * MASQ_W8_WORDS;
   for (int i = 0; i < MASQ_WIDTH8; ++i) {
@@ -64,9 +64,31 @@ FN WideHits hits_w8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad,
   return r;
 }
 
+// The cpu dialect tests the eight slots as two groups of four (slab_simd_cpp.h).
+FN WideHits hits_w8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+#if defined(MASQ_LANG_CPP)
+  WideHits r;
+  int b = node * MASQ_W8_WORDS;
+  const uint* w = KD(node_words) + b;
+  for (int g = 0; g < MASQ_WIDTH8; g += 4)
+    simd::slab_hits4((const float*)(w + MASQ_W8_LO_X + g), (const float*)(w + MASQ_W8_HI_X + g),
+                     (const float*)(w + MASQ_W8_LO_Y + g), (const float*)(w + MASQ_W8_HI_Y + g),
+                     (const float*)(w + MASQ_W8_LO_Z + g), (const float*)(w + MASQ_W8_HI_Z + g),
+                     (const int*)(w + MASQ_W8_COUNT + g), o, inv_d, padded, pad, tmin, tmax, MASQ_BOX_WIDEN,
+                     2.0f * MASQ_U, r.tnear + g, r.tfar + g);
+  for (int i = 0; i < MASQ_WIDTH8; ++i) {
+    r.child[i] = u2i_(w[MASQ_W8_CHILD + i]);
+    r.count[i] = u2i_(w[MASQ_W8_COUNT + i]);
+  }
+  return r;
+#else
+  return hits_w8_loop(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
+#endif
+}
+
 // Decodes each child box as origin + q * 2^e per plane (exact product, one rounding of
 // the sum: the host proved that value lies outside the true box), then the float test.
-FN WideHits hits_q8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+FN WideHits hits_q8_loop(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
   WideHits r;
   int b = node * MASQ_Q8_WORDS;
   vec3 p = VEC3(node_word_f(KD_ARG b + MASQ_Q8_ORIGIN), node_word_f(KD_ARG b + MASQ_Q8_ORIGIN + 1),
@@ -102,6 +124,46 @@ FN WideHits hits_q8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad,
     r.tfar[i] = h.tf;
   }
   return r;
+}
+
+// The cpu dialect decodes and tests the eight slots as two groups of four
+// (slab_simd_cpp.h), the same operations as the loop.
+FN WideHits hits_q8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+#if defined(MASQ_LANG_CPP)
+  WideHits r;
+  const uint* w = KD(node_words) + node * MASQ_Q8_WORDS;
+  vec3 p = VEC3(as_float_(w[MASQ_Q8_ORIGIN]), as_float_(w[MASQ_Q8_ORIGIN + 1]), as_float_(w[MASQ_Q8_ORIGIN + 2]));
+  uint ex = w[MASQ_Q8_EXPS];
+  vec3 s = VEC3(as_float_((ex & 255u) << 23), as_float_(((ex >> 8) & 255u) << 23), as_float_(((ex >> 16) & 255u) << 23));
+  for (int g = 0; g < MASQ_WIDTH8; g += 4) {
+    int k = g >> 2;
+    simd::Planes4 planes{simd::dequantise4(w[MASQ_Q8_QLO_X + k], p.x, s.x), simd::dequantise4(w[MASQ_Q8_QHI_X + k], p.x, s.x),
+                         simd::dequantise4(w[MASQ_Q8_QLO_Y + k], p.y, s.y), simd::dequantise4(w[MASQ_Q8_QHI_Y + k], p.y, s.y),
+                         simd::dequantise4(w[MASQ_Q8_QLO_Z + k], p.z, s.z), simd::dequantise4(w[MASQ_Q8_QHI_Z + k], p.z, s.z)};
+    simd::I4 meta = (std::bit_cast<int>(w[MASQ_Q8_META + k]) - simd::I4{}) >> simd::I4{0, 8, 16, 24} & 255;
+    simd::slab_hits4v(planes, meta != 0, o, inv_d, padded, pad, tmin, tmax, MASQ_BOX_WIDEN, 2.0f * MASQ_U, r.tnear + g,
+                      r.tfar + g);
+  }
+  int next_child = u2i_(w[MASQ_Q8_CHILD_BASE]);
+  int next_ref = u2i_(w[MASQ_Q8_REF_BASE]);
+  for (int i = 0; i < MASQ_WIDTH8; ++i) {
+    uint m = (w[MASQ_Q8_META + (i >> 2)] >> ((i & 3) * 8)) & 255u;
+    r.child[i] = -1;
+    r.count[i] = -1;
+    if (m == MASQ_Q8_INNER) {
+      r.child[i] = next_child;
+      r.count[i] = 0;
+      next_child = next_child + 1;
+    } else if (m != 0u) {
+      r.child[i] = next_ref;
+      r.count[i] = u2i_(m);
+      next_ref = next_ref + u2i_(m);
+    }
+  }
+  return r;
+#else
+  return hits_q8_loop(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
+#endif
 }
 
 FN WideHits hits_w4(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {

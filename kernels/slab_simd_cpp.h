@@ -1,0 +1,83 @@
+// cpu dialect only: the wide node's slab test on all of its slots at once, with the
+// GCC/Clang vector extensions (SSE on x86-64 without any -march flag, NEON on arm64).
+// It performs the same operations in the same order as the one-source loops of
+// intersect_wide_node, intersect_wide_node_padded and slab_hit, so every backend
+// still gets bit-identical entry distances; the loops stay the GLSL and OpenCL form
+// (PoCL vectorises across work-items instead). Measured: docs/kernels.md.
+#ifndef MASQ_KERNEL_SLAB_SIMD_CPP_H
+#define MASQ_KERNEL_SLAB_SIMD_CPP_H
+#if defined(MASQ_LANG_CPP)
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+namespace masq::kernel::simd {
+
+typedef float F4 __attribute__((vector_size(16)));
+typedef int I4 __attribute__((vector_size(16)));
+
+template <class V> inline V load(const void* p) {
+  V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+// glm::min and glm::max exactly: min(a, b) = b < a ? b : a; max(a, b) = a < b ? b : a.
+inline F4 vmin(F4 a, F4 b) { return b < a ? b : a; }
+inline F4 vmax(F4 a, F4 b) { return a < b ? b : a; }
+// fabs: the sign bit cleared (a < 0 ? -a : a would keep -0, and -0 + 0 is not -0 - 0).
+inline F4 vabs(F4 a) { return std::bit_cast<F4>(std::bit_cast<I4>(a) & 0x7fffffff); }
+
+// Four child boxes as planes: lane i holds slot i's bounds.
+struct Planes4 {
+  F4 lx, hx, ly, hy, lz, hz;
+};
+
+// Writes tnear (entry distance clamped to tmin, or +inf when the slot is not live or
+// missed within [tmin, tmax]) and tfar (unspecified for slots that are not live, which
+// nothing reads) of four slots. padded != 0 grows each box by pad and 2u of each
+// bound's magnitude, as intersect_wide_node_padded and slab_hit do.
+inline void slab_hits4v(Planes4 p, I4 live, glm::vec3 o, glm::vec3 inv_d, int padded, glm::vec3 pad, float tmin,
+                        float tmax, float widen, float two_u, float* tnear, float* tfar) {
+  if (padded != 0) {
+    p.lx = p.lx - (pad.x + vabs(p.lx) * two_u);
+    p.hx = p.hx + (pad.x + vabs(p.hx) * two_u);
+    p.ly = p.ly - (pad.y + vabs(p.ly) * two_u);
+    p.hy = p.hy + (pad.y + vabs(p.hy) * two_u);
+    p.lz = p.lz - (pad.z + vabs(p.lz) * two_u);
+    p.hz = p.hz + (pad.z + vabs(p.hz) * two_u);
+  }
+  F4 tx0 = (p.lx - o.x) * inv_d.x, tx1 = (p.hx - o.x) * inv_d.x;
+  F4 ty0 = (p.ly - o.y) * inv_d.y, ty1 = (p.hy - o.y) * inv_d.y;
+  F4 tz0 = (p.lz - o.z) * inv_d.z, tz1 = (p.hz - o.z) * inv_d.z;
+  F4 a = vmax(vmin(tx0, tx1), vmax(vmin(ty0, ty1), vmin(tz0, tz1)));
+  F4 b = vmin(vmax(tx0, tx1), vmin(vmax(ty0, ty1), vmax(tz0, tz1)));
+  F4 tn = a - vabs(a) * widen;
+  F4 tf = b + vabs(b) * widen;
+  F4 lo_t = tmin - F4{}; // tmin in every lane (x - 0 is x, signed zeros included)
+  F4 inf = std::numeric_limits<float>::infinity() - F4{};
+  I4 hit = live & (tn <= tf) & (tf >= tmin) & (tn <= tmax);
+  F4 near = hit ? vmax(tn, lo_t) : inf;
+  std::memcpy(tnear, &near, sizeof near);
+  std::memcpy(tfar, &tf, sizeof tf);
+}
+
+// Float boxes stored as SoA rows (slot i at lo_x[i], ...); count[i] < 0 marks an empty
+// slot. Wider nodes call it once per group of four slots.
+inline void slab_hits4(const float* lo_x, const float* hi_x, const float* lo_y, const float* hi_y, const float* lo_z,
+                       const float* hi_z, const int* count, glm::vec3 o, glm::vec3 inv_d, int padded, glm::vec3 pad,
+                       float tmin, float tmax, float widen, float two_u, float* tnear, float* tfar) {
+  Planes4 p{load<F4>(lo_x), load<F4>(hi_x), load<F4>(lo_y), load<F4>(hi_y), load<F4>(lo_z), load<F4>(hi_z)};
+  slab_hits4v(p, load<I4>(count) >= 0, o, inv_d, padded, pad, tmin, tmax, widen, two_u, tnear, tfar);
+}
+
+// q8 planes of four slots: the word holds their 8-bit grid coordinates (byte j: slot j);
+// each decodes as origin + q * step, the order of hits_q8's loop.
+inline F4 dequantise4(std::uint32_t word, float origin, float step) {
+  I4 q = (std::bit_cast<int>(word) - I4{}) >> I4{0, 8, 16, 24} & 255;
+  return origin + __builtin_convertvector(q, F4) * step;
+}
+
+} // namespace masq::kernel::simd
+#endif
+#endif
