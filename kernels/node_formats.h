@@ -134,15 +134,19 @@ FN WideHits hits_q8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad,
   const uint* w = KD(node_words) + node * MASQ_Q8_WORDS;
   vec3 p = VEC3(as_float_(w[MASQ_Q8_ORIGIN]), as_float_(w[MASQ_Q8_ORIGIN + 1]), as_float_(w[MASQ_Q8_ORIGIN + 2]));
   uint ex = w[MASQ_Q8_EXPS];
-  vec3 s = VEC3(as_float_((ex & 255u) << 23), as_float_(((ex >> 8) & 255u) << 23), as_float_(((ex >> 16) & 255u) << 23));
+  vec3 s = VEC3(as_float_((ex & 255u) << 23), as_float_(((ex >> 8) & 255u) << 23),
+                as_float_(((ex >> 16) & 255u) << 23));
   for (int g = 0; g < MASQ_WIDTH8; g += 4) {
     int k = g >> 2;
-    simd::Planes4 planes{simd::dequantise4(w[MASQ_Q8_QLO_X + k], p.x, s.x), simd::dequantise4(w[MASQ_Q8_QHI_X + k], p.x, s.x),
-                         simd::dequantise4(w[MASQ_Q8_QLO_Y + k], p.y, s.y), simd::dequantise4(w[MASQ_Q8_QHI_Y + k], p.y, s.y),
-                         simd::dequantise4(w[MASQ_Q8_QLO_Z + k], p.z, s.z), simd::dequantise4(w[MASQ_Q8_QHI_Z + k], p.z, s.z)};
+    simd::Planes4 planes{simd::dequantise4(w[MASQ_Q8_QLO_X + k], p.x, s.x),
+                         simd::dequantise4(w[MASQ_Q8_QHI_X + k], p.x, s.x),
+                         simd::dequantise4(w[MASQ_Q8_QLO_Y + k], p.y, s.y),
+                         simd::dequantise4(w[MASQ_Q8_QHI_Y + k], p.y, s.y),
+                         simd::dequantise4(w[MASQ_Q8_QLO_Z + k], p.z, s.z),
+                         simd::dequantise4(w[MASQ_Q8_QHI_Z + k], p.z, s.z)};
     simd::I4 meta = (std::bit_cast<int>(w[MASQ_Q8_META + k]) - simd::I4{}) >> simd::I4{0, 8, 16, 24} & 255;
-    simd::slab_hits4v(planes, meta != 0, o, inv_d, padded, pad, tmin, tmax, MASQ_BOX_WIDEN, 2.0f * MASQ_U, r.tnear + g,
-                      r.tfar + g);
+    simd::slab_hits4v(planes, meta != 0, o, inv_d, padded, pad, tmin, tmax, MASQ_BOX_WIDEN, 2.0f * MASQ_U,
+                      r.tnear + g, r.tfar + g);
   }
   int next_child = u2i_(w[MASQ_Q8_CHILD_BASE]);
   int next_ref = u2i_(w[MASQ_Q8_REF_BASE]);

@@ -8,6 +8,7 @@
 #include "node_formats.h"
 #include "intersect_primitive.h"
 #include "masq_instance.h"
+#include "capsule_simd_cpp.h"
 
 KERNEL_NS_BEGIN
 
@@ -79,6 +80,59 @@ FN Nearest nearest_take(Nearest n, PrimHit ph, int prim, int geom, int inst) {
   return n;
 }
 
+STRUCT_BEGIN(LeafOut)
+  Nearest nearest;
+  int isect_calls;
+STRUCT_END(LeafOut)
+
+// The leaf's `count` references from refs[first] in order, each intersected within the
+// nearest hit so far; an occlusion query stops at the first hit.
+FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id, int inst_id, vec3 po, vec3 pd,
+                          float tmin, Nearest nearest) {
+  LeafOut lo;
+  lo.nearest = nearest;
+  lo.isect_calls = 0;
+#if defined(MASQ_LANG_CPP)
+  // cpu: robust capsules four at a time (capsule_simd_cpp.h). A lane computed within
+  // the leaf's starting interval gives the scalar call's answer whenever its crossing
+  // lies within the nearest hit so far, and a miss of the scalar call otherwise, so
+  // taking the lanes in order as below is the loop's result, bit for bit.
+  if (MASQ_ROBUST && MASQ_HAVE_CAPSULES && g.type == MASQ_PRIM_CAPSULE) {
+    for (int j0 = 0; j0 < count; j0 += 4) {
+      int n = min(count - j0, 4);
+      Capsule caps[4];
+      int prims[4];
+      for (int j = 0; j < n; ++j) {
+        prims[j] = KD(refs)[first + j0 + j];
+        caps[j] = KD(capsules)[g.first + prims[j]];
+      }
+      simd::CapsuleHits4 c = simd::capsule_hits4(caps, n, po, pd, tmin, lo.nearest.t);
+      for (int j = 0; j < n; ++j) {
+        if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
+        if (c.hit[j] == 0 || !(c.t[j] <= lo.nearest.t)) continue;
+        PrimHit ph;
+        ph.hit = 1;
+        ph.t = c.t[j];
+        ph.normal = VEC3(c.nx[j], c.ny[j], c.nz[j]);
+        ph.u = c.u[j];
+        ph.v = 0.0f;
+        lo.nearest = nearest_take(lo.nearest, ph, prims[j], geom_id, inst_id);
+        if (MASQ_ANY_HIT) return lo;
+      }
+    }
+    return lo;
+  }
+#endif
+  for (int j = 0; j < count; ++j) {
+    int prim = KD(refs)[first + j];
+    if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
+    PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, lo.nearest.t);
+    lo.nearest = nearest_take(lo.nearest, ph, prim, geom_id, inst_id);
+    if (MASQ_ANY_HIT && lo.nearest.prim >= 0) return lo;
+  }
+  return lo;
+}
+
 // (o, d): the ray the boxes are tested with; (po, pd): the ray the primitives are
 // intersected with. They are the same ray for an ordinary BLAS instance; for a cluster
 // instance (o, d) is in the cluster's frame and (po, pd) in the scene instance's, and
@@ -107,13 +161,10 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
     for (int k = 0; k < co.n; ++k) {
       int i = co.slot[k];
       if (wh.count[i] <= 0 || wh.tnear[i] > res.nearest.t) continue;
-      for (int j = 0; j < wh.count[i]; ++j) {
-        int prim = KD(refs)[wh.child[i] + j];
-        if (MASQ_STATS) res.isect_calls = res.isect_calls + 1;
-        PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, res.nearest.t);
-        res.nearest = nearest_take(res.nearest, ph, prim, geom_id, inst_id);
-        if (MASQ_ANY_HIT && res.nearest.prim >= 0) return res; // occlusion: any hit will do
-      }
+      LeafOut lo = intersect_leaf(KD_ARG g, wh.child[i], wh.count[i], geom_id, inst_id, po, pd, tmin, res.nearest);
+      res.nearest = lo.nearest;
+      if (MASQ_STATS) res.isect_calls = res.isect_calls + lo.isect_calls;
+      if (MASQ_ANY_HIT && res.nearest.prim >= 0) return res; // occlusion: any hit will do
     }
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];

@@ -1,0 +1,169 @@
+// The cpu dialect's four-lane capsule intersector (kernels/capsule_simd_cpp.h) against
+// the one-source intersect_capsule: every lane's hit flag, t, normal and axial parameter
+// must be bit-identical to the scalar call, for thin, long, short, zero-length and
+// invalid capsules, grazing and end-on rays, rays from far away and from a capsule's
+// own surface, and intervals that cut crossings off (the all-lanes-miss early exit
+// must never drop a crossing the scalar call finds). Then whole leaves: intersect_leaf (lanes taken in
+// reference order) against the scalar loop it replaces on cpu, closest and any hit.
+#include "kernels/traverse.h"
+#include <gtest/gtest.h>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace masq::kernel;
+namespace k = masq::kernel::v_default;
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+std::uint32_t bits(float x) { return std::bit_cast<std::uint32_t>(x); }
+
+// A capsule near the origin at scale s: random direction and length (0 included), thin
+// to fat radii, and now and then a zero, negative or NaN radius.
+Capsule random_capsule(std::mt19937& rng, float s) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  Capsule c{};
+  glm::vec3 a(s * u(rng), s * u(rng), s * u(rng));
+  glm::vec3 dir = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(1e-3f));
+  float len = (rng() % 8 == 0) ? 0.0f : s * 2.0f * (u(rng) + 1.0f);
+  glm::vec3 b = a + dir * len;
+  for (int i = 0; i < 3; ++i) {
+    c.a[i] = a[i];
+    c.b[i] = b[i];
+  }
+  const float radii[] = {s * 1e-4f, s * 0.01f, s * 0.3f, s * 2.0f};
+  c.radius = radii[rng() % 4];
+  int odd = int(rng() % 40);
+  if (odd == 0) c.radius = 0.0f;
+  if (odd == 1) c.radius = -c.radius;
+  if (odd == 2) c.radius = std::nanf("");
+  return c;
+}
+
+struct Probe {
+  glm::vec3 o, d;
+  float tmin, tmax;
+};
+
+// Rays at a capsule: through a point near its surface (grazing or not), from a point on
+// it (secondary rays), along its axis, with unit or scaled directions and cut intervals.
+Probe random_probe(std::mt19937& rng, const Capsule& c, float s) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  glm::vec3 a(c.a[0], c.a[1], c.a[2]), b(c.b[0], c.b[1], c.b[2]);
+  float w = 0.5f * (u(rng) + 1.0f);
+  glm::vec3 on_axis = a + (b - a) * w;
+  float r = std::isfinite(c.radius) ? std::fabs(c.radius) : s;
+  glm::vec3 off = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(1e-3f));
+  glm::vec3 target = on_axis + off * (r * (1.0f + 0.05f * u(rng)));
+  Probe p;
+  int k = int(rng() % 5);
+  if (k == 0) { // from the surface outwards
+    p.o = on_axis + off * r;
+    p.d = glm::normalize(off + 0.5f * glm::vec3(u(rng), u(rng), u(rng)));
+  } else if (k == 1) { // along the axis, end-on
+    p.o = a - (b - a) * 2.0f - glm::vec3(s);
+    p.d = (b - a) + glm::vec3(1e-4f * s);
+  } else if (k == 2) { // from far away: ts and p carry rounding of the distance's size
+    p.o = target + glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(1e-3f)) * (2e4f * s);
+    p.d = target - p.o;
+  } else {
+    p.o = target + glm::vec3(u(rng), u(rng), u(rng)) * (10.0f * s);
+    p.d = target - p.o;
+  }
+  if (rng() % 3 == 0) p.d *= 37.5f;
+  float len = glm::length(p.d);
+  p.tmin = rng() % 4 == 0 ? 0.5f / (len > 0.0f ? len : 1.0f) : 0.0f;
+  p.tmax = rng() % 4 == 0 ? std::fabs(u(rng)) * 2.0f : kInf;
+  if (rng() % 50 == 0) p.tmax = p.tmin - 1.0f; // empty interval
+  return p;
+}
+
+struct Tally {
+  long hits = 0, misses = 0, mismatches = 0;
+  std::string first;
+};
+
+void compare_lane(const simd::CapsuleHits4& c, int lane, const k::PrimHit& want, Tally& t, const std::string& what) {
+  bool hit = c.hit[lane] != 0;
+  bool same = hit == (want.hit != 0);
+  if (same && hit)
+    same = bits(c.t[lane]) == bits(want.t) && bits(c.nx[lane]) == bits(want.normal.x) &&
+           bits(c.ny[lane]) == bits(want.normal.y) && bits(c.nz[lane]) == bits(want.normal.z) &&
+           bits(c.u[lane]) == bits(want.u);
+  (want.hit != 0 ? t.hits : t.misses)++;
+  if (!same && t.mismatches++ == 0)
+    t.first = what + " lane " + std::to_string(lane) + ": hit " + std::to_string(hit) + " t " +
+              std::to_string(c.t[lane]) + " vs hit " + std::to_string(want.hit) + " t " + std::to_string(want.t);
+}
+
+} // namespace
+
+TEST(CapsuleSimd, EveryLaneMatchesTheScalarIntersectorBitForBit) {
+  std::mt19937 rng(5);
+  Tally tally;
+  for (float s : {1e-3f, 1.0f, 300.0f})
+    for (int c = 0; c < 30000; ++c) {
+      Capsule caps[4];
+      int n = 1 + int(rng() % 4);
+      for (int i = 0; i < 4; ++i) caps[i] = random_capsule(rng, s);
+      Probe p = random_probe(rng, caps[rng() % std::uint32_t(n)], s);
+      simd::CapsuleHits4 got = simd::capsule_hits4(caps, n, p.o, p.d, p.tmin, p.tmax);
+      for (int i = 0; i < n; ++i)
+        compare_lane(got, i, k::intersect_capsule(caps[i], p.o, p.d, p.tmin, p.tmax), tally,
+                     "scale " + std::to_string(s));
+    }
+  EXPECT_EQ(tally.mismatches, 0) << tally.first;
+  // Not vacuous: hits and misses both common.
+  EXPECT_GT(tally.hits, (tally.hits + tally.misses) / 10);
+  EXPECT_GT(tally.misses, (tally.hits + tally.misses) / 10);
+}
+
+// A leaf of 1..9 capsules (groups of four and a rest) through intersect_leaf, which
+// takes the lanes in reference order, against the one-source loop over the same refs.
+TEST(CapsuleSimd, LeavesGiveTheLoopsNearestAndFirstHit) {
+  std::mt19937 rng(9);
+  long hits = 0, mismatches = 0;
+  std::string first;
+  for (int any = 0; any < 2; ++any) {
+    masq::kernel::any_hit_runtime = any != 0;
+    for (int c = 0; c < 20000; ++c) {
+      int n = 1 + int(rng() % 9);
+      std::vector<Capsule> caps(std::size_t(n) + 3);
+      for (Capsule& x : caps) x = random_capsule(rng, 1.0f);
+      // The leaf's references: a shuffled selection of the array, as a BVH leaf holds.
+      std::vector<int> refs(static_cast<std::size_t>(n));
+      for (int j = 0; j < n; ++j) refs[std::size_t(j)] = int(rng() % caps.size());
+      KernelData kd{};
+      kd.capsules = caps.data();
+      kd.refs = refs.data();
+      Geometry g{MASQ_PRIM_CAPSULE, 0, int(caps.size()), 0};
+      Probe p = random_probe(rng, caps[std::size_t(refs[0])], 1.0f);
+      k::Nearest start = k::nearest_none(p.tmax);
+      k::LeafOut got = k::intersect_leaf(kd, g, 0, n, 2, 3, p.o, p.d, p.tmin, start);
+      // The loop the cpu no longer runs for capsules.
+      k::Nearest want = start;
+      for (int j = 0; j < n; ++j) {
+        int prim = refs[std::size_t(j)];
+        k::PrimHit ph = k::intersect_capsule(caps[std::size_t(prim)], p.o, p.d, p.tmin, want.t);
+        want = k::nearest_take(want, ph, prim, 2, 3);
+        if (any && want.prim >= 0) break;
+      }
+      bool same = got.nearest.prim == want.prim && bits(got.nearest.t) == bits(want.t) &&
+                  got.nearest.geom == want.geom && got.nearest.inst == want.inst &&
+                  bits(got.nearest.normal.x) == bits(want.normal.x) && bits(got.nearest.u) == bits(want.u);
+      hits += want.prim >= 0;
+      if (!same && mismatches++ == 0)
+        first = "leaf of " + std::to_string(n) + (any ? " (any hit)" : "") + ": prim " +
+                std::to_string(got.nearest.prim) + " t " + std::to_string(got.nearest.t) + " vs prim " +
+                std::to_string(want.prim) + " t " + std::to_string(want.t);
+    }
+  }
+  masq::kernel::any_hit_runtime = false;
+  EXPECT_EQ(mismatches, 0) << first;
+  EXPECT_GT(hits, 40000 / 5);
+}
