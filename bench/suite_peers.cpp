@@ -92,8 +92,50 @@ struct PeerTimes {
   double median = 0, min = 0, max = 0;
 };
 
-// Times Embree on the batch: rtcIntersect1 for closest-hit sets, rtcOccluded1 for
-// occlusion sets (whose hits then only say occluded, prim 0, or not, prim -1).
+// masq's fastest row and Embree are each timed on their own: the row's structure is
+// uploaded again into a slot of its own and traced warm-up + repetitions times in a
+// row, before Embree traces anything in the scene; Embree then the same way. In the
+// lanes every masq trace follows another method's, whose structure has pushed its own
+// out of the caches, while Embree's traces follow each other. masq goes first because
+// Embree's worker threads keep a core busy for a while after its traces return (timed
+// right after Embree, masq's cpu rows lost up to half their rate).
+// The structure a row traced: auto by pilot's kept candidate, else the method's own.
+const PackedScene& row_structure(const BuiltMethods& built, const BenchRow& row) {
+  if (row.method == Method::Auto)
+    for (const PackedScene& c : built.auto_candidates.built)
+      if (c.method == row.build.auto_choice) return c;
+  return built.scenes.at(row.method);
+}
+
+PeerTimes times_of(std::vector<double> t) {
+  std::sort(t.begin(), t.end());
+  return {t[t.size() / 2], t.front(), t.back()};
+}
+
+constexpr int kSoloSlot = 3000; // bench/backend_pool.h: past the lanes' and pilots'
+
+PeerTimes time_masq_alone(BackendPool& pool, const BuiltMethods& built, const BenchRow& best,
+                          const std::vector<kernel::Ray>& rays, const BenchOptions& opt) {
+  Backend* be = pool.get(best.backend, kSoloSlot);
+  if (!be) throw Error("peers: backend " + best.backend + " could not open a slot to time masq's fastest tracer");
+  std::vector<double> t;
+  std::vector<kernel::Hit> hits(rays.size());
+  try {
+    be->set_scene(row_structure(built, best));
+    for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
+      be->trace(rays, hits, {}, best.query);
+      if (i >= opt.warmup) t.push_back(be->timing().trace_seconds);
+    }
+  } catch (...) {
+    pool.close(best.backend, kSoloSlot);
+    throw;
+  }
+  pool.close(best.backend, kSoloSlot);
+  return times_of(t);
+}
+
+// Embree on the batch: rtcIntersect1 for closest-hit sets, rtcOccluded1 for occlusion
+// sets (whose hits then only say occluded, prim 0, or not, prim -1).
 PeerTimes time_embree(EmbreePeer& peer, const std::vector<kernel::Ray>& rays, std::vector<kernel::Hit>& hits,
                       Query query, const BenchOptions& opt) {
   std::vector<double> t;
@@ -111,8 +153,17 @@ PeerTimes time_embree(EmbreePeer& peer, const std::vector<kernel::Ray>& rays, st
       hits[i] = kernel::Hit{};
       hits[i].prim = occluded[i] ? 0 : -1;
     }
-  std::sort(t.begin(), t.end());
-  return {t[t.size() / 2], t.front(), t.back()};
+  return times_of(t);
+}
+
+// The fastest available row of a ray set among masq's tracers, or among rayquery's.
+const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set, bool rayquery) {
+  const BenchRow* best = nullptr;
+  for (const BenchRow& r : rows) {
+    if (r.ray_set != set || !r.unavailable.empty() || (r.backend == "rayquery") != rayquery) continue;
+    if (!best || r.mrays_per_s() > best->mrays_per_s()) best = &r;
+  }
+  return best;
 }
 
 struct PeerScene {
@@ -134,7 +185,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
   Table t;
   t.title = "Mrays/s on the same rays; agreement with masq's best = rays hit by one and missed by the other / common "
             "hits on another primitive (not a tie in t)";
-  t.header = {"scene", "rays", "masq best", "Mrays/s", "Embree 3", "masq/Embree", "Embree agreement",
+  t.header = {"scene", "rays", "masq best", "Mrays/s (lanes)", "Mrays/s (alone)", "Embree 3 (alone)",
+              "masq/Embree", "Embree agreement",
               "oracle: masq / Embree right", "rayquery best", "rayquery/masq", "rayquery agreement"};
   t.left_columns = 3;
   Table build;
@@ -157,6 +209,17 @@ SuiteResult run_peers(SuiteContext& ctx) {
     BuiltMethods built = build_methods(scene, opt);
     std::vector<RayBatch> batches = make_ray_batches(scene, built, opt, ctx.pool);
     std::vector<BenchRow> rows = measure(built, scene.primitive_count(), batches, opt, ctx.pool);
+    std::vector<PeerTimes> masq_alone(batches.size());
+    std::vector<std::string> alone_error(batches.size());
+    for (std::size_t b = 0; b < batches.size(); ++b)
+      if (const BenchRow* best = fastest_row(rows, batches[b].set, false)) {
+        ctx.say("peers " + ps.label + ": masq's fastest alone, " + ray_set_name(batches[b].set));
+        try {
+          masq_alone[b] = time_masq_alone(ctx.pool, built, *best, batches[b].rays, opt);
+        } catch (const std::exception& e) {
+          alone_error[b] = e.what();
+        }
+      }
     std::unique_ptr<EmbreePeer> embree;
     std::string embree_error = embree_why;
     if (embree_error.empty()) {
@@ -172,14 +235,10 @@ SuiteResult run_peers(SuiteContext& ctx) {
     nlohmann::json sj = {{"scene", ps.label}, {"primitives", scene.primitive_count()}};
     const oracle::Oracle orc(scene); // arbitrates where masq and a peer disagree
     for (const BenchRow& r : rows) sj["results"].push_back(bench_row_json(r));
-    for (const RayBatch& batch : batches) {
-      const BenchRow* best = nullptr;
-      const BenchRow* best_rq = nullptr;
-      for (const BenchRow& r : rows) {
-        if (r.ray_set != batch.set || !r.unavailable.empty()) continue;
-        const BenchRow*& slot = r.backend == "rayquery" ? best_rq : best;
-        if (!slot || r.mrays_per_s() > slot->mrays_per_s()) slot = &r;
-      }
+    for (std::size_t b = 0; b < batches.size(); ++b) {
+      const RayBatch& batch = batches[b];
+      const BenchRow* best = fastest_row(rows, batch.set, false);
+      const BenchRow* best_rq = fastest_row(rows, batch.set, true);
       std::vector<std::string> line = {ps.label, std::string(ray_set_name(batch.set)) +
                                                      (batch.set == RaySet::Shadow && opt.shadow_any_hit ? " (any)" : "")};
       if (!best) {
@@ -190,18 +249,25 @@ SuiteResult run_peers(SuiteContext& ctx) {
       line.push_back(fmt::format("{} {}", best->backend, method_name(best->method)));
       line.push_back(fmt::format("{:.3f}", best->mrays_per_s()));
       nlohmann::json pj = {{"rays", ray_set_name(batch.set)}, {"masq_best", bench_row_json(*best)}};
-      if (embree) {
+      if (!alone_error[b].empty()) {
+        line.insert(line.end(), {"unavailable: " + alone_error[b], "-", "-", "-", "-"});
+      } else if (embree) {
         ctx.say("peers " + ps.label + ": Embree " + ray_set_name(batch.set));
         std::vector<kernel::Hit> hits(batch.rays.size());
         PeerTimes pt = time_embree(*embree, batch.rays, hits, best->query, opt);
+        const PeerTimes& mt = masq_alone[b];
         double mrays = batch.rays.size() / pt.median * 1e-6;
+        double masq_mrays = batch.rays.size() / mt.median * 1e-6;
         Agreement g = agree(best->hits, hits, best->query);
+        line.push_back(fmt::format("{:.3f}", masq_mrays));
         line.push_back(fmt::format("{:.3f}", mrays));
-        line.push_back(fmt::format("{:.2f}x", best->mrays_per_s() / mrays));
+        line.push_back(fmt::format("{:.2f}x", masq_mrays / mrays));
         line.push_back(g.text());
         ctx.say("peers " + ps.label + ": oracle on the differing rays");
         Arbitration arb = arbitrate(orc, batch.rays, best->hits, hits, g.differing, best->query);
         line.push_back(arb.text());
+        pj["masq_alone"] = {{"mrays_per_s", masq_mrays},
+                            {"trace_seconds", {{"median", mt.median}, {"min", mt.min}, {"max", mt.max}}}};
         pj["embree"] = {{"mrays_per_s", mrays},
                         {"trace_seconds", {{"median", pt.median}, {"min", pt.min}, {"max", pt.max}}},
                         {"hit_miss_disagree", g.hit_miss},
@@ -209,6 +275,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
                         {"other_primitive", g.other_prim},
                         {"oracle", {{"traced", arb.traced}, {"masq_right", arb.a_right}, {"embree_right", arb.b_right}}}};
       } else {
+        line.push_back(fmt::format("{:.3f}", batch.rays.size() / masq_alone[b].median * 1e-6));
         line.insert(line.end(), {"unavailable", "-", "-", "-"});
         pj["embree"] = {{"unavailable", embree_error}};
       }
@@ -241,13 +308,18 @@ SuiteResult run_peers(SuiteContext& ctx) {
                                 : "Embree: " + embree_why,
              "oracle: of the differing rays (at most 300, evenly spread), how many masq and Embree answer as the "
              "long-double oracle does",
-             "masq best: the fastest of masq's own tracers (cpu, vulkan, opencl x ref, masq, cluster, auto); rayquery: "
+             "masq best: the fastest of masq's own tracers (cpu, vulkan, opencl x ref, masq, cluster, auto) in the "
+             "lanes, where the methods of a backend take turns round by round; alone: that tracer's structure "
+             "uploaded again and its warm-up and timed traces run in a row, as Embree's then are (in the lanes each "
+             "trace follows another method's, with cold caches); masq/Embree: both alone",
+             "rayquery: "
              "the driver's BVH with masq's intersectors, best of its four methods"};
   build.notes = {"masq: host build + upload (first backend), nodes + instances + primitives; Embree: rtcCommitScene, "
                  "memory from Embree's device memory monitor"};
   res.tables = {t, build};
   res.method = fmt::format("{}x{} camera rays and the shadow and diffuse rays derived from their hits; every tracer gets "
-                           "the same rays; median of {} timed traces after {} warm-up; Embree timed by wall clock.",
+                           "the same rays; median of {} timed traces after {} warm-up; Embree timed by wall clock, right "
+                           "after masq's fastest tracer timed alone the same way.",
                            opt.width, opt.height, opt.repetitions, opt.warmup);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
