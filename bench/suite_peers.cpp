@@ -122,6 +122,9 @@ PeerTimes time_masq_alone(BackendPool& pool, const BuiltMethods& built, const Be
   std::vector<kernel::Hit> hits(rays.size());
   try {
     be->set_scene(row_structure(built, best));
+    if (be->device_bytes() != best.device_bytes)
+      throw Error(fmt::format("peers: {} {} uploaded again holds {} bytes on the device, its lane {}", best.backend,
+                              method_name(best.method), be->device_bytes(), best.device_bytes));
     for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
       be->trace(rays, hits, {}, best.query);
       if (i >= opt.warmup) t.push_back(be->timing().trace_seconds);
@@ -131,6 +134,16 @@ PeerTimes time_masq_alone(BackendPool& pool, const BuiltMethods& built, const Be
     throw;
   }
   pool.close(best.backend, kSoloSlot);
+  // Every method finds the same hits, so this only catches gross errors; the bytes
+  // above tell the structures apart.
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < best.hits.size() && i < hits.size(); ++i) {
+    const kernel::Hit &a = best.hits[i], &b = hits[i];
+    differ += a.prim != b.prim || (a.prim >= 0 && (a.geom != b.geom || a.inst != b.inst || a.t != b.t));
+  }
+  if (differ)
+    throw Error(fmt::format("peers: {} {} traced alone disagrees with its lane on {} of {} rays", best.backend,
+                            method_name(best.method), differ, rays.size()));
   return times_of(t);
 }
 

@@ -274,3 +274,30 @@ TEST(PriceFit, ChoicesCountWhereTheCheapestByPriceIsSlow) {
   EXPECT_EQ(c.cells, 1);
   EXPECT_EQ(c.within, 0);
 }
+
+// A real quick peers run on the cpu backend: masq's fastest tracer of each ray set is
+// timed again alone (its upload checked against the lane's: the same device bytes and
+// hits) and sits beside
+// Embree, or the Embree columns say why not.
+TEST(Suites, PeersQuickOnCpuTimesMasqsFastestAlone) {
+  SuiteContext ctx;
+  ctx.config.quick = true;
+  ctx.config.backends = {"cpu"};
+  std::vector<SuiteResult> out = run_suites(ctx, {"peers"});
+  ASSERT_EQ(out.size(), 1u);
+  const nlohmann::json& scenes = out[0].data["scenes"];
+  ASSERT_FALSE(scenes.empty());
+  int sets = 0;
+  for (const auto& sc : scenes)
+    for (const auto& p : sc["peers"]) {
+      ++sets;
+      EXPECT_EQ(p["masq_best"]["backend"], "cpu");
+      if (p["embree"].contains("unavailable")) continue;
+      ASSERT_TRUE(p.contains("masq_alone")) << p.dump();
+      EXPECT_GT(p["masq_alone"]["mrays_per_s"].get<double>(), 0.0);
+      EXPECT_GT(p["embree"]["mrays_per_s"].get<double>(), 0.0);
+    }
+  EXPECT_GE(sets, 3); // primary, shadow and diffuse of the default bundle at least
+  for (const auto& row : out[0].tables.front().rows)
+    for (const auto& cell : row) EXPECT_EQ(cell.find("unavailable: peers:"), std::string::npos) << cell;
+}
