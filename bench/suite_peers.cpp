@@ -331,8 +331,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
                  "memory from Embree's device memory monitor"};
   res.tables = {t, build};
   res.method = fmt::format("{}x{} camera rays and the shadow and diffuse rays derived from their hits; every tracer gets "
-                           "the same rays; median of {} timed traces after {} warm-up; Embree timed by wall clock, right "
-                           "after masq's fastest tracer timed alone the same way.",
+                           "the same rays; median of {} timed traces after {} warm-up; Embree timed by wall clock, after "
+                           "masq's fastest tracer of every ray set was timed alone the same way.",
                            opt.width, opt.height, opt.repetitions, opt.warmup);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
