@@ -21,6 +21,20 @@ STRUCT_END(WideHits)
 FN float widen_lo(float t) { return t - fabs_(t) * MASQ_BOX_WIDEN; }
 FN float widen_hi(float t) { return t + fabs_(t) * MASQ_BOX_WIDEN; }
 
+#if defined(MASQ_LANG_CPP)
+// cpu: the w4 test, plain or padded, four slots at once (slab_simd_cpp.h).
+FN WideHits wide_node_simd(WideNode n, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  WideHits r;
+  simd::slab_hits4(n.lo_x, n.hi_x, n.lo_y, n.hi_y, n.lo_z, n.hi_z, n.count, o, inv_d, padded, pad, tmin, tmax,
+                   MASQ_BOX_WIDEN, 2.0f * MASQ_U, r.tnear, r.tfar);
+  for (int i = 0; i < MASQ_WIDTH; ++i) {
+    r.child[i] = n.child[i];
+    r.count[i] = n.count[i];
+  }
+  return r;
+}
+#endif
+
 // The one-source form: GLSL and OpenCL run it (PoCL vectorises across work-items); the
 // cpu dialect runs the same operations on four slots at once (slab_simd_cpp.h).
 FN WideHits intersect_wide_node_loop(WideNode n, vec3 o, vec3 inv_d, float tmin, float tmax) {
@@ -45,14 +59,7 @@ FN WideHits intersect_wide_node_loop(WideNode n, vec3 o, vec3 inv_d, float tmin,
 
 FN WideHits intersect_wide_node(WideNode n, vec3 o, vec3 inv_d, float tmin, float tmax) {
 #if defined(MASQ_LANG_CPP)
-  WideHits r;
-  simd::slab_hits4(n.lo_x, n.hi_x, n.lo_y, n.hi_y, n.lo_z, n.hi_z, n.count, o, inv_d, 0, vec3(0.0f), tmin, tmax,
-                   MASQ_BOX_WIDEN, 2.0f * MASQ_U, r.tnear, r.tfar);
-  for (int i = 0; i < MASQ_WIDTH; ++i) {
-    r.child[i] = n.child[i];
-    r.count[i] = n.count[i];
-  }
-  return r;
+  return wide_node_simd(n, o, inv_d, 0, vec3(0.0f), tmin, tmax);
 #else
   return intersect_wide_node_loop(n, o, inv_d, tmin, tmax);
 #endif
@@ -125,14 +132,7 @@ FN WideHits intersect_wide_node_padded_loop(WideNode n, vec3 o, vec3 inv_d, vec3
 
 FN WideHits intersect_wide_node_padded(WideNode n, vec3 o, vec3 inv_d, vec3 pad, float tmin, float tmax) {
 #if defined(MASQ_LANG_CPP)
-  WideHits r;
-  simd::slab_hits4(n.lo_x, n.hi_x, n.lo_y, n.hi_y, n.lo_z, n.hi_z, n.count, o, inv_d, 1, pad, tmin, tmax,
-                   MASQ_BOX_WIDEN, 2.0f * MASQ_U, r.tnear, r.tfar);
-  for (int i = 0; i < MASQ_WIDTH; ++i) {
-    r.child[i] = n.child[i];
-    r.count[i] = n.count[i];
-  }
-  return r;
+  return wide_node_simd(n, o, inv_d, 1, pad, tmin, tmax);
 #else
   return intersect_wide_node_padded_loop(n, o, inv_d, pad, tmin, tmax);
 #endif
