@@ -26,7 +26,7 @@ FN float widen_hi(float t) { return t + fabs_(t) * MASQ_BOX_WIDEN; }
 FN WideHits wide_node_simd(WideNode n, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
   WideHits r;
   simd::slab_hits4(n.lo_x, n.hi_x, n.lo_y, n.hi_y, n.lo_z, n.hi_z, n.count, o, inv_d, padded, pad, tmin, tmax,
-                   MASQ_BOX_WIDEN, 2.0f * MASQ_U, r.tnear, r.tfar);
+                   r.tnear, r.tfar);
   for (int i = 0; i < MASQ_WIDTH; ++i) {
     r.child[i] = n.child[i];
     r.count[i] = n.count[i];

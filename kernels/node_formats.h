@@ -74,8 +74,8 @@ FN WideHits hits_w8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad,
     simd::slab_hits4((const float*)(w + MASQ_W8_LO_X + g), (const float*)(w + MASQ_W8_HI_X + g),
                      (const float*)(w + MASQ_W8_LO_Y + g), (const float*)(w + MASQ_W8_HI_Y + g),
                      (const float*)(w + MASQ_W8_LO_Z + g), (const float*)(w + MASQ_W8_HI_Z + g),
-                     (const int*)(w + MASQ_W8_COUNT + g), o, inv_d, padded, pad, tmin, tmax, MASQ_BOX_WIDEN,
-                     2.0f * MASQ_U, r.tnear + g, r.tfar + g);
+                     (const int*)(w + MASQ_W8_COUNT + g), o, inv_d, padded, pad, tmin, tmax, r.tnear + g,
+                     r.tfar + g);
   for (int i = 0; i < MASQ_WIDTH8; ++i) {
     r.child[i] = u2i_(w[MASQ_W8_CHILD + i]);
     r.count[i] = u2i_(w[MASQ_W8_COUNT + i]);
@@ -86,72 +86,33 @@ FN WideHits hits_w8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad,
 #endif
 }
 
-// Decodes each child box as origin + q * 2^e per plane (exact product, one rounding of
-// the sum: the host proved that value lies outside the true box), then the float test.
-FN WideHits hits_q8_loop(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
-  WideHits r;
-  int b = node * MASQ_Q8_WORDS;
-  vec3 p = VEC3(node_word_f(KD_ARG b + MASQ_Q8_ORIGIN), node_word_f(KD_ARG b + MASQ_Q8_ORIGIN + 1),
-                node_word_f(KD_ARG b + MASQ_Q8_ORIGIN + 2));
+// A q8 node's frame: plane q of axis k lies at origin[k] + q * step[k].
+STRUCT_BEGIN(Q8Frame)
+  vec3 origin;
+  vec3 step;
+STRUCT_END(Q8Frame)
+
+FN Q8Frame q8_frame(KD_PARAM int b) {
+  Q8Frame f;
+  f.origin = VEC3(node_word_f(KD_ARG b + MASQ_Q8_ORIGIN), node_word_f(KD_ARG b + MASQ_Q8_ORIGIN + 1),
+                  node_word_f(KD_ARG b + MASQ_Q8_ORIGIN + 2));
   uint ex = KD(node_words)[b + MASQ_Q8_EXPS];
-  vec3 s = VEC3(as_float_((ex & 255u) << 23), as_float_(((ex >> 8) & 255u) << 23), as_float_(((ex >> 16) & 255u) << 23));
+  f.step = VEC3(as_float_((ex & 255u) << 23), as_float_(((ex >> 8) & 255u) << 23),
+                as_float_(((ex >> 16) & 255u) << 23));
+  return f;
+}
+
+// The slots of the q8 node at word b decoded from their meta bytes: inner children are
+// numbered from child_base, leaf references from ref_base, in slot order; empty slots
+// get count -1. No box is tested yet (tnear +inf, tfar 0).
+FN WideHits q8_slots(KD_PARAM int b) {
+  WideHits r;
   int next_child = u2i_(KD(node_words)[b + MASQ_Q8_CHILD_BASE]);
   int next_ref = u2i_(KD(node_words)[b + MASQ_Q8_REF_BASE]);
   for (int i = 0; i < MASQ_WIDTH8; ++i) {
     uint m = node_byte(KD_ARG b + MASQ_Q8_META, i);
     r.tnear[i] = inf_();
     r.tfar[i] = 0.0f;
-    r.child[i] = -1;
-    r.count[i] = -1;
-    if (m == 0u) continue;
-    if (m == MASQ_Q8_INNER) {
-      r.child[i] = next_child;
-      r.count[i] = 0;
-      next_child = next_child + 1;
-    } else {
-      r.child[i] = next_ref;
-      r.count[i] = u2i_(m);
-      next_ref = next_ref + u2i_(m);
-    }
-    vec3 lo = VEC3(p.x + u2f_(node_byte(KD_ARG b + MASQ_Q8_QLO_X, i)) * s.x,
-                   p.y + u2f_(node_byte(KD_ARG b + MASQ_Q8_QLO_Y, i)) * s.y,
-                   p.z + u2f_(node_byte(KD_ARG b + MASQ_Q8_QLO_Z, i)) * s.z);
-    vec3 hi = VEC3(p.x + u2f_(node_byte(KD_ARG b + MASQ_Q8_QHI_X, i)) * s.x,
-                   p.y + u2f_(node_byte(KD_ARG b + MASQ_Q8_QHI_Y, i)) * s.y,
-                   p.z + u2f_(node_byte(KD_ARG b + MASQ_Q8_QHI_Z, i)) * s.z);
-    SlabHit h = slab_hit(lo, hi, o, inv_d, padded, pad, tmin, tmax);
-    r.tnear[i] = h.tn;
-    r.tfar[i] = h.tf;
-  }
-  return r;
-}
-
-// The cpu dialect decodes and tests the eight slots as two groups of four
-// (slab_simd_cpp.h), the same operations as the loop.
-FN WideHits hits_q8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
-#if defined(MASQ_LANG_CPP)
-  WideHits r;
-  const uint* w = KD(node_words) + node * MASQ_Q8_WORDS;
-  vec3 p = VEC3(as_float_(w[MASQ_Q8_ORIGIN]), as_float_(w[MASQ_Q8_ORIGIN + 1]), as_float_(w[MASQ_Q8_ORIGIN + 2]));
-  uint ex = w[MASQ_Q8_EXPS];
-  vec3 s = VEC3(as_float_((ex & 255u) << 23), as_float_(((ex >> 8) & 255u) << 23),
-                as_float_(((ex >> 16) & 255u) << 23));
-  for (int g = 0; g < MASQ_WIDTH8; g += 4) {
-    int k = g >> 2;
-    simd::Planes4 planes{simd::dequantise4(w[MASQ_Q8_QLO_X + k], p.x, s.x),
-                         simd::dequantise4(w[MASQ_Q8_QHI_X + k], p.x, s.x),
-                         simd::dequantise4(w[MASQ_Q8_QLO_Y + k], p.y, s.y),
-                         simd::dequantise4(w[MASQ_Q8_QHI_Y + k], p.y, s.y),
-                         simd::dequantise4(w[MASQ_Q8_QLO_Z + k], p.z, s.z),
-                         simd::dequantise4(w[MASQ_Q8_QHI_Z + k], p.z, s.z)};
-    simd::I4 meta = (std::bit_cast<int>(w[MASQ_Q8_META + k]) - simd::I4{}) >> simd::I4{0, 8, 16, 24} & 255;
-    simd::slab_hits4v(planes, meta != 0, o, inv_d, padded, pad, tmin, tmax, MASQ_BOX_WIDEN, 2.0f * MASQ_U,
-                      r.tnear + g, r.tfar + g);
-  }
-  int next_child = u2i_(w[MASQ_Q8_CHILD_BASE]);
-  int next_ref = u2i_(w[MASQ_Q8_REF_BASE]);
-  for (int i = 0; i < MASQ_WIDTH8; ++i) {
-    uint m = (w[MASQ_Q8_META + (i >> 2)] >> ((i & 3) * 8)) & 255u;
     r.child[i] = -1;
     r.count[i] = -1;
     if (m == MASQ_Q8_INNER) {
@@ -163,6 +124,49 @@ FN WideHits hits_q8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad,
       r.count[i] = u2i_(m);
       next_ref = next_ref + u2i_(m);
     }
+  }
+  return r;
+}
+
+// Decodes each child box as origin + q * 2^e per plane (exact product, one rounding of
+// the sum: the host proved that value lies outside the true box), then the float test.
+FN WideHits hits_q8_loop(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  int b = node * MASQ_Q8_WORDS;
+  Q8Frame f = q8_frame(KD_ARG b);
+  WideHits r = q8_slots(KD_ARG b);
+  for (int i = 0; i < MASQ_WIDTH8; ++i) {
+    if (r.count[i] < 0) continue;
+    vec3 lo = VEC3(f.origin.x + u2f_(node_byte(KD_ARG b + MASQ_Q8_QLO_X, i)) * f.step.x,
+                   f.origin.y + u2f_(node_byte(KD_ARG b + MASQ_Q8_QLO_Y, i)) * f.step.y,
+                   f.origin.z + u2f_(node_byte(KD_ARG b + MASQ_Q8_QLO_Z, i)) * f.step.z);
+    vec3 hi = VEC3(f.origin.x + u2f_(node_byte(KD_ARG b + MASQ_Q8_QHI_X, i)) * f.step.x,
+                   f.origin.y + u2f_(node_byte(KD_ARG b + MASQ_Q8_QHI_Y, i)) * f.step.y,
+                   f.origin.z + u2f_(node_byte(KD_ARG b + MASQ_Q8_QHI_Z, i)) * f.step.z);
+    SlabHit h = slab_hit(lo, hi, o, inv_d, padded, pad, tmin, tmax);
+    r.tnear[i] = h.tn;
+    r.tfar[i] = h.tf;
+  }
+  return r;
+}
+
+// The cpu dialect decodes and tests the eight slots as two groups of four
+// (slab_simd_cpp.h), the same operations as the loop.
+FN WideHits hits_q8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+#if defined(MASQ_LANG_CPP)
+  int b = node * MASQ_Q8_WORDS;
+  Q8Frame f = q8_frame(KD_ARG b);
+  WideHits r = q8_slots(KD_ARG b);
+  const uint* w = KD(node_words) + b;
+  for (int g = 0; g < MASQ_WIDTH8; g += 4) {
+    int k = g >> 2;
+    simd::Planes4 planes{simd::dequantise4(w[MASQ_Q8_QLO_X + k], f.origin.x, f.step.x),
+                         simd::dequantise4(w[MASQ_Q8_QHI_X + k], f.origin.x, f.step.x),
+                         simd::dequantise4(w[MASQ_Q8_QLO_Y + k], f.origin.y, f.step.y),
+                         simd::dequantise4(w[MASQ_Q8_QHI_Y + k], f.origin.y, f.step.y),
+                         simd::dequantise4(w[MASQ_Q8_QLO_Z + k], f.origin.z, f.step.z),
+                         simd::dequantise4(w[MASQ_Q8_QHI_Z + k], f.origin.z, f.step.z)};
+    simd::slab_hits4v(planes, simd::load<simd::I4>(r.count + g) >= 0, o, inv_d, padded, pad, tmin, tmax,
+                      r.tnear + g, r.tfar + g);
   }
   return r;
 #else

@@ -7,6 +7,7 @@
 #ifndef MASQ_KERNEL_SLAB_SIMD_CPP_H
 #define MASQ_KERNEL_SLAB_SIMD_CPP_H
 #if defined(MASQ_LANG_CPP)
+#include "math.h"
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -38,7 +39,8 @@ struct Planes4 {
 // nothing reads) of four slots. padded != 0 grows each box by pad and 2u of each
 // bound's magnitude, as intersect_wide_node_padded and slab_hit do.
 inline void slab_hits4v(Planes4 p, I4 live, glm::vec3 o, glm::vec3 inv_d, int padded, glm::vec3 pad, float tmin,
-                        float tmax, float widen, float two_u, float* tnear, float* tfar) {
+                        float tmax, float* tnear, float* tfar) {
+  const float two_u = 2.0f * MASQ_U;
   if (padded != 0) {
     p.lx = p.lx - (pad.x + vabs(p.lx) * two_u);
     p.hx = p.hx + (pad.x + vabs(p.hx) * two_u);
@@ -52,8 +54,8 @@ inline void slab_hits4v(Planes4 p, I4 live, glm::vec3 o, glm::vec3 inv_d, int pa
   F4 tz0 = (p.lz - o.z) * inv_d.z, tz1 = (p.hz - o.z) * inv_d.z;
   F4 a = vmax(vmin(tx0, tx1), vmax(vmin(ty0, ty1), vmin(tz0, tz1)));
   F4 b = vmin(vmax(tx0, tx1), vmin(vmax(ty0, ty1), vmax(tz0, tz1)));
-  F4 tn = a - vabs(a) * widen;
-  F4 tf = b + vabs(b) * widen;
+  F4 tn = a - vabs(a) * MASQ_BOX_WIDEN;
+  F4 tf = b + vabs(b) * MASQ_BOX_WIDEN;
   F4 lo_t = tmin - F4{}; // tmin in every lane (x - 0 is x, signed zeros included)
   F4 inf = std::numeric_limits<float>::infinity() - F4{};
   I4 hit = live & (tn <= tf) & (tf >= tmin) & (tn <= tmax);
@@ -66,9 +68,9 @@ inline void slab_hits4v(Planes4 p, I4 live, glm::vec3 o, glm::vec3 inv_d, int pa
 // slot. Wider nodes call it once per group of four slots.
 inline void slab_hits4(const float* lo_x, const float* hi_x, const float* lo_y, const float* hi_y, const float* lo_z,
                        const float* hi_z, const int* count, glm::vec3 o, glm::vec3 inv_d, int padded, glm::vec3 pad,
-                       float tmin, float tmax, float widen, float two_u, float* tnear, float* tfar) {
+                       float tmin, float tmax, float* tnear, float* tfar) {
   Planes4 p{load<F4>(lo_x), load<F4>(hi_x), load<F4>(lo_y), load<F4>(hi_y), load<F4>(lo_z), load<F4>(hi_z)};
-  slab_hits4v(p, load<I4>(count) >= 0, o, inv_d, padded, pad, tmin, tmax, widen, two_u, tnear, tfar);
+  slab_hits4v(p, load<I4>(count) >= 0, o, inv_d, padded, pad, tmin, tmax, tnear, tfar);
 }
 
 // q8 planes of four slots: the word holds their 8-bit grid coordinates (byte j: slot j);

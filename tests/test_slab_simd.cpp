@@ -140,6 +140,16 @@ std::vector<uint> w8_words(const Slot* s) {
   return w;
 }
 
+// An 8-wide format's cpu test against its loop on one node, plain and padded.
+typedef WideHits (*NodeTest)(KernelData, int, vec3, vec3, int, vec3, float, float);
+void compare_eight_wide(NodeTest simd_test, NodeTest loop_test, const KernelData& kd, const TestRay& r,
+                        const Slot* sl, Tally& plain, Tally& padded, const std::string& name) {
+  compare(simd_test(kd, 0, r.o, r.inv_d, 0, r.pad, r.tmin, r.tmax),
+          loop_test(kd, 0, r.o, r.inv_d, 0, r.pad, r.tmin, r.tmax), 8, sl, plain, name);
+  compare(simd_test(kd, 0, r.o, r.inv_d, 1, r.pad, r.tmin, r.tmax),
+          loop_test(kd, 0, r.o, r.inv_d, 1, r.pad, r.tmin, r.tmax), 8, sl, padded, name + " padded");
+}
+
 // Hits and misses both common (each at least 5% of the slot tests): not vacuous.
 void expect_clean(const Tally& t) {
   EXPECT_EQ(t.mismatches, 0) << t.first;
@@ -178,10 +188,7 @@ TEST(SlabSimd, EightWideMatchesTheLoopBitForBit) {
       std::vector<uint> words = w8_words(sl);
       kd.node_words = words.data();
       TestRay r = random_ray(rng, s, sl[0]);
-      compare(hits_w8(kd, 0, r.o, r.inv_d, 0, r.pad, r.tmin, r.tmax),
-              hits_w8_loop(kd, 0, r.o, r.inv_d, 0, r.pad, r.tmin, r.tmax), 8, sl, plain, "w8");
-      compare(hits_w8(kd, 0, r.o, r.inv_d, 1, r.pad, r.tmin, r.tmax),
-              hits_w8_loop(kd, 0, r.o, r.inv_d, 1, r.pad, r.tmin, r.tmax), 8, sl, padded, "w8 padded");
+      compare_eight_wide(hits_w8, hits_w8_loop, kd, r, sl, plain, padded, "w8");
     }
   expect_clean(plain);
   expect_clean(padded);
@@ -229,10 +236,7 @@ TEST(SlabSimd, QuantisedEightWideMatchesTheLoopBitForBit) {
       Slot aim = sl[rng() % 8];
       aim.count = 0;
       TestRay r = random_ray(rng, s, aim);
-      compare(hits_q8(kd, 0, r.o, r.inv_d, 0, r.pad, r.tmin, r.tmax),
-              hits_q8_loop(kd, 0, r.o, r.inv_d, 0, r.pad, r.tmin, r.tmax), 8, sl, plain, "q8");
-      compare(hits_q8(kd, 0, r.o, r.inv_d, 1, r.pad, r.tmin, r.tmax),
-              hits_q8_loop(kd, 0, r.o, r.inv_d, 1, r.pad, r.tmin, r.tmax), 8, sl, padded, "q8 padded");
+      compare_eight_wide(hits_q8, hits_q8_loop, kd, r, sl, plain, padded, "q8");
     }
   expect_clean(plain);
   expect_clean(padded);
