@@ -80,6 +80,50 @@ inline F4 dequantise4(std::uint32_t word, float origin, float step) {
   return origin + __builtin_convertvector(q, F4) * step;
 }
 
+// The hit slots of a node test (entry distance not +inf) that are leaves (count > 0)
+// and inner children (count == 0), one bit per slot.
+struct SlotMasks {
+  unsigned leaves;
+  unsigned inner;
+};
+inline SlotMasks slot_masks(const float* tnear, const int* count, int width) {
+  SlotMasks m{0u, 0u};
+  for (int i = 0; i < width; ++i) {
+    unsigned hit = tnear[i] != std::numeric_limits<float>::infinity() ? 1u : 0u;
+    m.leaves |= (hit & unsigned(count[i] > 0)) << i;
+    m.inner |= (hit & unsigned(count[i] == 0)) << i;
+  }
+  return m;
+}
+
+// The slots of `mask` in order of entry distance, ties in slot order: the order of
+// order_children's stable insertion sort. One or two slots (most visits) take no loop.
+inline int sorted_slots(const float* tnear, unsigned mask, int* out) {
+  if (mask == 0u) return 0;
+  int a = __builtin_ctz(mask);
+  mask &= mask - 1u;
+  out[0] = a;
+  if (mask == 0u) return 1;
+  int b = __builtin_ctz(mask);
+  mask &= mask - 1u;
+  bool swap = tnear[b] < tnear[a];
+  out[0] = swap ? b : a;
+  out[1] = swap ? a : b;
+  int n = 2;
+  while (mask != 0u) {
+    int i = __builtin_ctz(mask);
+    mask &= mask - 1u;
+    int j = n;
+    while (j > 0 && tnear[out[j - 1]] > tnear[i]) {
+      out[j] = out[j - 1];
+      --j;
+    }
+    out[j] = i;
+    ++n;
+  }
+  return n;
+}
+
 } // namespace masq::kernel::simd
 #endif
 #endif

@@ -156,6 +156,31 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
     if (stack_t[sp] > res.nearest.t) continue;
     if (MASQ_STATS) res.nodes = res.nodes + 1;
     WideHits wh = node_hits(KD_ARG stack_node[sp], o, inv_d, padded, pad, tmin, res.nearest.t);
+#if defined(MASQ_LANG_CPP)
+    {
+      // cpu: the visits of the loops below, in their order, without their scan of every
+      // slot: the leaves loop takes the hit leaves in entry order and the push loop the
+      // hit inner children, so each is sorted on its own (simd::sorted_slots).
+      simd::SlotMasks hit = simd::slot_masks(wh.tnear, wh.count, node_width());
+      int slot[MASQ_WIDTH8];
+      int n = simd::sorted_slots(wh.tnear, hit.leaves, slot);
+      for (int k = 0; k < n; ++k) {
+        int i = slot[k];
+        if (wh.tnear[i] > res.nearest.t) continue;
+        LeafOut lo = intersect_leaf(KD_ARG g, wh.child[i], wh.count[i], geom_id, inst_id, po, pd, tmin, res.nearest);
+        res.nearest = lo.nearest;
+        if (MASQ_STATS) res.isect_calls = res.isect_calls + lo.isect_calls;
+        if (MASQ_ANY_HIT && res.nearest.prim >= 0) return res;
+      }
+      n = simd::sorted_slots(wh.tnear, hit.inner, slot);
+      for (int k = n - 1; k >= 0 && sp < MASQ_STACK_SIZE; --k) {
+        stack_node[sp] = wh.child[slot[k]];
+        stack_t[sp] = wh.tnear[slot[k]];
+        sp = sp + 1;
+      }
+      continue;
+    }
+#endif
     ChildOrder co = order_children(wh, node_width());
     // Leaves now (nearest first), inner nodes pushed farthest first so nearest pops next.
     for (int k = 0; k < co.n; ++k) {

@@ -5,6 +5,7 @@
 // ray intervals that end inside a box. Equal bits are what keep the backends' hits
 // identical (tests/test_cross_backend.cpp).
 #include "kernels/node_formats.h"
+#include "kernels/traverse.h"
 #include <gtest/gtest.h>
 #include <bit>
 #include <cmath>
@@ -258,4 +259,38 @@ TEST(SlabSimd, AOneUlpChangeWouldBeCaught) {
   Tally off;
   compare(got, want, 4, sl, off, "off");
   EXPECT_EQ(off.mismatches, 1);
+}
+
+// The cpu traversal takes a node's hit leaves and hit inner children from
+// simd::slot_masks and simd::sorted_slots; each must come in the order the one-source
+// loops take them from order_children (entry distance, ties in slot order).
+TEST(SlabSimd, SortedSlotsKeepOrderChildrensOrder) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> pick_t(0, 4), pick_count(-1, 3);
+  int ties = 0, visits = 0;
+  for (int width : {4, 8})
+    for (int trial = 0; trial < 40000; ++trial) {
+      WideHits wh{};
+      for (int i = 0; i < width; ++i) {
+        int k = pick_t(rng); // few distinct distances: ties are common
+        wh.count[i] = pick_count(rng);
+        wh.tnear[i] = k == 4 || wh.count[i] < 0 ? kInf : 0.5f * float(k);
+      }
+      masq::kernel::v_default::ChildOrder co = masq::kernel::v_default::order_children(wh, width);
+      std::vector<int> want_leaves, want_inner;
+      for (int k = 0; k < co.n; ++k) {
+        int i = co.slot[k];
+        if (wh.count[i] > 0) want_leaves.push_back(i);
+        if (wh.count[i] == 0) want_inner.push_back(i);
+        for (int j = 0; j < k; ++j) ties += wh.tnear[co.slot[j]] == wh.tnear[i];
+      }
+      simd::SlotMasks m = simd::slot_masks(wh.tnear, wh.count, width);
+      int slot[8];
+      int n = simd::sorted_slots(wh.tnear, m.leaves, slot);
+      ASSERT_EQ(std::vector<int>(slot, slot + n), want_leaves) << "width " << width << " trial " << trial;
+      n = simd::sorted_slots(wh.tnear, m.inner, slot);
+      ASSERT_EQ(std::vector<int>(slot, slot + n), want_inner) << "width " << width << " trial " << trial;
+      visits += co.n;
+    }
+  EXPECT_GT(ties, visits / 10); // the stable order was tested, not only distinct keys
 }
