@@ -30,6 +30,8 @@ struct Job {
   int count;
 };
 
+double blocks(int n, const SahOptions& opt) { return double((n + opt.leaf_block - 1) / opt.leaf_block); }
+
 Split find_split(const std::vector<Aabb>& boxes, const std::vector<int>& order, int first, int count,
                  const Aabb& cbox, const SahOptions& opt) {
   Split best;
@@ -61,7 +63,7 @@ Split find_split(const std::vector<Aabb>& boxes, const std::vector<int>& order, 
       acc.grow(bin_box[k]);
       n += bin_count[k];
       if (n == 0 || right_count[k + 1] == 0) continue;
-      double cost = acc.area() * n + right_area[k + 1] * right_count[k + 1];
+      double cost = acc.area() * blocks(n, opt) + right_area[k + 1] * blocks(right_count[k + 1], opt);
       if (cost < best.cost) best = {axis, k, cost};
     }
   }
@@ -71,6 +73,7 @@ Split find_split(const std::vector<Aabb>& boxes, const std::vector<int>& order, 
 } // namespace
 
 BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt) {
+  if (opt.leaf_block < 1) throw Error("bvh: SAH leaf block " + std::to_string(opt.leaf_block) + " (must be >= 1)");
   BinaryBvh bvh;
   const int n = int(boxes.size());
   if (n == 0) return bvh;
@@ -102,9 +105,10 @@ BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt
       continue;
     }
     Split s = find_split(boxes, bvh.order, job.first, job.count, cbox, opt);
-    // SAH in units of this node's area: leaf = C_i * n, split = C_t + C_i * (A_l n_l + A_r n_r) / A.
+    // SAH in units of this node's area: leaf = C_i * b(n), split = C_t + C_i * (A_l b(n_l) + A_r b(n_r)) / A,
+    // b(n) the leaf's blocks (n itself with the default block of 1).
     double area = box.area();
-    double leaf_cost = opt.intersection_cost * job.count;
+    double leaf_cost = opt.intersection_cost * blocks(job.count, opt);
     double split_cost = area > 0.0 ? opt.traversal_cost + opt.intersection_cost * s.cost / area : leaf_cost;
     int mid;
     if (s.axis >= 0 && (split_cost < leaf_cost || job.count > opt.max_leaf_size)) {

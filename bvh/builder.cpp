@@ -9,24 +9,28 @@ const char* builder_name(Builder b) {
     case Builder::Sbvh: return "sbvh";
     case Builder::SahReinsert: return "sah+reinsert";
     case Builder::SbvhReinsert: return "sbvh+reinsert";
+    case Builder::Sah4: return "sah4";
   }
   return "?";
 }
 
 const std::vector<Builder>& all_builders() {
-  static const std::vector<Builder> all{Builder::Sah, Builder::Sbvh, Builder::SahReinsert, Builder::SbvhReinsert};
+  static const std::vector<Builder> all{Builder::Sah, Builder::Sbvh, Builder::SahReinsert, Builder::SbvhReinsert,
+                                       Builder::Sah4};
   return all;
 }
 
 Builder parse_builder(const std::string& name) {
   for (Builder b : all_builders())
     if (name == builder_name(b)) return b;
-  throw Error("builder: unknown builder '" + name + "' (choose sah, sbvh, sah+reinsert or sbvh+reinsert)");
+  throw Error("builder: unknown builder '" + name + "' (choose sah, sbvh, sah+reinsert, sbvh+reinsert or sah4)");
 }
 
 BinaryBvh build_blas_binary(const std::vector<Aabb>& boxes, const PrimClipper& clip, const SahOptions& sah,
                             const BuilderOptions& opt, std::size_t* references) {
-  BinaryBvh bvh = builder_splits(opt.kind) ? build_sbvh(boxes, clip, sah, opt.sbvh) : build_binned_sah(boxes, sah);
+  SahOptions leaf_sah = sah;
+  if (opt.kind == Builder::Sah4) leaf_sah.leaf_block = 4;
+  BinaryBvh bvh = builder_splits(opt.kind) ? build_sbvh(boxes, clip, sah, opt.sbvh) : build_binned_sah(boxes, leaf_sah);
   if (builder_reinserts(opt.kind)) bvh = reinsert_optimize(bvh, sah, opt.reinsert);
   if (references) *references = bvh.order.size();
   return bvh;

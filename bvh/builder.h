@@ -4,7 +4,9 @@
 //                 for the TLAS and the cluster BLAS;
 //  sah+reinsert   binned SAH, then insertion optimisation (bvh/reinsertion.h) of the TLAS
 //                 and of every BLAS;
-//  sbvh+reinsert  both.
+//  sbvh+reinsert  both;
+//  sah4           binned SAH pricing every BLAS leaf over primitives per block of four
+//                 (SahOptions::leaf_block), as the cpu's four-lane capsule test costs it.
 // The wide collapse (bvh/wide_bvh.h) comes after, whichever builder ran.
 #pragma once
 #include "bvh/binned_sah.h"

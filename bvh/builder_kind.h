@@ -5,8 +5,8 @@
 
 namespace masq {
 
-enum class Builder { Sah, Sbvh, SahReinsert, SbvhReinsert };
-const char* builder_name(Builder b);            // "sah", "sbvh", "sah+reinsert", "sbvh+reinsert"
+enum class Builder { Sah, Sbvh, SahReinsert, SbvhReinsert, Sah4 };
+const char* builder_name(Builder b);            // "sah", "sbvh", "sah+reinsert", "sbvh+reinsert", "sah4"
 Builder parse_builder(const std::string& name); // throws masq::Error naming the choices
 const std::vector<Builder>& all_builders();
 inline bool builder_splits(Builder b) { return b == Builder::Sbvh || b == Builder::SbvhReinsert; }

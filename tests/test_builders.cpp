@@ -244,6 +244,38 @@ TEST(Sbvh, RejectsBadOptions) {
   EXPECT_EQ(parse_builder("sbvh+reinsert"), Builder::SbvhReinsert);
 }
 
+// sah4 prices a leaf per block of four primitives: on unit cubes in a row, where the
+// per-primitive SAH (C_t = C_i = 1) stops at pairs (a pair's leaf costs 2, its split
+// 2.2), blocks of four make every leaf hold four (one block costs 1, its split 2.1).
+TEST(Sah4, LeafBlocksOfFourFillLeaves) {
+  std::vector<Aabb> row(64);
+  for (int i = 0; i < 64; ++i) {
+    row[std::size_t(i)].grow(glm::dvec3(i, 0, 0));
+    row[std::size_t(i)].grow(glm::dvec3(i + 1, 1, 1));
+  }
+  auto leaf_sizes = [](const BinaryBvh& bvh) {
+    std::vector<int> sizes;
+    for (const BinaryNode& n : bvh.nodes)
+      if (n.is_leaf()) sizes.push_back(n.count);
+    return sizes;
+  };
+  SahOptions per_prim;
+  SahOptions blocks = per_prim;
+  blocks.leaf_block = 4;
+  EXPECT_EQ(leaf_sizes(build_binned_sah(row, per_prim)), std::vector<int>(32, 2));
+  EXPECT_EQ(leaf_sizes(build_binned_sah(row, blocks)), std::vector<int>(16, 4));
+  // Through the builder: only sah4 sets the block.
+  PrimClipper clip = [&](int i, int, double, double) { return row[std::size_t(i)]; };
+  BuilderOptions b4;
+  b4.kind = parse_builder("sah4");
+  EXPECT_EQ(b4.kind, Builder::Sah4);
+  EXPECT_EQ(leaf_sizes(build_blas_binary(row, clip, per_prim, b4)), std::vector<int>(16, 4));
+  EXPECT_EQ(leaf_sizes(build_blas_binary(row, clip, per_prim, BuilderOptions{})), std::vector<int>(32, 2));
+  SahOptions bad = per_prim;
+  bad.leaf_block = 0;
+  EXPECT_THROW(build_binned_sah(row, bad), Error);
+}
+
 TEST(Reinsertion, NeverRaisesTheCostKeepsEveryItemOnceAndImprovesABadTree) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     std::mt19937_64 rng(seed);

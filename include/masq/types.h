@@ -29,6 +29,7 @@ enum class Builder {
   Sbvh,         ///< binned SAH plus spatial splits with clipped references (Stich et al. 2009)
   SahReinsert,  ///< binned SAH, then insertion optimisation (Bittner et al. 2013)
   SbvhReinsert, ///< both
+  Sah4,         ///< binned SAH pricing each BLAS leaf per block of 4 primitives (fuller leaves: pays on the cpu backend)
 };
 
 /// Which intersectors and box test the kernels use.
