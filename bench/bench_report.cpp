@@ -34,12 +34,12 @@ const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& b
   return nullptr;
 }
 
-namespace {
-// "ref", or "ref [sbvh]" for a builder other than the default.
 std::string method_label(const BenchRow& r) {
   return r.builder == Builder::Sah ? std::string(method_name(r.method))
                                    : fmt::format("{} [{}]", method_name(r.method), builder_name(r.builder));
 }
+
+namespace {
 double refs_per_prim(const BuildStats& b) {
   return b.blas_primitives ? double(b.blas_references) / double(b.blas_primitives) : 1.0;
 }

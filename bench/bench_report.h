@@ -20,6 +20,8 @@ nlohmann::json bench_json(const Scene& scene, const BenchOptions& opt, const std
 // The ref and masq rows of one backend and ray set (nullptr when missing or unavailable):
 // the first builder's and node format's, the given builder's (any format), or the given
 // builder's and node format's.
+// "ref", or "ref [sbvh]" for a builder other than the default.
+std::string method_label(const BenchRow& r);
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set);
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b);
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b,

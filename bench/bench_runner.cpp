@@ -311,22 +311,20 @@ std::vector<RayBatch> make_ray_batches(const Scene& scene, const BuiltMethods& b
   return batches;
 }
 
-std::vector<BenchRow> measure(const BuiltMethods& built, std::size_t primitives,
-                              const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool) {
-  std::vector<BenchRow> rows;
-  for (const std::string& name : opt.backends) {
-    std::vector<Lane> lanes = open_lanes(name, {&built}, {&opt}, pool);
-    for (BenchRow& r : measure_backend(name, lanes, primitives, batches, opt, pool)) rows.push_back(std::move(r));
-  }
-  return rows;
+const BuiltMethods& BenchRun::built_for(const BenchRow& row) const {
+  for (std::size_t k = 0; k < built.size(); ++k)
+    if (options[k].accel.builder.kind == row.builder && options[k].accel.nodes == row.nodes) return built[k];
+  throw Error(fmt::format("bench: no structure built with builder {} and node format {}", builder_name(row.builder),
+                          node_format_name(row.nodes)));
 }
 
-std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool) {
+BenchRun run_bench_kept(const Scene& scene, const BenchOptions& opt, BackendPool& pool) {
   if (opt.builders.empty()) throw Error("bench: no builder to run");
   if (opt.node_formats.empty()) throw Error("bench: no node format to run");
   // Every builder's and node format's scenes first, then per backend all of them.
-  std::vector<BuiltMethods> built;
-  std::vector<BenchOptions> per_build;
+  BenchRun run;
+  std::vector<BuiltMethods>& built = run.built;
+  std::vector<BenchOptions>& per_build = run.options;
   built.reserve(opt.builders.size() * opt.node_formats.size());
   per_build.reserve(built.capacity());
   for (Builder b : opt.builders)
@@ -337,7 +335,8 @@ std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, Bac
       built.push_back(build_methods(scene, one));
       per_build.push_back(std::move(one));
     }
-  std::vector<RayBatch> batches = make_ray_batches(scene, built.front(), per_build.front(), pool);
+  run.batches = make_ray_batches(scene, built.front(), per_build.front(), pool);
+  const std::vector<RayBatch>& batches = run.batches;
   std::vector<const BuiltMethods*> builds;
   std::vector<const BenchOptions*> build_opts;
   for (std::size_t k = 0; k < built.size(); ++k) {
@@ -347,7 +346,7 @@ std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, Bac
   // Per backend, every builder's and node format's methods take turns in the same
   // rounds: the rows compared for one backend are measured together, which matters on
   // a shared machine. The rays come from the first build's scenes.
-  std::vector<BenchRow> rows;
+  std::vector<BenchRow>& rows = run.rows;
   for (const std::string& backend : opt.backends) {
     std::vector<Lane> lanes = open_lanes(backend, builds, build_opts, pool);
     for (BenchRow& r : measure_backend(backend, lanes, scene.primitive_count(), batches, opt, pool))
@@ -363,7 +362,11 @@ std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, Bac
     };
     return key(a) < key(b);
   });
-  return rows;
+  return run;
+}
+
+std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool) {
+  return run_bench_kept(scene, opt, pool).rows;
 }
 
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt) {

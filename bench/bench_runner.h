@@ -97,15 +97,23 @@ struct RayBatch {
 std::vector<RayBatch> make_ray_batches(const Scene& scene, const BuiltMethods& built,
                                        const BenchOptions& opt, BackendPool& pool);
 
-// Every batch through every backend x method of `opt` (each method's scene uploaded once
-// per backend, into its own slot; auto by pilot once per ray set); backends come from
-// `pool`. Rows: backend, then method, then set.
-std::vector<BenchRow> measure(const BuiltMethods& built, std::size_t primitives,
-                              const std::vector<RayBatch>& batches, const BenchOptions& opt, BackendPool& pool);
+// A bench run with what it traced kept: the structures of every builder x node format
+// (in opt's order, each with the options it was built with), the ray batches, the rows.
+struct BenchRun {
+  std::vector<BuiltMethods> built;
+  std::vector<BenchOptions> options;
+  std::vector<RayBatch> batches;
+  std::vector<BenchRow> rows;
+  // The structures `row` traced (its builder and node format); throws if not built.
+  const BuiltMethods& built_for(const BenchRow& row) const;
+};
 
 // Everything: build, camera rays of opt.width x opt.height, each ray set of opt, for
 // each builder of opt.builders and node format of opt.node_formats. Rows: backend, then
-// method, then builder, then node format, then set.
+// method, then builder, then node format, then set. Every backend x method (each
+// method's scene uploaded once per backend, into its own slot; auto by pilot once per
+// ray set); backends come from `pool`.
+BenchRun run_bench_kept(const Scene& scene, const BenchOptions& opt, BackendPool& pool);
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt, BackendPool& pool);
 std::vector<BenchRow> run_bench(const Scene& scene, const BenchOptions& opt);
 

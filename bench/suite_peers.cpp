@@ -195,6 +195,10 @@ SuiteResult run_peers(SuiteContext& ctx) {
   const std::string embree_why = EmbreePeer::unavailable_reason();
   BenchOptions opt = ctx.bench_options(quick ? 128 : 320, quick ? 96 : 240);
   opt.keep_per_ray = true;
+  // masq's tracers: every backend x method on the default builder's structures and on
+  // sah4's, whose full four-primitive leaves suit the cpu's four-lane capsule test (as
+  // Embree prices its leaves per block of its SIMD width); the fastest is masq's best.
+  opt.builders = {Builder::Sah, Builder::Sah4};
   Table t;
   t.title = "Mrays/s on the same rays; agreement with masq's best = rays hit by one and missed by the other / common "
             "hits on another primitive (not a tie in t)";
@@ -219,16 +223,16 @@ SuiteResult run_peers(SuiteContext& ctx) {
       continue;
     }
     opt.progress = [&](const std::string& line) { ctx.say("peers " + ps.label + ": " + line); };
-    BuiltMethods built = build_methods(scene, opt);
-    std::vector<RayBatch> batches = make_ray_batches(scene, built, opt, ctx.pool);
-    std::vector<BenchRow> rows = measure(built, scene.primitive_count(), batches, opt, ctx.pool);
+    BenchRun run = run_bench_kept(scene, opt, ctx.pool);
+    const std::vector<RayBatch>& batches = run.batches;
+    const std::vector<BenchRow>& rows = run.rows;
     std::vector<PeerTimes> masq_alone(batches.size());
     std::vector<std::string> alone_error(batches.size());
     for (std::size_t b = 0; b < batches.size(); ++b)
       if (const BenchRow* best = fastest_row(rows, batches[b].set, false)) {
         ctx.say("peers " + ps.label + ": masq's fastest alone, " + ray_set_name(batches[b].set));
         try {
-          masq_alone[b] = time_masq_alone(ctx.pool, built, *best, batches[b].rays, opt);
+          masq_alone[b] = time_masq_alone(ctx.pool, run.built_for(*best), *best, batches[b].rays, opt);
         } catch (const std::exception& e) {
           alone_error[b] = e.what();
         }
@@ -259,7 +263,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
         t.add(line);
         continue;
       }
-      line.push_back(fmt::format("{} {}", best->backend, method_name(best->method)));
+      line.push_back(fmt::format("{} {}", best->backend, method_label(*best)));
       line.push_back(fmt::format("{:.3f}", best->mrays_per_s()));
       nlohmann::json pj = {{"rays", ray_set_name(batch.set)}, {"masq_best", bench_row_json(*best)}};
       if (!alone_error[b].empty()) {
@@ -305,8 +309,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
       t.add(line);
       sj["peers"].push_back(pj);
     }
-    const BenchRow* rr = find_row(rows, opt.backends.front(), Method::Ref, RaySet::Primary);
-    const BenchRow* rm = find_row(rows, opt.backends.front(), Method::Masq, RaySet::Primary);
+    const BenchRow* rr = find_row(rows, opt.backends.front(), Method::Ref, RaySet::Primary, Builder::Sah);
+    const BenchRow* rm = find_row(rows, opt.backends.front(), Method::Masq, RaySet::Primary, Builder::Sah);
     auto ms = [](const BenchRow* r) { return r ? fmt::format("{:.1f}", (r->build_s + r->scene_s) * 1e3) : std::string("n/a"); };
     auto accel = [](const BenchRow* r) {
       return r ? fmt::format("{:.2f}", (r->accel_bytes + r->prim_bytes) / 1048576.0) : std::string("n/a");
@@ -321,12 +325,12 @@ SuiteResult run_peers(SuiteContext& ctx) {
                                 : "Embree: " + embree_why,
              "oracle: of the differing rays (at most 300, evenly spread), how many masq and Embree answer as the "
              "long-double oracle does",
-             "masq best: the fastest of masq's own tracers (cpu, vulkan, opencl x ref, masq, cluster, auto) in the "
-             "lanes, where the methods of a backend take turns round by round; alone: that tracer's structure "
+             "masq best: the fastest of masq's own tracers (cpu, vulkan, opencl x ref, masq, cluster, auto, each on "
+             "the default sah builder's structures and on sah4's: docs/builders.md) in the lanes, where the methods of a backend take turns round by round; alone: that tracer's structure "
              "uploaded again and its warm-up and timed traces run in a row, as Embree's then are (in the lanes each "
              "trace follows another method's, with cold caches); masq/Embree: both alone",
              "rayquery: "
-             "the driver's BVH with masq's intersectors, best of its four methods"};
+             "the driver's BVH with masq's intersectors, best of its four methods and two builders"};
   build.notes = {"masq: host build + upload (first backend), nodes + instances + primitives; Embree: rtcCommitScene, "
                  "memory from Embree's device memory monitor"};
   res.tables = {t, build};

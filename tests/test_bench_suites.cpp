@@ -12,6 +12,7 @@
 #include "scenes/generators.h"
 #include <cmath>
 #include <gtest/gtest.h>
+#include <set>
 
 using namespace masq;
 
@@ -288,16 +289,52 @@ TEST(Suites, PeersQuickOnCpuTimesMasqsFastestAlone) {
   const nlohmann::json& scenes = out[0].data["scenes"];
   ASSERT_FALSE(scenes.empty());
   int sets = 0;
-  for (const auto& sc : scenes)
+  for (const auto& sc : scenes) {
+    // masq's tracers run on both builders' structures (sah4: full four-primitive leaves).
+    std::set<std::string> builders;
+    for (const auto& r : sc["results"]) builders.insert(r["builder"].get<std::string>());
+    EXPECT_EQ(builders, (std::set<std::string>{"sah", "sah4"})) << sc["scene"];
     for (const auto& p : sc["peers"]) {
       ++sets;
       EXPECT_EQ(p["masq_best"]["backend"], "cpu");
+      EXPECT_TRUE(builders.count(p["masq_best"]["builder"].get<std::string>()));
       if (p["embree"].contains("unavailable")) continue;
       ASSERT_TRUE(p.contains("masq_alone")) << p.dump();
       EXPECT_GT(p["masq_alone"]["mrays_per_s"].get<double>(), 0.0);
       EXPECT_GT(p["embree"]["mrays_per_s"].get<double>(), 0.0);
     }
+  }
   EXPECT_GE(sets, 3); // primary, shadow and diffuse of the default bundle at least
   for (const auto& row : out[0].tables.front().rows)
     for (const auto& cell : row) EXPECT_EQ(cell.find("unavailable: peers:"), std::string::npos) << cell;
+}
+
+// A row's structures are found by its builder and node format, and a row of a build the
+// run does not hold is an error that names it.
+TEST(Suites, BenchRunFindsEachRowsStructures) {
+  Scene scene = make_default_scene();
+  BenchOptions opt;
+  opt.backends = {"cpu"};
+  opt.methods = {Method::Ref};
+  opt.ray_sets = {RaySet::Primary};
+  opt.width = 16;
+  opt.height = 16;
+  opt.repetitions = 1;
+  opt.builders = {Builder::Sah, Builder::Sah4};
+  BackendPool pool;
+  BenchRun run = run_bench_kept(scene, opt, pool);
+  ASSERT_EQ(run.rows.size(), 2u);
+  for (const BenchRow& r : run.rows) {
+    const PackedScene& ps = run.built_for(r).scenes.at(Method::Ref);
+    EXPECT_EQ(ps.acceleration_bytes(), r.accel_bytes) << builder_name(r.builder);
+  }
+  EXPECT_NE(run.rows[0].accel_bytes, run.rows[1].accel_bytes); // two structures, told apart
+  BenchRow other = run.rows[0];
+  other.builder = Builder::Sbvh;
+  try {
+    run.built_for(other);
+    ADD_FAILURE() << "no error for a builder the run did not build";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("sbvh"), std::string::npos) << e.what();
+  }
 }
