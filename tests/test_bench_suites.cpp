@@ -112,6 +112,18 @@ TEST(Table, MarkdownEscapesPipesAndAlignsColumns) {
   EXPECT_NE(md.find("|---|---:|"), std::string::npos) << md;
 }
 
+namespace {
+// The quick variant of one suite, run for real on the cpu backend alone.
+SuiteResult quick_on_cpu(const std::string& suite) {
+  SuiteContext ctx;
+  ctx.config.quick = true;
+  ctx.config.backends = {"cpu"};
+  std::vector<SuiteResult> out = run_suites(ctx, {suite});
+  if (out.size() != 1u) throw Error("test: suite " + suite + " gave " + std::to_string(out.size()) + " results");
+  return out[0];
+}
+} // namespace
+
 TEST(Suites, UnknownSuiteIsAnError) {
   SuiteContext ctx;
   EXPECT_THROW(run_suites(ctx, {"fig4"}), Error);
@@ -120,12 +132,8 @@ TEST(Suites, UnknownSuiteIsAnError) {
 // A real quick fig3 run on the cpu backend: every cell measured, and the call ratio
 // in the table is the one the counters give.
 TEST(Suites, Fig3QuickOnCpuMeasuresEveryCell) {
-  SuiteContext ctx;
-  ctx.config.quick = true;
-  ctx.config.backends = {"cpu"};
-  std::vector<SuiteResult> out = run_suites(ctx, {"fig3"});
-  ASSERT_EQ(out.size(), 1u);
-  const nlohmann::json& cells = out[0].data["cells"];
+  SuiteResult out = quick_on_cpu("fig3");
+  const nlohmann::json& cells = out.data["cells"];
   ASSERT_EQ(cells.size(), 12u); // 3 (N, r) pairs x 4 tilts
   for (const auto& c : cells) {
     double ref_calls = -1, masq_calls = -1;
@@ -144,9 +152,9 @@ TEST(Suites, Fig3QuickOnCpuMeasuresEveryCell) {
       EXPECT_LT(ref_calls / masq_calls, 1.5) << c.dump();
     }
   }
-  EXPECT_TRUE(out[0].data["rt_model"]["calibrated"].get<bool>());
-  EXPECT_EQ(out[0].data["auto_target"]["cells"].get<int>(), 12); // cluster and auto ran in every cell
-  EXPECT_FALSE(out[0].tables.empty());
+  EXPECT_TRUE(out.data["rt_model"]["calibrated"].get<bool>());
+  EXPECT_EQ(out.data["auto_target"]["cells"].get<int>(), 12); // cluster and auto ran in every cell
+  EXPECT_FALSE(out.tables.empty());
 }
 
 // Several builders in one bench run: each (backend, method, builder) gets its row with
@@ -278,15 +286,10 @@ TEST(PriceFit, ChoicesCountWhereTheCheapestByPriceIsSlow) {
 
 // A real quick peers run on the cpu backend: masq's fastest tracer of each ray set is
 // timed again alone (its upload checked against the lane's: the same device bytes and
-// hits) and sits beside
-// Embree, or the Embree columns say why not.
+// hits) and sits beside Embree, or the Embree columns say why not.
 TEST(Suites, PeersQuickOnCpuTimesMasqsFastestAlone) {
-  SuiteContext ctx;
-  ctx.config.quick = true;
-  ctx.config.backends = {"cpu"};
-  std::vector<SuiteResult> out = run_suites(ctx, {"peers"});
-  ASSERT_EQ(out.size(), 1u);
-  const nlohmann::json& scenes = out[0].data["scenes"];
+  SuiteResult out = quick_on_cpu("peers");
+  const nlohmann::json& scenes = out.data["scenes"];
   ASSERT_FALSE(scenes.empty());
   int sets = 0;
   for (const auto& sc : scenes) {
@@ -305,7 +308,7 @@ TEST(Suites, PeersQuickOnCpuTimesMasqsFastestAlone) {
     }
   }
   EXPECT_GE(sets, 3); // primary, shadow and diffuse of the default bundle at least
-  for (const auto& row : out[0].tables.front().rows)
+  for (const auto& row : out.tables.front().rows)
     for (const auto& cell : row) EXPECT_EQ(cell.find("unavailable: peers:"), std::string::npos) << cell;
 }
 
