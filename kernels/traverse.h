@@ -6,6 +6,7 @@
 #ifndef MASQ_KERNEL_TRAVERSE_H
 #define MASQ_KERNEL_TRAVERSE_H
 #include "node_formats.h"
+#include "child_order.h"
 #include "intersect_primitive.h"
 #include "masq_instance.h"
 #include "capsule_simd_cpp.h"
@@ -32,28 +33,6 @@ STRUCT_BEGIN(BlasOut)
   int nodes;
   int isect_calls;
 STRUCT_END(BlasOut)
-
-// Sort the `width` child slots by entry distance (insertion sort on indices; up to 8).
-STRUCT_BEGIN(ChildOrder)
-  int slot[MASQ_WIDTH8];
-  int n;
-STRUCT_END(ChildOrder)
-
-FN ChildOrder order_children(WideHits wh, int width) {
-  ChildOrder co;
-  co.n = 0;
-  for (int i = 0; i < width; ++i) {
-    if (wh.tnear[i] == inf_()) continue;
-    int j = co.n;
-    while (j > 0 && wh.tnear[co.slot[j - 1]] > wh.tnear[i]) {
-      co.slot[j] = co.slot[j - 1];
-      --j;
-    }
-    co.slot[j] = i;
-    co.n = co.n + 1;
-  }
-  return co;
-}
 
 FN Nearest nearest_none(float tmax) {
   Nearest n;
