@@ -18,8 +18,9 @@ STRUCT_END(ChildOrder)
 // one SIMD register, so an insertion sort's data-dependent loop and its stores at each
 // lane's own index cost every lane the slowest lane's work, through per-lane memory;
 // the network is the same compare-exchanges at fixed slots for every lane, in registers.
-// On lavapipe it traced 1.3-1.8x faster (docs/kernels.md, "Child order"); PoCL, which
-// vectorises the same way, ran it 0.86x, so OpenCL and C++ keep the insertion sort.
+// On lavapipe it traced 1.2-1.7x faster (docs/kernels.md, "Child order on Vulkan");
+// PoCL, which vectorises the same way, ran it 0.86x, so OpenCL and C++ keep the
+// insertion sort.
 FN ChildOrder order_cswap(ChildOrder co, float tnear[MASQ_WIDTH8], int a, int b) {
   int sa = co.slot[a];
   int sb = co.slot[b];
