@@ -127,14 +127,21 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
   int stack_node[MASQ_STACK_SIZE];
   float stack_t[MASQ_STACK_SIZE];
   int sp = 0;
-  stack_node[sp] = root;
-  stack_t[sp] = tmin;
-  sp = sp + 1;
-  while (sp > 0) {
-    sp = sp - 1;
-    if (stack_t[sp] > res.nearest.t) continue;
+  // The node visited next is held here, not pushed and popped: the nearest inner child
+  // of the node just visited (the one the stack would pop next), else the stack's top.
+  int node = root;
+  float node_t = tmin;
+  bool held = true;
+  while (held || sp > 0) {
+    if (!held) {
+      sp = sp - 1;
+      node = stack_node[sp];
+      node_t = stack_t[sp];
+    }
+    held = false;
+    if (node_t > res.nearest.t) continue;
     if (MASQ_STATS) res.nodes = res.nodes + 1;
-    WideHits wh = node_hits(KD_ARG stack_node[sp], o, inv_d, padded, pad, tmin, res.nearest.t);
+    WideHits wh = node_hits(KD_ARG node, o, inv_d, padded, pad, tmin, res.nearest.t);
 #if defined(MASQ_LANG_CPP)
     {
       // cpu: the visits of the loops below, in their order, without their scan of every
@@ -152,10 +159,15 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
         if (MASQ_ANY_HIT && res.nearest.prim >= 0) return res;
       }
       n = simd::sorted_slots(wh.tnear, hit.inner, slot);
-      for (int k = n - 1; k >= 0 && sp < MASQ_STACK_SIZE; --k) {
-        stack_node[sp] = wh.child[slot[k]];
-        stack_t[sp] = wh.tnear[slot[k]];
-        sp = sp + 1;
+      for (int k = n - 1; k >= 0; --k) {
+        if (held && sp < MASQ_STACK_SIZE) {
+          stack_node[sp] = node;
+          stack_t[sp] = node_t;
+          sp = sp + 1;
+        }
+        node = wh.child[slot[k]];
+        node_t = wh.tnear[slot[k]];
+        held = true;
       }
       continue;
     }
@@ -172,10 +184,15 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
     }
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
-      if (wh.count[i] != 0 || sp >= MASQ_STACK_SIZE) continue;
-      stack_node[sp] = wh.child[i];
-      stack_t[sp] = wh.tnear[i];
-      sp = sp + 1;
+      if (wh.count[i] != 0) continue;
+      if (held && sp < MASQ_STACK_SIZE) {
+        stack_node[sp] = node;
+        stack_t[sp] = node_t;
+        sp = sp + 1;
+      }
+      node = wh.child[i];
+      node_t = wh.tnear[i];
+      held = true;
     }
   }
   return res;
@@ -239,14 +256,19 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
   int stack_node[MASQ_STACK_SIZE];
   float stack_t[MASQ_STACK_SIZE];
   int sp = 0;
-  stack_node[sp] = tlas_root;
-  stack_t[sp] = tmin;
-  sp = sp + 1;
-  while (sp > 0) {
-    sp = sp - 1;
-    if (stack_t[sp] > best.t) continue;
+  int node = tlas_root; // held, as in traverse_blas
+  float node_t = tmin;
+  bool held = true;
+  while (held || sp > 0) {
+    if (!held) {
+      sp = sp - 1;
+      node = stack_node[sp];
+      node_t = stack_t[sp];
+    }
+    held = false;
+    if (node_t > best.t) continue;
     if (MASQ_STATS) res.stats.tlas_nodes = res.stats.tlas_nodes + 1;
-    WideHits wh = node_hits(KD_ARG stack_node[sp], wo, inv_d, 0, VEC3(0.0f, 0.0f, 0.0f), tmin, best.t);
+    WideHits wh = node_hits(KD_ARG node, wo, inv_d, 0, VEC3(0.0f, 0.0f, 0.0f), tmin, best.t);
     ChildOrder co = order_children(wh, node_width());
     for (int k = 0; k < co.n; ++k) {
       int i = co.slot[k];
@@ -322,10 +344,15 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
     }
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
-      if (wh.count[i] != 0 || sp >= MASQ_STACK_SIZE) continue;
-      stack_node[sp] = wh.child[i];
-      stack_t[sp] = wh.tnear[i];
-      sp = sp + 1;
+      if (wh.count[i] != 0) continue;
+      if (held && sp < MASQ_STACK_SIZE) {
+        stack_node[sp] = node;
+        stack_t[sp] = node_t;
+        sp = sp + 1;
+      }
+      node = wh.child[i];
+      node_t = wh.tnear[i];
+      held = true;
     }
   }
   res.hit = hit_from_nearest(KD_ARG best);
