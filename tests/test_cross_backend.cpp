@@ -274,3 +274,55 @@ TEST(CrossBackend, SingleIdentityInstanceSkipsTheTlas) {
   EXPECT_EQ(transforms, 0);
   EXPECT_GT(blas, 0);
 }
+
+// Every backend walks the same nodes in the same order: children by entry distance, ties
+// in slot order (kernels/child_order.h: an insertion sort on cpu and OpenCL, a sorting
+// network on Vulkan), the nearest inner child held for the next visit (kernels/traverse.h).
+// So the compute backends' per-ray counters must equal the cpu's, ray by ray, for
+// closest-hit and occlusion queries, every node format and the methods with a TLAS,
+// masquerade instances and clusters.
+TEST(CrossBackend, ComputeBackendsVisitWhatTheCpuVisits) {
+  Scene s = make_default_scene();
+  std::vector<kernel::Ray> rays = make_camera_rays(s.camera, 48, 36);
+  std::vector<kernel::Ray> extra = random_rays(99, 1500);
+  rays.insert(rays.end(), extra.begin(), extra.end());
+  std::unique_ptr<Backend> cpu = make_backend("cpu");
+  int compared = 0;
+  for (NodeFormat f : {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8})
+    for (Method m : {Method::Ref, Method::Masq, Method::Cluster}) {
+      AccelOptions o;
+      o.nodes = f;
+      const PackedScene ps = build_accel(s, m, o);
+      for (Query q : {Query::Closest, Query::Any}) {
+        std::vector<kernel::Hit> want_hits(rays.size());
+        std::vector<kernel::RayStats> want(rays.size());
+        cpu->set_scene(ps);
+        cpu->trace(rays, want_hits, want, q);
+        for (const std::string& name : {std::string("vulkan"), std::string("opencl")}) {
+          std::unique_ptr<Backend> be = backend_or_fail(name);
+          if (!be) continue;
+          SCOPED_TRACE(name + " " + method_name(m) + " " + node_format_name(f) +
+                       (q == Query::Any ? " occlusion" : " closest"));
+          be->set_scene(ps);
+          std::vector<kernel::Hit> hits(rays.size());
+          std::vector<kernel::RayStats> got(rays.size());
+          be->trace(rays, hits, got, q);
+          int differ = 0;
+          for (std::size_t i = 0; i < rays.size(); ++i) {
+            const kernel::RayStats& a = got[i];
+            const kernel::RayStats& b = want[i];
+            if (a.tlas_nodes == b.tlas_nodes && a.blas_nodes == b.blas_nodes && a.transforms == b.transforms &&
+                a.isect_calls == b.isect_calls)
+              continue;
+            if (differ++ < 3)
+              ADD_FAILURE() << "ray " << i << ": tlas/blas/transforms/isect " << a.tlas_nodes << "/" << a.blas_nodes
+                            << "/" << a.transforms << "/" << a.isect_calls << ", cpu " << b.tlas_nodes << "/"
+                            << b.blas_nodes << "/" << b.transforms << "/" << b.isect_calls;
+          }
+          EXPECT_EQ(differ, 0) << "rays whose counters differ from the cpu's";
+          ++compared;
+        }
+      }
+    }
+  if (compared == 0) GTEST_SKIP() << "no compute backend besides the cpu";
+}
