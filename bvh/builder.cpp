@@ -28,10 +28,11 @@ Builder parse_builder(const std::string& name) {
 
 BinaryBvh build_blas_binary(const std::vector<Aabb>& boxes, const PrimClipper& clip, const SahOptions& sah,
                             const BuilderOptions& opt, std::size_t* references) {
-  SahOptions leaf_sah = sah;
-  if (opt.kind == Builder::Sah4) leaf_sah.leaf_block = 4;
-  BinaryBvh bvh = builder_splits(opt.kind) ? build_sbvh(boxes, clip, sah, opt.sbvh) : build_binned_sah(boxes, leaf_sah);
-  if (builder_reinserts(opt.kind)) bvh = reinsert_optimize(bvh, sah, opt.reinsert);
+  SahOptions blas_sah = sah;
+  blas_sah.leaf_block = builder_leaf_block(opt.kind);
+  BinaryBvh bvh =
+      builder_splits(opt.kind) ? build_sbvh(boxes, clip, blas_sah, opt.sbvh) : build_binned_sah(boxes, blas_sah);
+  if (builder_reinserts(opt.kind)) bvh = reinsert_optimize(bvh, blas_sah, opt.reinsert);
   if (references) *references = bvh.order.size();
   return bvh;
 }

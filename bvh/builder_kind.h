@@ -10,6 +10,8 @@ const char* builder_name(Builder b);            // "sah", "sbvh", "sah+reinsert"
 Builder parse_builder(const std::string& name); // throws masq::Error naming the choices
 const std::vector<Builder>& all_builders();
 inline bool builder_splits(Builder b) { return b == Builder::Sbvh || b == Builder::SbvhReinsert; }
+// Primitives per priced block of a BLAS leaf over primitives (SahOptions::leaf_block).
+inline int builder_leaf_block(Builder b) { return b == Builder::Sah4 ? 4 : 1; }
 inline bool builder_reinserts(Builder b) { return b == Builder::SahReinsert || b == Builder::SbvhReinsert; }
 
 } // namespace masq

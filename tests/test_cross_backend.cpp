@@ -324,5 +324,5 @@ TEST(CrossBackend, ComputeBackendsVisitWhatTheCpuVisits) {
         }
       }
     }
-  if (compared == 0) GTEST_SKIP() << "no compute backend besides the cpu";
+  if (compared == 0) GTEST_SKIP() << "no compute backend besides the cpu (MASQ_ALLOW_MISSING_BACKENDS=1)";
 }
