@@ -36,6 +36,7 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
     case Builder::SahReinsert: ao.builder.kind = masq::Builder::SahReinsert; break;
     case Builder::SbvhReinsert: ao.builder.kind = masq::Builder::SbvhReinsert; break;
     case Builder::Sah4: ao.builder.kind = masq::Builder::Sah4; break;
+    case Builder::SahPriced: ao.builder.kind = masq::Builder::SahPriced; break;
     default: throw Error("Accel::build: unknown builder");
   }
   ao.nodes = options.nodes == NodeFormat::W8   ? masq::NodeFormat::W8

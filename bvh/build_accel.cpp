@@ -190,7 +190,9 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
       return clip_primitive(g, std::size_t(ids[std::size_t(item)]), axis, lo, hi);
     };
     std::size_t references = 0;
-    BinaryBvh bvh = build_blas_binary(boxes, clip, opt.sah, opt.builder, &references);
+    SahOptions blas_sah = opt.sah;
+    if (builder_prices_isect(opt.builder.kind)) blas_sah.intersection_cost *= blas_isect_price(kernel_type(g.type));
+    BinaryBvh bvh = build_blas_binary(boxes, clip, blas_sah, opt.builder, &references);
     WideBvhInfo info = append_bvh_nodes(bvh, ids, opt.nodes, ps);
     blas_root[gi] = info.root;
     blas_box[gi] = bvh.nodes[0].box;

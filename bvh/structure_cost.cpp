@@ -17,6 +17,11 @@ double isect_type_factor(int kernel_prim_type) {
   return 1.0;
 }
 
+double blas_isect_price(int kernel_prim_type) {
+  const CostPrices p;
+  return p.isect * isect_type_factor(kernel_prim_type) / (0.5 * p.node);
+}
+
 namespace {
 
 glm::dmat3 linear_part(const Mat3x4f& m) { return from_mat3x4f(m).linear; }

@@ -25,6 +25,13 @@ struct StructureCost {
 // costs about six capsule calls; round cones a little more than capsules.
 double isect_type_factor(int kernel_prim_type);
 
+// SAH intersection cost of one primitive of this type relative to one binary-BVH
+// traversal step, from the default prices: a binary inner node is half a w4 visit (its
+// two box tests of the four), so capsule 2.5 / 0.5 = 5 and the robust curve 30. The
+// sah-priced builder's leaves use it; with it the SAH splits hair down to one primitive
+// per leaf nearly everywhere, as a driver's BVH does (docs/builders.md).
+double blas_isect_price(int kernel_prim_type);
+
 // Walks ps's TLAS from ps.tlas_root (or its single BLAS when ps.features.single_blas),
 // reading the w4 node array. A scene with no TLAS costs 0.
 StructureCost structure_cost(const PackedScene& ps, const CostPrices& prices);

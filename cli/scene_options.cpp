@@ -68,10 +68,11 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
                  "Binary BVH builder: sah (binned SAH, default), sbvh (spatial splits in every BLAS over primitives), "
                  "sah+reinsert or sbvh+reinsert (insertion optimisation of the TLAS and every BLAS), sah4 (binned SAH "
                  "pricing each BLAS leaf per block of four primitives: fuller leaves, for the cpu's four-lane capsule "
-                 "test); bench takes a comma-separated list and runs each side by side (docs/builders.md)")
+                 "test), sah-priced (binned SAH pricing each BLAS leaf primitive at its type's intersector cost: mostly "
+                 "one-primitive leaves, fewer intersector calls, more nodes); bench takes a comma-separated list and runs each side by side (docs/builders.md)")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::IsMember({"sah", "sbvh", "sah+reinsert", "sbvh+reinsert", "sah4"}));
+      ->check(CLI::IsMember({"sah", "sbvh", "sah+reinsert", "sbvh+reinsert", "sah4", "sah-priced"}));
   cmd.add_option("--sbvh-budget", opt.sbvh_budget, "sbvh: at most this many BLAS references per primitive (>= 1)")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 64.0));

@@ -5,6 +5,7 @@
 #include "bvh/builder.h"
 #include "bvh/clip_bounds.h"
 #include "bvh/prim_bounds.h"
+#include "bvh/structure_cost.h"
 #include "host/backend.h"
 #include "scenes/camera.h"
 #include "scenes/error.h"
@@ -274,6 +275,29 @@ TEST(Sah4, LeafBlocksOfFourFillLeaves) {
   SahOptions bad = per_prim;
   bad.leaf_block = 0;
   EXPECT_THROW(build_binned_sah(row, bad), Error);
+}
+
+// sah-priced prices a leaf primitive at its type's intersector cost against a box step
+// (capsule 5, curve 30): on the row of unit cubes (here balls: capsules of length 0) a
+// pair's leaf costs 10 and its split 1 + 5 * 12/10 = 7, so every leaf holds one capsule,
+// where the per-primitive SAH stops at pairs. The TLAS and cluster BLAS are not priced.
+TEST(SahPriced, CapsuleLeavesHoldOnePrimitive) {
+  EXPECT_DOUBLE_EQ(blas_isect_price(MASQ_PRIM_CAPSULE), 5.0);
+  EXPECT_DOUBLE_EQ(blas_isect_price(MASQ_PRIM_CURVE), 30.0);
+  EXPECT_EQ(parse_builder("sah-priced"), Builder::SahPriced);
+  Scene s;
+  Geometry g;
+  g.type = PrimType::Capsule;
+  for (int i = 0; i < 64; ++i) {
+    glm::vec3 c(float(i) + 0.5f, 0.5f, 0.5f);
+    g.capsules.push_back({c, c, 0.5f});
+  }
+  s.geometries.push_back(g);
+  s.instances.push_back({0, {}});
+  AccelOptions plain, priced;
+  priced.builder.kind = Builder::SahPriced;
+  EXPECT_EQ(build_accel(s, Method::Ref, plain).stats.blas_leaves, 32u);
+  EXPECT_EQ(build_accel(s, Method::Ref, priced).stats.blas_leaves, 64u);
 }
 
 TEST(Reinsertion, NeverRaisesTheCostKeepsEveryItemOnceAndImprovesABadTree) {

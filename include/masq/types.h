@@ -30,6 +30,7 @@ enum class Builder {
   SahReinsert,  ///< binned SAH, then insertion optimisation (Bittner et al. 2013)
   SbvhReinsert, ///< both
   Sah4,         ///< binned SAH pricing each BLAS leaf per block of 4 primitives (fuller leaves: pays on the cpu backend)
+  SahPriced,    ///< binned SAH pricing each BLAS leaf primitive at its type's intersector cost (mostly 1-primitive leaves: fewer intersector calls, more nodes)
 };
 
 /// Which intersectors and box test the kernels use.
