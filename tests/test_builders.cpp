@@ -298,6 +298,13 @@ TEST(SahPriced, CapsuleLeavesHoldOnePrimitive) {
   priced.builder.kind = Builder::SahPriced;
   EXPECT_EQ(build_accel(s, Method::Ref, plain).stats.blas_leaves, 32u);
   EXPECT_EQ(build_accel(s, Method::Ref, priced).stats.blas_leaves, 64u);
+  // Only BLAS over primitives: masq's TLAS and the cluster BLAS come out the same.
+  for (Method m : {Method::Masq, Method::Cluster}) {
+    BuildStats a = build_accel(s, m, plain).stats, b = build_accel(s, m, priced).stats;
+    EXPECT_EQ(a.sah_cost, b.sah_cost) << method_name(m);
+    EXPECT_EQ(a.blas_leaves, b.blas_leaves) << method_name(m);
+    EXPECT_EQ(a.blas_sah_cost, b.blas_sah_cost) << method_name(m);
+  }
 }
 
 TEST(Reinsertion, NeverRaisesTheCostKeepsEveryItemOnceAndImprovesABadTree) {
