@@ -38,12 +38,12 @@ int bv_type_kernel_id(BvType t) {
 
 const char* bv_builder_name(BvBuilder b) { return b == BvBuilder::ObbSweep ? "obb-sweep" : "binned-sah"; }
 
-std::size_t BvScene::node_count() const { return aabb.size() + sphere.size() + obb.size() + scb.size(); }
+std::size_t BvScene::node_count() const { return bv_aabb.size() + bv_sphere.size() + bv_obb.size() + bv_scb.size(); }
 
 std::size_t BvScene::node_bytes() const {
-  return aabb.size() * sizeof(kernel::BvNodeAabb) + sphere.size() * sizeof(kernel::BvNodeSphere) +
-         obb.size() * sizeof(kernel::BvNodeObb) + scb.size() * sizeof(kernel::BvNodeScb) +
-         refs.size() * sizeof(kernel::BvPrimRef);
+  return bv_aabb.size() * sizeof(kernel::BvNodeAabb) + bv_sphere.size() * sizeof(kernel::BvNodeSphere) +
+         bv_obb.size() * sizeof(kernel::BvNodeObb) + bv_scb.size() * sizeof(kernel::BvNodeScb) +
+         bv_prims.size() * sizeof(kernel::BvPrimRef);
 }
 
 namespace {
@@ -143,13 +143,13 @@ BvScene fit_bv_scene(const BvTopology& topo, const BvOptions& opt) {
   BvScene bs;
   bs.type = opt.type;
   bs.prims = topo.prims;
-  bs.refs = topo.refs;
+  bs.bv_prims = topo.refs;
   const FlatTree& t = topo.tree;
   switch (opt.type) {
-    case BvType::Aabb: bs.aabb = fit_aabb_nodes(t, topo.ordered); break;
-    case BvType::Sphere: bs.sphere = fit_sphere_nodes(t, topo.ordered); break;
-    case BvType::Obb: bs.obb = fit_obb_nodes(t, topo.ordered); break;
-    case BvType::Scb: bs.scb = fit_scb_nodes(t, topo.ordered, opt.scb_p); break;
+    case BvType::Aabb: bs.bv_aabb = fit_aabb_nodes(t, topo.ordered); break;
+    case BvType::Sphere: bs.bv_sphere = fit_sphere_nodes(t, topo.ordered); break;
+    case BvType::Obb: bs.bv_obb = fit_obb_nodes(t, topo.ordered); break;
+    case BvType::Scb: bs.bv_scb = fit_scb_nodes(t, topo.ordered, opt.scb_p); break;
   }
   bs.stats.nodes = t.nodes.size();
   for (const FlatTree::Node& n : t.nodes) bs.stats.leaves += n.count > 0;

@@ -42,12 +42,13 @@ struct BvScene {
   // build_accel's ref packing). Its wide nodes and refs are dropped; its instances stay
   // as the list of (frame, geometry) placements (world_prims reads them).
   PackedScene prims;
-  // Exactly one of these is filled, by `type`.
-  std::vector<kernel::BvNodeAabb> aabb;
-  std::vector<kernel::BvNodeSphere> sphere;
-  std::vector<kernel::BvNodeObb> obb;
-  std::vector<kernel::BvNodeScb> scb;
-  std::vector<kernel::BvPrimRef> refs; // leaf order
+  // Exactly one of these is filled, by `type`. The names are the kernels' (the BV rows
+  // of kernels/scene_array_table.h).
+  std::vector<kernel::BvNodeAabb> bv_aabb;
+  std::vector<kernel::BvNodeSphere> bv_sphere;
+  std::vector<kernel::BvNodeObb> bv_obb;
+  std::vector<kernel::BvNodeScb> bv_scb;
+  std::vector<kernel::BvPrimRef> bv_prims; // leaf entries, leaf order
   BvStats stats;
   std::size_t node_count() const;
   std::size_t node_bytes() const;

@@ -1,7 +1,8 @@
 // Closest-hit traversal of a binary bounding-volume hierarchy over world-space
 // primitives (kernels/bv_layout.h), with ONE node volume type per compiled variant:
 // MASQ_BV_TYPE = MASQ_BV_AABB | MASQ_BV_SPHERE | MASQ_BV_OBB | MASQ_BV_SCB (a -D
-// macro for C++, OpenCL C and GLSL alike, since the node buffer's type depends on it).
+// macro for C++, OpenCL C and GLSL alike, since it picks the node array of
+// kernels/scene_array_table.h, its struct type and its volume test).
 // The root's volume is tested first; at an inner node both children's volumes are
 // tested and the hit ones pushed, nearer (by entry lower bound) on top. Leaves run the
 // shared intersectors in their scene instance's frame, as the masquerade path does.
@@ -31,11 +32,6 @@
 #define BV_NODE_T BvNodeScb
 #define BV_NODES bv_scb
 #define BV_HIT(nd, tmax_) bv_hit_scb(nd, bray, tmin, tmax_)
-#endif
-
-#if defined(MASQ_LANG_GLSL)
-MASQ_KD_ARRAY(BV_NODE_T, BV_NODES, MASQ_BINDING_BV_NODES)
-MASQ_KD_ARRAY(BvPrimRef, bv_prims, MASQ_BINDING_BV_PRIMS)
 #endif
 
 KERNEL_NS_BEGIN

@@ -47,13 +47,7 @@
 #ifndef MASQ_KERNEL_INTERSECT_CURVE_H
 #define MASQ_KERNEL_INTERSECT_CURVE_H
 #include "prim_hit.h"
-
-// GLSL: a specialization constant of that name comes from variants.h.
-#if !defined(MASQ_LANG_GLSL)
-#ifndef MASQ_CURVE_ITERS
-#define MASQ_CURVE_ITERS 24
-#endif
-#endif
+#include "variants.h" // MASQ_CURVE_ITERS
 
 // A fused multiply-add (error-free products) and a guard that keeps GLSL compilers
 // from contracting or reordering the error-free transforms. (OpenCL C and C++ neither

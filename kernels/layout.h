@@ -16,6 +16,7 @@ LAYOUT_NS_BEGIN
 #define MASQ_NODES_W4 0
 #define MASQ_NODES_W8 1
 #define MASQ_NODES_Q8 2
+#define MASQ_NODE_FORMAT_COUNT 3 // the cpu units of MASQ_NODE_FORMAT (kernels/variant_table.h) cover them all
 
 // Primitive types. A geometry holds primitives of one type.
 #define MASQ_PRIM_TRIANGLE 0

@@ -31,9 +31,6 @@ layout(local_size_x_id = 3, local_size_y = 1, local_size_z = 1) in;
 
 #include "traverse.h"
 
-#define MASQ_BINDING_TLAS_PARTS 13
-#define MASQ_BINDING_PRIM_MAP 14
-
 layout(std430, binding = MASQ_BINDING_RAYS) readonly buffer RaysBuf { Ray rays[]; };
 layout(std430, binding = MASQ_BINDING_HITS) writeonly buffer HitsBuf { Hit hits[]; };
 layout(std430, binding = MASQ_BINDING_STATS) writeonly buffer StatsBuf { RayStats stats[]; };

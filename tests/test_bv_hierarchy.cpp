@@ -99,15 +99,15 @@ void check_containment(const BvScene& bs, const std::vector<N>& nodes) {
   WorldPrims wp = world_prims(bs.prims);
   std::map<std::tuple<int, int, int>, std::size_t> index;
   for (std::size_t i = 0; i < wp.refs.size(); ++i) index[{wp.refs[i].geom, wp.refs[i].prim, wp.refs[i].scene_inst}] = i;
-  ASSERT_EQ(bs.refs.size(), wp.refs.size()) << "every primitive in exactly one leaf";
+  ASSERT_EQ(bs.bv_prims.size(), wp.refs.size()) << "every primitive in exactly one leaf";
   std::vector<std::pair<int, int>> range(nodes.size(), {-1, 0});
   ranges(nodes, 0, range);
-  ASSERT_EQ(range[0].second, int(bs.refs.size()));
+  ASSERT_EQ(range[0].second, int(bs.bv_prims.size()));
   int checked = 0;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     if (range[i].first < 0) continue; // unreachable: counted below
     for (int j = range[i].first; j < range[i].first + range[i].second; ++j) {
-      const kernel::BvPrimRef& r = bs.refs[std::size_t(j)];
+      const kernel::BvPrimRef& r = bs.bv_prims[std::size_t(j)];
       const BallHull& h = wp.hulls[index.at({r.geom, r.prim, r.scene_inst})];
       for (int b = 0; b < h.count; ++b) {
         ASSERT_LE(excess(nodes[i], h.centre[b], h.radius[b]), 0.0)
@@ -154,10 +154,10 @@ TEST(BvFit, EveryNodeContainsItsPrimitives) {
       BvScene bs = build_bv_scene(s, o);
       EXPECT_GT(bs.stats.depth, 1);
       switch (t) {
-        case BvType::Aabb: check_containment(bs, bs.aabb); break;
-        case BvType::Sphere: check_containment(bs, bs.sphere); break;
-        case BvType::Obb: check_containment(bs, bs.obb); break;
-        case BvType::Scb: check_containment(bs, bs.scb); break;
+        case BvType::Aabb: check_containment(bs, bs.bv_aabb); break;
+        case BvType::Sphere: check_containment(bs, bs.bv_sphere); break;
+        case BvType::Obb: check_containment(bs, bs.bv_obb); break;
+        case BvType::Scb: check_containment(bs, bs.bv_scb); break;
       }
     }
 }
@@ -169,11 +169,11 @@ TEST(BvFit, ScbSlabChoiceDependsOnP) {
   a.scb_p = 0.0;
   b.scb_p = 0.9;
   BvScene x = build_bv_scene(s, a), y = build_bv_scene(s, b);
-  ASSERT_EQ(x.scb.size(), y.scb.size());
+  ASSERT_EQ(x.bv_scb.size(), y.bv_scb.size());
   int differ = 0;
-  for (std::size_t i = 0; i < x.scb.size(); ++i) {
-    EXPECT_EQ(x.scb[i].radius, y.scb[i].radius);
-    differ += x.scb[i].normal[0] != y.scb[i].normal[0] || x.scb[i].normal[1] != y.scb[i].normal[1];
+  for (std::size_t i = 0; i < x.bv_scb.size(); ++i) {
+    EXPECT_EQ(x.bv_scb[i].radius, y.bv_scb[i].radius);
+    differ += x.bv_scb[i].normal[0] != y.bv_scb[i].normal[0] || x.bv_scb[i].normal[1] != y.bv_scb[i].normal[1];
   }
   EXPECT_GT(differ, 0);
 }

@@ -130,7 +130,7 @@ TEST(CapsuleSimd, LeavesGiveTheLoopsNearestAndFirstHit) {
   long hits = 0, mismatches = 0;
   std::string first;
   for (int any = 0; any < 2; ++any) {
-    masq::kernel::any_hit_runtime = any != 0;
+    k::MASQ_ANY_HIT = any != 0;
     for (int c = 0; c < 20000; ++c) {
       int n = 1 + int(rng() % 9);
       std::vector<Capsule> caps(std::size_t(n) + 3);
@@ -163,7 +163,7 @@ TEST(CapsuleSimd, LeavesGiveTheLoopsNearestAndFirstHit) {
                 std::to_string(want.prim) + " t " + std::to_string(want.t);
     }
   }
-  masq::kernel::any_hit_runtime = false;
+  k::MASQ_ANY_HIT = false;
   EXPECT_EQ(mismatches, 0) << first;
   EXPECT_GT(hits, 40000 / 5);
 }

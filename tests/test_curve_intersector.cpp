@@ -27,7 +27,7 @@
 // 1% per ray from 8 to 16). Rays nearly parallel to a bent curve are the phantom
 // method's weak spot (local iterations on a problem with several nearby fixed points):
 // measured and held to a documented, looser bound.
-#include "kernels/variants.h" // the cpu build's run-time iteration limit (curve_iters_runtime)
+#include "kernels/variants.h" // the iteration limit, a variable in C++ outside the cpu's units
 #include "kernels/intersect_curve.h"
 #include "oracle/oracle_prims.h"
 #include <gtest/gtest.h>
@@ -283,7 +283,7 @@ struct Modes {
   }
 };
 
-void set_iters(int n) { K::curve_iters_runtime = n; }
+void set_iters(int n) { KV::MASQ_CURVE_ITERS = n; }
 
 // Every test runs the robust kernel at kAssertIters unless it sweeps.
 class CurveIntersector : public ::testing::Test {

@@ -97,10 +97,11 @@ class OpenClLayout : public ::testing::Test {
     ASSERT_EQ(err, CL_SUCCESS);
     cl::Kernel k(program_, (std::string("roundtrip_") + type).c_str(), &err);
     ASSERT_EQ(err, CL_SUCCESS) << opencl::cl_error_name(err);
-    ASSERT_EQ(k.setArg(0, in_buf), CL_SUCCESS);
-    ASSERT_EQ(k.setArg(1, out_buf), CL_SUCCESS);
-    ASSERT_EQ(k.setArg(2, flat_buf), CL_SUCCESS);
-    ASSERT_EQ(k.setArg(3, cl_int(count)), CL_SUCCESS);
+    cl_uint arg = 0; // in the order of roundtrip_<type>'s parameters
+    ASSERT_EQ(k.setArg(arg++, in_buf), CL_SUCCESS);
+    ASSERT_EQ(k.setArg(arg++, out_buf), CL_SUCCESS);
+    ASSERT_EQ(k.setArg(arg++, flat_buf), CL_SUCCESS);
+    ASSERT_EQ(k.setArg(arg++, cl_int(count)), CL_SUCCESS);
     ASSERT_EQ(rt_->queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count)), CL_SUCCESS);
     std::vector<std::uint32_t> out(in.size()), flat(in.size());
     ASSERT_EQ(rt_->queue.enqueueReadBuffer(out_buf, CL_TRUE, 0, bytes, out.data()), CL_SUCCESS);
@@ -132,7 +133,8 @@ TEST_F(OpenClLayout, SizesAndOffsetsMatchCpp) {
   ASSERT_EQ(err, CL_SUCCESS);
   cl::Kernel k(program_, "layout_sizes", &err);
   ASSERT_EQ(err, CL_SUCCESS) << opencl::cl_error_name(err);
-  ASSERT_EQ(k.setArg(0, buf), CL_SUCCESS);
+  const cl_uint out_arg = 0; // layout_sizes' one parameter
+  ASSERT_EQ(k.setArg(out_arg, buf), CL_SUCCESS);
   ASSERT_EQ(rt_->queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(1)), CL_SUCCESS);
   ASSERT_EQ(rt_->queue.enqueueReadBuffer(buf, CL_TRUE, 0, got.size() * sizeof(cl_int), got.data()), CL_SUCCESS);
   ASSERT_EQ(got[expected.size()], static_cast<cl_int>(expected.size())) << "entry count";

@@ -1,6 +1,8 @@
 // cpu bv tracer: the bv kernels compiled as C++, rays handed out to threads in chunks.
 #include "host/bv_tracer.h"
-#include "host/cpu/cpu_bv_kernels.h"
+#include "cpu/bv_units.h"
+#include "host/cpu/cpu_units.h"
+#include "host/scene_arrays.h"
 #include "scenes/error.h"
 #include <algorithm>
 #include <atomic>
@@ -27,20 +29,7 @@ class CpuBvTracer final : public BvTracer {
   void set_scene(const BvScene& scene) override {
     auto t0 = std::chrono::steady_clock::now();
     scene_ = scene; // own a copy: the caller's may go away
-    const PackedScene& p = scene_.prims;
-    kd_ = kernel::KernelData{};
-    kd_.frames = p.frames.data();
-    kd_.geoms = p.geoms.data();
-    kd_.triangles = p.triangles.data();
-    kd_.capsules = p.capsules.data();
-    kd_.cones = p.cones.data();
-    kd_.spheres = p.spheres.data();
-    kd_.curves = p.curves.data();
-    kd_.bv_aabb = scene_.aabb.data();
-    kd_.bv_sphere = scene_.sphere.data();
-    kd_.bv_obb = scene_.obb.data();
-    kd_.bv_scb = scene_.scb.data();
-    kd_.bv_prims = scene_.refs.data();
+    kd_ = kernel_data(scene_array_data(scene_));
     have_scene_ = true;
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
@@ -51,14 +40,22 @@ class CpuBvTracer final : public BvTracer {
     if (hits.size() != rays.size() || (!stats.empty() && stats.size() != rays.size()))
       throw Error("cpu bv: hits/stats spans must have one entry per ray");
     if (rays.size() > std::size_t(INT32_MAX)) throw Error("cpu bv: more than 2^31-1 rays in one batch");
-    cpu::BvRangeFn fn = pick(!stats.empty());
+    // Robust intersectors only, as on the other backends (bv_unit.inc).
+    KernelFeatures features = scene_.prims.features;
+    features.mode = Mode::Robust;
+    const KernelVariant variant = kernel_variant(features, {!stats.empty(), false});
+    const int bv_type = bv_type_kernel_id(scene_.type);
+    const cpu::UnitFn fn = cpu::find_unit(cpu::kBvUnits, "bv", [&](std::string_view key) {
+      return key == "bv_type" ? bv_type : switch_value(variant, key);
+    });
     const int n = int(rays.size());
     const int nodes = int(scene_.node_count());
     const int chunk = 256;
     std::atomic<int> next{0};
     auto worker = [&] {
       for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
-        fn(kd_, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk), nodes);
+        fn(kd_, variant, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
+           nodes);
     };
     auto t0 = std::chrono::steady_clock::now();
     std::vector<std::thread> pool;
@@ -71,16 +68,6 @@ class CpuBvTracer final : public BvTracer {
   TraceTiming timing() const override { return timing_; }
 
  private:
-  cpu::BvRangeFn pick(bool stats) const {
-    switch (scene_.type) {
-      case BvType::Aabb: return stats ? cpu::trace_bv_aabb_stats : cpu::trace_bv_aabb_plain;
-      case BvType::Sphere: return stats ? cpu::trace_bv_sphere_stats : cpu::trace_bv_sphere_plain;
-      case BvType::Obb: return stats ? cpu::trace_bv_obb_stats : cpu::trace_bv_obb_plain;
-      case BvType::Scb: return stats ? cpu::trace_bv_scb_stats : cpu::trace_bv_scb_plain;
-    }
-    throw Error("cpu bv: unknown bounding-volume type");
-  }
-
   int threads_ = bv_thread_count();
   BvScene scene_;
   kernel::KernelData kd_{};

@@ -133,13 +133,12 @@ Runtime open_runtime() {
 
 std::string base_build_options() { return "-cl-std=CL1.2"; }
 
-std::string variant_build_options(const KernelFeatures& f, bool stats, bool any_hit) {
-  auto flag = [](const char* name, bool on) { return std::string(" -D ") + name + (on ? "=1" : "=0"); };
-  return flag("MASQ_STATS", stats) + flag("MASQ_HAVE_TRIANGLES", f.triangles) + flag("MASQ_HAVE_CAPSULES", f.capsules) +
-         flag("MASQ_HAVE_CONES", f.cones) + flag("MASQ_HAVE_SPHERES", f.spheres) + flag("MASQ_HAVE_CURVES", f.curves) +
-         flag("MASQ_ROBUST", f.mode == Mode::Robust) + flag("MASQ_ANY_HIT", any_hit) +
-         flag("MASQ_SINGLE_BLAS", f.single_blas) + " -D MASQ_CURVE_ITERS=" + std::to_string(f.curve_iters) +
-         " -D MASQ_NODE_FORMAT=" + std::to_string(node_format_id(f.nodes));
+std::string variant_build_options(const KernelVariant& v) {
+  std::string out;
+  const auto values = switch_values(v);
+  for (std::size_t i = 0; i < kVariantSwitchCount; ++i)
+    out += " -D " + std::string(kVariantSwitches[i].name) + "=" + std::to_string(values[i]);
+  return out;
 }
 
 BuiltProgram build_program(const Runtime& rt, const std::string& source, const std::string& options,

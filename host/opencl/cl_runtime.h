@@ -7,7 +7,7 @@
 #ifndef CL_HPP_MINIMUM_OPENCL_VERSION
 #define CL_HPP_MINIMUM_OPENCL_VERSION 120
 #endif
-#include "bvh/packed_scene.h"
+#include "host/kernel_variant.h"
 #include "host/limit_knob.h"
 #include <CL/opencl.hpp>
 #include <cstddef>
@@ -54,9 +54,8 @@ BuiltProgram build_program(const Runtime& rt, const std::string& source, const s
 // the intersectors' error bounds assume IEEE single precision).
 std::string base_build_options();
 
-// The -D switches of one kernel variant (kernels/variants.h) for clBuildProgram: the
-// primitive types present, intersector mode, iteration limit, counters, any-hit and
-// single-BLAS. Shared by the trace and bv programs so both compile the same variants.
-std::string variant_build_options(const KernelFeatures& f, bool stats, bool any_hit);
+// The -D switches of one kernel variant for clBuildProgram: every row of
+// kernels/variant_table.h. Shared by the trace and bv programs.
+std::string variant_build_options(const KernelVariant& v);
 
 } // namespace masq::opencl

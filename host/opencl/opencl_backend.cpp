@@ -1,6 +1,8 @@
 #include "host/opencl/opencl_backend.h"
 
+#include "host/kernel_variant.h"
 #include "host/opencl/cl_runtime.h"
+#include "host/opencl/cl_scene_buffers.h"
 #include "host/opencl/kernel_sources.h"
 #include "scenes/error.h"
 
@@ -22,12 +24,10 @@ constexpr std::size_t kMaxWindowRays = std::size_t{1} << 30;
 // OpenCL rejects zero-sized buffers; empty arrays get a dummy the kernel never reads.
 constexpr std::size_t kDummyBytes = 16;
 
-struct SceneBuffers {
-  cl::Buffer nodes, refs, instances, masq_instances, masq_owners, frames, geoms, triangles, capsules, cones, spheres,
-      curves;
+struct UploadedScene {
+  opencl::SceneBuffers arrays;
   int tlas_root = -1;
   KernelFeatures features;
-  std::size_t bytes = 0;
 };
 
 struct Variant {
@@ -39,12 +39,13 @@ struct Variant {
 class OpenClBackend final : public Backend {
  public:
   explicit OpenClBackend(std::size_t chunk_rays)
-      : rt_(opencl::open_runtime()), chunk_rays_(std::max<std::size_t>(chunk_rays, 1)) {}
+      : rt_(opencl::open_runtime()), stand_in_(opencl::stand_in_buffer(rt_)),
+        chunk_rays_(std::max<std::size_t>(chunk_rays, 1)) {}
 
   std::string name() const override { return "opencl"; }
   std::string device_name() const override { return rt_.description; }
   TraceTiming timing() const override { return timing_; }
-  std::size_t device_bytes() const override { return scene_ ? scene_->bytes : 0; }
+  std::size_t device_bytes() const override { return scene_ ? scene_->arrays.bytes : 0; }
 
   void set_scene(const PackedScene& scene) override {
     auto start = std::chrono::steady_clock::now();
@@ -52,23 +53,12 @@ class OpenClBackend final : public Backend {
       throw Error("opencl: tlas_root " + std::to_string(scene.tlas_root) + " is outside the " +
                   std::to_string(scene.node_count()) + " nodes");
     scene_.reset(); // free the previous scene's device memory first
-    SceneBuffers sb;
-    sb.nodes = upload_bytes("nodes", scene.node_data(), scene.node_bytes(), sb.bytes); // any node format
-    sb.refs = upload("refs", scene.refs, sb.bytes);
-    sb.instances = upload("instances", scene.instances, sb.bytes);
-    sb.masq_instances = upload("compact masquerade instances", scene.masq_instances, sb.bytes);
-    sb.masq_owners = upload("compact masquerade owners", scene.masq_owners, sb.bytes);
-    sb.frames = upload("frames", scene.frames, sb.bytes);
-    sb.geoms = upload("geoms", scene.geoms, sb.bytes);
-    sb.triangles = upload("triangles", scene.triangles, sb.bytes);
-    sb.capsules = upload("capsules", scene.capsules, sb.bytes);
-    sb.tlas_root = scene.tlas_root;
-    sb.cones = upload("round cones", scene.cones, sb.bytes);
-    sb.spheres = upload("spheres", scene.spheres, sb.bytes);
-    sb.curves = upload("curves", scene.curves, sb.bytes);
-    sb.features = scene.features;
+    UploadedScene up;
+    up.arrays = opencl::upload_scene_arrays(rt_, "opencl", scene_array_data(scene), KernelFamily::TwoLevel, stand_in_);
+    up.tlas_root = scene.tlas_root;
+    up.features = scene.features;
     check(rt_.queue.finish(), "clFinish (scene upload)");
-    scene_ = std::move(sb);
+    scene_ = std::move(up);
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
@@ -98,24 +88,12 @@ class OpenClBackend final : public Backend {
     if (want_stats) ensure(stat_buf_, stat_cap_, chunk * sizeof(kernel::RayStats), CL_MEM_WRITE_ONLY, "stats");
     else ensure(stat_buf_, stat_cap_, kDummyBytes, CL_MEM_WRITE_ONLY, "stats");
 
-    const SceneBuffers& sb = *scene_;
     cl::Kernel& k = v.kernel;
-    check(k.setArg(0, sb.nodes), "clSetKernelArg(nodes)");
-    check(k.setArg(1, sb.refs), "clSetKernelArg(refs)");
-    check(k.setArg(2, sb.instances), "clSetKernelArg(instances)");
-    check(k.setArg(3, sb.frames), "clSetKernelArg(frames)");
-    check(k.setArg(4, sb.geoms), "clSetKernelArg(geoms)");
-    check(k.setArg(5, sb.triangles), "clSetKernelArg(triangles)");
-    check(k.setArg(6, sb.capsules), "clSetKernelArg(capsules)");
-    check(k.setArg(7, sb.cones), "clSetKernelArg(cones)");
-    check(k.setArg(8, sb.spheres), "clSetKernelArg(spheres)");
-    check(k.setArg(9, sb.curves), "clSetKernelArg(curves)");
-    check(k.setArg(10, ray_buf_), "clSetKernelArg(rays)");
-    check(k.setArg(11, hit_buf_), "clSetKernelArg(hits)");
-    check(k.setArg(12, stat_buf_), "clSetKernelArg(stats)");
-    check(k.setArg(14, cl_int(sb.tlas_root)), "clSetKernelArg(tlas_root)");
-    check(k.setArg(16, sb.masq_instances), "clSetKernelArg(masq_instances)");
-    check(k.setArg(17, sb.masq_owners), "clSetKernelArg(masq_owners)");
+    cl_uint arg = opencl::set_scene_args(k, scene_->arrays);
+    check(k.setArg(arg++, ray_buf_), "clSetKernelArg(rays)");
+    check(k.setArg(arg++, hit_buf_), "clSetKernelArg(hits)");
+    check(k.setArg(arg++, stat_buf_), "clSetKernelArg(stats)");
+    const cl_uint params_arg = arg; // kernel::TraceParams, set per chunk
 
     std::vector<cl::Event> events;
     for (std::size_t w0 = 0; w0 < n; w0 += window) {
@@ -124,8 +102,8 @@ class OpenClBackend final : public Backend {
             "clEnqueueWriteBuffer(rays)");
       for (std::size_t c0 = 0; c0 < wn; c0 += chunk) {
         const std::size_t cn = std::min(chunk, wn - c0);
-        check(k.setArg(13, cl_int(cn)), "clSetKernelArg(ray_count)");
-        check(k.setArg(15, cl_int(c0)), "clSetKernelArg(ray_offset)");
+        const kernel::TraceParams params{int(cn), scene_->tlas_root, int(c0), 0};
+        check(k.setArg(params_arg, params), "clSetKernelArg(params)");
         const std::size_t global = (cn + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
         cl::Event ev;
         check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr, &ev),
@@ -153,26 +131,6 @@ class OpenClBackend final : public Backend {
   }
 
  private:
-  template <class T>
-  cl::Buffer upload(const char* what, const std::vector<T>& data, std::size_t& total) {
-    return upload_bytes(what, data.data(), data.size() * sizeof(T), total);
-  }
-
-  cl::Buffer upload_bytes(const char* what, const void* data, std::size_t bytes, std::size_t& total) {
-    if (bytes > rt_.max_alloc_bytes())
-      throw Error("opencl: scene array '" + std::string(what) + "' needs " + std::to_string(bytes) +
-                  " bytes, more than the device's largest allocation (CL_DEVICE_MAX_MEM_ALLOC_SIZE = " +
-                  std::to_string(rt_.max_alloc_bytes()) + " bytes)");
-    const std::size_t size = std::max(bytes, kDummyBytes);
-    cl_int err = CL_SUCCESS;
-    cl::Buffer buf(rt_.context, CL_MEM_READ_ONLY, size, nullptr, &err);
-    check(err, "clCreateBuffer(" + std::string(what) + ", " + std::to_string(size) + " bytes)");
-    if (bytes > 0)
-      check(rt_.queue.enqueueWriteBuffer(buf, CL_FALSE, 0, bytes, data), "clEnqueueWriteBuffer(" + std::string(what) + ")");
-    total += size;
-    return buf;
-  }
-
   void ensure(cl::Buffer& buf, std::size_t& cap, std::size_t bytes, cl_mem_flags flags, const char* what) {
     if (cap >= bytes && buf() != nullptr) return;
     if (bytes > rt_.max_alloc_bytes())
@@ -187,8 +145,8 @@ class OpenClBackend final : public Backend {
 
   // The program variant for the current scene's features, built on first use.
   Variant& variant(bool want_stats, bool any_hit) {
-    const KernelFeatures& f = scene_->features;
-    std::string options = opencl::base_build_options() + opencl::variant_build_options(f, want_stats, any_hit);
+    std::string options = opencl::base_build_options() +
+                          opencl::variant_build_options(kernel_variant(scene_->features, {want_stats, any_hit}));
     auto it = variants_.find(options);
     if (it != variants_.end()) return it->second;
     opencl::BuiltProgram built = opencl::build_program(rt_, opencl::trace_source(), options, "kernels/trace.cl");
@@ -202,8 +160,9 @@ class OpenClBackend final : public Backend {
   }
 
   opencl::Runtime rt_;
+  cl::Buffer stand_in_; // the rows the trace kernel does not read (the bv arrays)
   std::size_t chunk_rays_;
-  std::optional<SceneBuffers> scene_;
+  std::optional<UploadedScene> scene_;
   std::map<std::string, Variant> variants_; // by build options
   cl::Buffer ray_buf_, hit_buf_, stat_buf_;
   std::size_t ray_cap_ = 0, hit_cap_ = 0, stat_cap_ = 0;

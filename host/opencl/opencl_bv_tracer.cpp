@@ -3,6 +3,7 @@
 // largest allocation, checked below).
 #include "host/bv_tracer.h"
 #include "host/opencl/cl_runtime.h"
+#include "host/opencl/cl_scene_buffers.h"
 #include "host/opencl/kernel_sources.h"
 #include "scenes/error.h"
 #include <algorithm>
@@ -18,28 +19,14 @@ constexpr std::size_t kDummyBytes = 16; // OpenCL rejects zero-sized buffers
 
 class OpenClBvTracer final : public BvTracer {
  public:
-  OpenClBvTracer() : rt_(opencl::open_runtime()) {}
+  OpenClBvTracer() : rt_(opencl::open_runtime()), stand_in_(opencl::stand_in_buffer(rt_)) {}
   std::string name() const override { return "opencl"; }
   TraceTiming timing() const override { return timing_; }
 
   void set_scene(const BvScene& scene) override {
     auto t0 = std::chrono::steady_clock::now();
     const PackedScene& p = scene.prims;
-    buffers_.clear();
-    buffers_.push_back(upload("frames", p.frames));
-    buffers_.push_back(upload("geoms", p.geoms));
-    buffers_.push_back(upload("triangles", p.triangles));
-    buffers_.push_back(upload("capsules", p.capsules));
-    buffers_.push_back(upload("round cones", p.cones));
-    buffers_.push_back(upload("spheres", p.spheres));
-    buffers_.push_back(upload("curves", p.curves));
-    switch (scene.type) {
-      case BvType::Aabb: buffers_.push_back(upload("bv nodes", scene.aabb)); break;
-      case BvType::Sphere: buffers_.push_back(upload("bv nodes", scene.sphere)); break;
-      case BvType::Obb: buffers_.push_back(upload("bv nodes", scene.obb)); break;
-      case BvType::Scb: buffers_.push_back(upload("bv nodes", scene.scb)); break;
-    }
-    buffers_.push_back(upload("bv primitive refs", scene.refs));
+    buffers_ = opencl::upload_scene_arrays(rt_, "opencl bv", scene_array_data(scene), KernelFamily::Bv, stand_in_);
     check(rt_.queue.finish(), "clFinish (bv scene upload)");
     type_ = scene.type;
     node_count_ = int(scene.node_count());
@@ -65,13 +52,12 @@ class OpenClBvTracer final : public BvTracer {
     cl::Buffer stat_buf = scratch("stats", want_stats ? n * sizeof(kernel::RayStats) : kDummyBytes, CL_MEM_WRITE_ONLY);
     check(rt_.queue.enqueueWriteBuffer(ray_buf, CL_FALSE, 0, n * sizeof(kernel::Ray), rays.data()),
           "clEnqueueWriteBuffer(rays)");
-    cl_uint a = 0;
-    for (const cl::Buffer& b : buffers_) check(k.setArg(a++, b), "clSetKernelArg(bv scene)");
-    check(k.setArg(a++, ray_buf), "clSetKernelArg(rays)");
-    check(k.setArg(a++, hit_buf), "clSetKernelArg(hits)");
-    check(k.setArg(a++, stat_buf), "clSetKernelArg(stats)");
-    check(k.setArg(a++, cl_int(n)), "clSetKernelArg(ray_count)");
-    check(k.setArg(a++, cl_int(node_count_)), "clSetKernelArg(node_count)");
+    cl_uint arg = opencl::set_scene_args(k, buffers_);
+    check(k.setArg(arg++, ray_buf), "clSetKernelArg(rays)");
+    check(k.setArg(arg++, hit_buf), "clSetKernelArg(hits)");
+    check(k.setArg(arg++, stat_buf), "clSetKernelArg(stats)");
+    const kernel::TraceParams params{int(n), node_count_, 0, 0}; // tlas_root: the node count
+    check(k.setArg(arg++, params), "clSetKernelArg(params)");
     const std::size_t global = (n + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
     cl::Event ev;
     check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr, &ev),
@@ -99,20 +85,10 @@ class OpenClBvTracer final : public BvTracer {
     return b;
   }
 
-  template <class T>
-  cl::Buffer upload(const char* what, const std::vector<T>& data) {
-    const std::size_t bytes = data.size() * sizeof(T);
-    cl::Buffer b = scratch(what, bytes, CL_MEM_READ_ONLY);
-    if (bytes > 0)
-      check(rt_.queue.enqueueWriteBuffer(b, CL_FALSE, 0, bytes, data.data()),
-            "clEnqueueWriteBuffer(" + std::string(what) + ")");
-    return b;
-  }
-
   cl::Kernel& kernel(bool want_stats) {
-    const KernelFeatures& f = features_;
     std::string options = opencl::base_build_options() + " -D MASQ_BV_TYPE=" +
-                          std::to_string(bv_type_kernel_id(type_)) + opencl::variant_build_options(f, want_stats, false);
+                          std::to_string(bv_type_kernel_id(type_)) +
+                          opencl::variant_build_options(kernel_variant(features_, {want_stats, false}));
     auto it = kernels_.find(options);
     if (it != kernels_.end()) {
       timing_.compile_seconds = it->second.second;
@@ -127,7 +103,8 @@ class OpenClBvTracer final : public BvTracer {
   }
 
   opencl::Runtime rt_;
-  std::vector<cl::Buffer> buffers_; // kernel arguments 0..8 in order
+  cl::Buffer stand_in_; // the rows the bv kernel does not read (the two-level arrays)
+  opencl::SceneBuffers buffers_;
   std::map<std::string, std::pair<cl::Kernel, double>> kernels_;
   BvType type_ = BvType::Scb;
   int node_count_ = 0;

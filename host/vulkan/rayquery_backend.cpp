@@ -47,8 +47,6 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr std::uint32_t kLocalSize = 64;
-constexpr std::uint32_t kBindingTlasParts = 13; // as in kernels/rayquery.comp
-constexpr std::uint32_t kBindingPrimMap = 14;
 const char* const kName = "rayquery";
 // The driver tests the unit box in its own fp32 object space; the masquerade transform
 // scales a thin capsule's radius up to 1, so the object-space origin carries an error
@@ -136,7 +134,13 @@ class RayQueryBackend final : public Backend {
     scene_ = vk::SceneBuffers{};
     check_inputs(scene);
     plan(scene);
-    vk::add_scene_arrays(scene_, *ctx_, kName, scene, false, false);
+    // The driver's structures replace masq's own BVH (nodes, refs, compact entries), and
+    // the instance records in submission order the scene's (upload_instance_records).
+    SceneArrayData arrays = scene_array_data(scene);
+    for (SceneArray a : {SceneArray::nodes, SceneArray::refs, SceneArray::masq_instances, SceneArray::masq_owners,
+                         SceneArray::instances})
+      arrays[a] = {};
+    vk::add_scene_arrays(scene_, *ctx_, kName, arrays, KernelFamily::TwoLevel);
     upload_instance_records(scene);
     upload_prim_map(scene);
     scene_.finish(*ctx_, kName);
@@ -169,7 +173,7 @@ class RayQueryBackend final : public Backend {
   }
 
  private:
-  static std::vector<VkDescriptorType> descriptor_types() { return vk::kernel_descriptor_types(kBindingPrimMap + 1); }
+  static std::vector<VkDescriptorType> descriptor_types() { return vk::kernel_descriptor_types(); }
 
   void check_inputs(const PackedScene& s) const {
     if (s.frame_object_to_world.size() != s.frames.size())
@@ -199,7 +203,7 @@ class RayQueryBackend final : public Backend {
   // parts[p].first + custom index); compact masquerade entries are expanded, since the
   // driver's instance, not the record, carries their map.
   void upload_instance_records(const PackedScene& s) {
-    scene_.add(*ctx_, kName, MASQ_BINDING_INSTANCES, "instance records (one per TLAS entry)",
+    scene_.add(*ctx_, kName, info(SceneArray::instances).binding, "instance records (one per TLAS entry)",
                plan_.entries.size() * sizeof(kernel::Instance), [&](vk::Buffer& b) {
                  std::vector<kernel::Instance> chunk;
                  constexpr std::size_t kChunk = 1 << 16;
@@ -214,7 +218,7 @@ class RayQueryBackend final : public Backend {
   }
 
   void upload_prim_map(const PackedScene& s) {
-    scene_.add(*ctx_, kName, kBindingPrimMap, "primitive id map", vk::primitive_id_map(s, plan_));
+    scene_.add(*ctx_, kName, MASQ_BINDING_PRIM_MAP, "primitive id map", vk::primitive_id_map(s, plan_));
   }
 
   // The driver BLAS of a cluster: each member's exact local box under every scene
@@ -297,7 +301,7 @@ class RayQueryBackend final : public Backend {
   }
 
   // The TLAS parts: runs of at most maxInstanceCount entries of plan_.entries, each built in
-  // submission order; then the parts table (binding 13).
+  // submission order; then the parts table (MASQ_BINDING_TLAS_PARTS).
   void build_tlas(const PackedScene& s) {
     tlas_.clear();
     const std::uint64_t max_inst = std::min<std::uint64_t>(max_instances(), (1u << 24) - 1); // custom index
@@ -315,7 +319,7 @@ class RayQueryBackend final : public Backend {
     parts_buffer_ = vk::Buffer(*ctx_, std::max<std::size_t>(records.size(), 1) * sizeof(TlasPartRecord),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     parts_buffer_.upload(records.data(), records.size() * sizeof(TlasPartRecord));
-    layout_.bind_buffer(kBindingTlasParts, parts_buffer_);
+    layout_.bind_buffer(MASQ_BINDING_TLAS_PARTS, parts_buffer_);
   }
 
   VkAccelerationStructureInstanceKHR tlas_entry(const PackedScene& s, const vk::RayQueryPlan::Entry& en,
@@ -354,7 +358,7 @@ class RayQueryBackend final : public Backend {
   VkPipeline pipeline(bool stats, bool any_hit) {
     vk::PipelineVariants& variants = scene_.addressed() ? addressed_ : bound_;
     const vk::PipelineVariants::Variant& v =
-        variants.get(vk::spec_constants(features_, stats, any_hit, kLocalSize), [&](VkPipeline p) {
+        variants.get(vk::spec_constants(kernel_variant(features_, {stats, any_hit}), kLocalSize), [&](VkPipeline p) {
           // An empty dispatch (ray_count 0) triggers the driver's JIT.
           batch_.bind_minimal(layout_);
           kernel::TraceParams pc{0, 0, 0, 0};

@@ -13,9 +13,8 @@ void check_storage_range(const Context& ctx, const char* backend, const char* wh
                             backend, what, bytes, limit));
 }
 
-std::vector<VkDescriptorType> kernel_descriptor_types(std::uint32_t count) {
+std::vector<VkDescriptorType> kernel_descriptor_types() {
   std::vector<VkDescriptorType> t(MASQ_BINDING_ADDRESSES + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  if (count > MASQ_BINDING_ADDRESSES) throw Error("vulkan: more bindings than address slots");
   t[MASQ_BINDING_ADDRESSES] = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
   return t;
 }
@@ -38,6 +37,7 @@ void SceneBuffers::add(Context& ctx, const char* backend, std::uint32_t binding,
   if (size > 0) fill(a.buffer);
   a.what = what;
   a.bytes = size;
+  if (auto old = arrays_.find(binding); old != arrays_.end()) bytes -= old->second.bytes; // replaced
   arrays_[binding] = std::move(a);
   bytes += size;
 }
@@ -65,34 +65,26 @@ void SceneBuffers::bind(KernelLayout& layout) const {
   layout.bind_buffer(MASQ_BINDING_ADDRESSES, table_);
 }
 
-void add_scene_arrays(SceneBuffers& b, Context& ctx, const char* backend, const PackedScene& s, bool with_bvh,
-                      bool with_instances) {
-  const std::vector<int> none;
-  // Whatever the node format: the kernels read w8 and q8 nodes as words of this array.
-  const std::uint64_t node_bytes = with_bvh ? s.node_bytes() : 0;
-  b.add(ctx, backend, MASQ_BINDING_NODES, "scene nodes", node_bytes,
-        [&](Buffer& buf) { buf.upload(s.node_data(), node_bytes); });
-  b.add(ctx, backend, MASQ_BINDING_REFS, "scene refs", with_bvh ? s.refs : none);
-  if (with_instances) b.add(ctx, backend, MASQ_BINDING_INSTANCES, "scene instances", s.instances);
-  // Compact masquerade entries are TLAS leaves of masq's own BVH (none for ray query).
-  const std::vector<kernel::MasqInstance> no_compact;
-  const std::vector<kernel::MasqOwner> no_owners;
-  b.add(ctx, backend, MASQ_BINDING_MASQ_INSTANCES, "compact masquerade instances",
-        with_bvh ? s.masq_instances : no_compact);
-  b.add(ctx, backend, MASQ_BINDING_MASQ_OWNERS, "compact masquerade owners", with_bvh ? s.masq_owners : no_owners);
-  b.add(ctx, backend, MASQ_BINDING_FRAMES, "scene frames", s.frames);
-  b.add(ctx, backend, MASQ_BINDING_GEOMS, "scene geoms", s.geoms);
-  b.add(ctx, backend, MASQ_BINDING_TRIANGLES, "scene triangles", s.triangles);
-  b.add(ctx, backend, MASQ_BINDING_CAPSULES, "scene capsules", s.capsules);
-  b.add(ctx, backend, MASQ_BINDING_CONES, "scene round cones", s.cones);
-  b.add(ctx, backend, MASQ_BINDING_SPHERES, "scene spheres", s.spheres);
-  b.add(ctx, backend, MASQ_BINDING_CURVES, "scene curves", s.curves);
+void add_scene_arrays(SceneBuffers& b, Context& ctx, const char* backend, const SceneArrayData& data,
+                      KernelFamily family) {
+  for (std::size_t i = 0; i < kSceneArrayCount; ++i) {
+    const SceneArrayInfo& row = kSceneArrays[i];
+    if (!row.read_by(family)) continue; // its binding stays unwritten: the kernel never reads it
+    const ArrayBytes& d = data.rows[i];
+    b.add(ctx, backend, row.binding, fmt::format("scene array '{}'", row.name).c_str(), d.bytes,
+          [&](Buffer& buf) { buf.upload(d.data, d.bytes); });
+  }
 }
 
-std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, bool any_hit, std::uint32_t local_size) {
-  return {stats,     f.triangles, f.capsules, local_size, f.cones, f.spheres, f.curves, f.mode == Mode::Robust,
-          static_cast<std::uint32_t>(f.curve_iters), any_hit, f.single_blas,
-          static_cast<std::uint32_t>(node_format_id(f.nodes))};
+std::vector<std::uint32_t> spec_constants(const KernelVariant& v, std::uint32_t local_size) {
+  std::uint32_t ids = MASQ_SPEC_LOCAL_SIZE + 1;
+  for (const VariantSwitch& s : kVariantSwitches) ids = std::max(ids, s.spec_id + 1);
+  std::vector<std::uint32_t> values(ids, 0);
+  const auto row_values = switch_values(v);
+  for (std::size_t i = 0; i < kVariantSwitchCount; ++i)
+    values[kVariantSwitches[i].spec_id] = static_cast<std::uint32_t>(row_values[i]);
+  values[MASQ_SPEC_LOCAL_SIZE] = local_size;
+  return values;
 }
 
 void RayBatch::ensure(std::size_t capacity, KernelLayout& layout) {

@@ -3,7 +3,8 @@
 // maxStorageBufferRange) and tracing a batch of rays in chunks small enough that the
 // ray, hit and stats buffers fit one binding and one dispatch.
 #pragma once
-#include "bvh/packed_scene.h"
+#include "host/kernel_variant.h"
+#include "host/scene_arrays.h"
 #include "kernels/kernel_data.h"
 #include "host/vulkan/vk_pipeline.h"
 #include <functional>
@@ -17,10 +18,10 @@ namespace masq::vk {
 // allows M (maxStorageBufferRange)" when bytes exceed the (possibly lowered) limit.
 void check_storage_range(const Context& ctx, const char* backend, const char* what, std::uint64_t bytes);
 
-// Descriptor types of a kernel layout with `count` storage-buffer bindings (0..count-1)
-// plus the address table (MASQ_BINDING_ADDRESSES, a uniform buffer); bindings between
-// them stay unused.
-std::vector<VkDescriptorType> kernel_descriptor_types(std::uint32_t count);
+// Descriptor types of the kernels' layout: storage buffers at every binding below the
+// address table (MASQ_BINDING_ADDRESSES, a uniform buffer); a kernel leaves unused the
+// ones it does not read.
+std::vector<VkDescriptorType> kernel_descriptor_types();
 
 // The scene arrays of one kernel, by binding number (kernels/kernel_data.h). Bound mode:
 // each array is a storage buffer at its binding. Addressed mode (chosen by finish() when
@@ -31,7 +32,8 @@ std::vector<VkDescriptorType> kernel_descriptor_types(std::uint32_t count);
 class SceneBuffers {
  public:
   // Throws masq::Error naming `what`, its size and the limit when one buffer cannot hold
-  // it (max_allocation_bytes) or the allocation fails. `fill` writes the contents.
+  // it (max_allocation_bytes) or the allocation fails. `fill` writes the contents. An
+  // array already at `binding` is replaced.
   void add(Context& ctx, const char* backend, std::uint32_t binding, const char* what, std::uint64_t size,
            const std::function<void(Buffer&)>& fill);
   template <class T>
@@ -60,19 +62,20 @@ class SceneBuffers {
   bool addressed_ = false;
 };
 
-// Specialisation constants of the kernels (ids as in kernels/variants.h).
-std::vector<std::uint32_t> spec_constants(const KernelFeatures& f, bool stats, bool any_hit, std::uint32_t local_size);
+// The specialization constants of a kernel variant: value i goes to constant id i
+// (kernels/variant_table.h), the work-group size to MASQ_SPEC_LOCAL_SIZE.
+std::vector<std::uint32_t> spec_constants(const KernelVariant& v, std::uint32_t local_size);
 
-// Adds the PackedScene's arrays at their bindings. with_bvh false: no nodes and refs
-// (masq's own BVH; ray query), empty buffers there; with_instances false: the caller
-// adds its own instance records (ray query: in TLAS submission order).
-void add_scene_arrays(SceneBuffers& out, Context& ctx, const char* backend, const PackedScene& scene,
-                      bool with_bvh = true, bool with_instances = true);
+// Adds every scene array `family`'s kernels read (kernels/scene_array_table.h) at its
+// binding, empty ones included. A caller with arrays of its own (ray query's instance
+// records) adds them afterwards at the same binding, replacing the scene's.
+void add_scene_arrays(SceneBuffers& out, Context& ctx, const char* backend, const SceneArrayData& data,
+                      KernelFamily family);
 
 class RayBatch {
  public:
   explicit RayBatch(Context& ctx) : ctx_(ctx) {}
-  // Traces rays in chunks: binds rays/hits/stats (7/8/9) to `layout`, dispatches
+  // Traces rays in chunks: binds rays/hits/stats (MASQ_BINDING_RAYS, _HITS, _STATS), dispatches
   // `pipeline` with push constants {count, param, 0, 0} (kernel::TraceParams layout),
   // copies hits and stats back. Returns the device seconds summed over chunks.
   double run(const char* backend, KernelLayout& layout, VkPipeline pipeline, std::uint32_t local_size,

@@ -1,7 +1,7 @@
 // vulkan bv tracer: kernels/trace_bv.comp, one SPIR-V module per node type (and per
 // array access: bound, or by address for scenes over one storage binding), the other
-// switches as specialization constants (host/vulkan/trace_dispatch.h). The scene's
-// primitive arrays use the trace kernels' bindings; the hierarchy adds 13 and 14.
+// switches as specialization constants (host/vulkan/trace_dispatch.h). The arrays are
+// the rows of kernels/scene_array_table.h the bv kernels read.
 #include "host/bv_tracer.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "kernels/kernel_data.h"
@@ -27,7 +27,7 @@ class VulkanBvTracer final : public BvTracer {
  public:
   VulkanBvTracer()
       : ctx_(vk::Context::get(kName, false)),
-        layout_(*ctx_, vk::kernel_descriptor_types(MASQ_BV_BINDING_COUNT), sizeof(kernel::TraceParams)),
+        layout_(*ctx_, vk::kernel_descriptor_types(), sizeof(kernel::TraceParams)),
         batch_(*ctx_) {}
 
   std::string name() const override { return kName; }
@@ -36,15 +36,7 @@ class VulkanBvTracer final : public BvTracer {
     auto t0 = Clock::now();
     if (scene.node_count() > std::size_t(INT32_MAX)) throw Error("vulkan bv: more than 2^31-1 nodes");
     scene_ = vk::SceneBuffers{};
-    vk::add_scene_arrays(scene_, *ctx_, kName, scene.prims);
-    constexpr std::uint32_t kNodes = MASQ_BINDING_BV_NODES;
-    switch (scene.type) {
-      case BvType::Aabb: scene_.add(*ctx_, kName, kNodes, "bv nodes", scene.aabb); break;
-      case BvType::Sphere: scene_.add(*ctx_, kName, kNodes, "bv nodes", scene.sphere); break;
-      case BvType::Obb: scene_.add(*ctx_, kName, kNodes, "bv nodes", scene.obb); break;
-      case BvType::Scb: scene_.add(*ctx_, kName, kNodes, "bv nodes", scene.scb); break;
-    }
-    scene_.add(*ctx_, kName, MASQ_BINDING_BV_PRIMS, "bv primitive refs", scene.refs);
+    vk::add_scene_arrays(scene_, *ctx_, kName, scene_array_data(scene), KernelFamily::Bv);
     scene_.finish(*ctx_, kName);
     scene_.bind(layout_);
     type_ = scene.type;
@@ -78,7 +70,7 @@ class VulkanBvTracer final : public BvTracer {
 
   VkPipeline pipeline(bool stats) {
     const vk::PipelineVariants::Variant& v =
-        variants().get(vk::spec_constants(features_, stats, false, kLocalSize), [&](VkPipeline p) {
+        variants().get(vk::spec_constants(kernel_variant(features_, {stats, false}), kLocalSize), [&](VkPipeline p) {
           batch_.bind_minimal(layout_); // an empty dispatch triggers the driver's JIT
           kernel::TraceParams pc{0, node_count_, 0, 0};
           layout_.dispatch(p, &pc, 1);

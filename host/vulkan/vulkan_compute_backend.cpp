@@ -53,7 +53,7 @@ class VulkanComputeBackend final : public Backend {
  public:
   VulkanComputeBackend()
       : ctx_(vk::Context::get(kName, false)),
-        layout_(*ctx_, vk::kernel_descriptor_types(MASQ_BINDING_COUNT), sizeof(kernel::TraceParams)),
+        layout_(*ctx_, vk::kernel_descriptor_types(), sizeof(kernel::TraceParams)),
         batch_(*ctx_) {}
 
 
@@ -63,7 +63,7 @@ class VulkanComputeBackend final : public Backend {
   void set_scene(const PackedScene& scene) override {
     auto t0 = Clock::now();
     scene_ = vk::SceneBuffers{}; // release the old scene first (memory)
-    vk::add_scene_arrays(scene_, *ctx_, kName, scene);
+    vk::add_scene_arrays(scene_, *ctx_, kName, scene_array_data(scene), KernelFamily::TwoLevel);
     scene_.finish(*ctx_, kName, prefer_addressed());
     scene_.bind(layout_);
     tlas_root_ = scene.tlas_root;
@@ -86,7 +86,7 @@ class VulkanComputeBackend final : public Backend {
   VkPipeline pipeline(bool stats, bool any_hit) {
     vk::PipelineVariants& variants = scene_.addressed() ? addressed_ : bound_;
     const vk::PipelineVariants::Variant& v =
-        variants.get(vk::spec_constants(features_, stats, any_hit, local_size()), [&](VkPipeline p) {
+        variants.get(vk::spec_constants(kernel_variant(features_, {stats, any_hit}), local_size()), [&](VkPipeline p) {
           // An empty dispatch (ray_count 0) triggers the driver's JIT.
           batch_.bind_minimal(layout_);
           kernel::TraceParams pc{0, tlas_root_, 0, 0};

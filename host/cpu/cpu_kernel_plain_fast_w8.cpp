@@ -1,8 +1,0 @@
-// cpu kernel variant: counters off, fast intersectors, node format w8 fixed at compile
-// time (the timed variants; the counter variants read the format at run time).
-#define MASQ_KERNEL_VARIANT v_plain_fast_w8
-#define MASQ_STATS 0
-#define MASQ_ROBUST 0
-#define MASQ_NODE_FORMAT MASQ_NODES_W8
-#define CPU_TRACE_FN trace_range_plain_fast_w8
-#include "host/cpu/cpu_kernel_variant.inc"
