@@ -6,15 +6,11 @@
 #include "host/vulkan/trace_dispatch.h"
 #include "kernels/kernel_data.h"
 #include "scenes/error.h"
-#include "spirv/trace_bv_aabb_addr_spv.h"
-#include "spirv/trace_bv_aabb_spv.h"
-#include "spirv/trace_bv_obb_addr_spv.h"
-#include "spirv/trace_bv_obb_spv.h"
-#include "spirv/trace_bv_scb_addr_spv.h"
-#include "spirv/trace_bv_scb_spv.h"
-#include "spirv/trace_bv_sphere_addr_spv.h"
-#include "spirv/trace_bv_sphere_spv.h"
+#include "spirv/trace_bv_modules.h"
 #include <chrono>
+#include <map>
+#include <memory>
+#include <utility>
 
 namespace masq {
 namespace {
@@ -57,15 +53,16 @@ class VulkanBvTracer final : public BvTracer {
   TraceTiming timing() const override { return timing_; }
 
  private:
+  // The pipelines of the scene's volume type and array access, made on first use.
   vk::PipelineVariants& variants() {
-    const bool a = scene_.addressed();
-    switch (type_) {
-      case BvType::Aabb: return a ? aabb_addr_ : aabb_;
-      case BvType::Sphere: return a ? sphere_addr_ : sphere_;
-      case BvType::Obb: return a ? obb_addr_ : obb_;
-      case BvType::Scb: break;
-    }
-    return a ? scb_addr_ : scb_;
+    const int type = bv_type_kernel_id(type_);
+    const bool addressed = scene_.addressed();
+    std::unique_ptr<vk::PipelineVariants>& v = variants_[{type, addressed}];
+    if (!v)
+      for (const vk::TraceBvModule& m : vk::kTraceBvModules)
+        if (m.bv_type == type) v = std::make_unique<vk::PipelineVariants>(layout_, addressed ? m.addressed : m.bound);
+    if (!v) throw Error("vulkan bv: no SPIR-V module for bounding-volume type " + std::to_string(type));
+    return *v;
   }
 
   VkPipeline pipeline(bool stats) {
@@ -81,14 +78,7 @@ class VulkanBvTracer final : public BvTracer {
 
   std::shared_ptr<vk::Context> ctx_;
   vk::KernelLayout layout_;
-  vk::PipelineVariants aabb_{layout_, trace_bv_aabb_spv};
-  vk::PipelineVariants sphere_{layout_, trace_bv_sphere_spv};
-  vk::PipelineVariants obb_{layout_, trace_bv_obb_spv};
-  vk::PipelineVariants scb_{layout_, trace_bv_scb_spv};
-  vk::PipelineVariants aabb_addr_{layout_, trace_bv_aabb_addr_spv};
-  vk::PipelineVariants sphere_addr_{layout_, trace_bv_sphere_addr_spv};
-  vk::PipelineVariants obb_addr_{layout_, trace_bv_obb_addr_spv};
-  vk::PipelineVariants scb_addr_{layout_, trace_bv_scb_addr_spv};
+  std::map<std::pair<int, bool>, std::unique_ptr<vk::PipelineVariants>> variants_; // after layout_: destroyed first
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
   BvType type_ = BvType::Scb;
