@@ -1,6 +1,7 @@
 #include "bench/heatmap.h"
-#include "bench/image_writer.h"
 #include "bvh/build_accel.h"
+#include "image/heat_color.h"
+#include "image/image_writer.h"
 #include "scenes/camera.h"
 #include "scenes/error.h"
 #include <algorithm>

@@ -1,6 +1,8 @@
 // Primitive-level long-double ground truth: one ray against one primitive, in the
 // primitive's object space. Shares no code with kernels/ (it is what they are checked
-// against). Contract, identical for every type and for the GPU kernels:
+// against). Each type is in oracle/oracle_<type>.cpp, written from the geometry, not
+// from any fast-path formula in kernels/. Contract, identical for every type and for the
+// GPU kernels:
 //  - The primitive is a closed solid; a hit is a crossing of its boundary at ray
 //    parameter t (point o + t d; d need not be unit length). The nearest crossing with
 //    t in [max(tmin, t_self), tmax] is reported, so a ray starting inside reports its

@@ -1,7 +1,7 @@
 // The Vulkan kernels order a node's hit children by a sorting network, OpenCL and the
 // cpu by an insertion sort (kernels/child_order.h). Every backend must visit the same
 // nodes in the same order, so the network must give the insertion sort's order: entry
-// distance, ties in slot order. kernels/child_order_check.comp runs the GLSL
+// distance, ties in slot order. tests/kernels/child_order_check.comp runs the GLSL
 // order_children on entry distances with many ties; the C++ one is the reference.
 // Vulkan missing fails the test unless MASQ_ALLOW_MISSING_BACKENDS=1.
 #include "host/backend.h"

@@ -1,5 +1,5 @@
 // GLSL std430 must lay out every GPU struct of kernels/layout.h exactly as C++ does.
-// kernels/layout_roundtrip.comp loads each struct type through the struct and writes its
+// tests/kernels/layout_roundtrip.comp loads each struct type through the struct and writes its
 // fields in declaration order as 32-bit words, and assembles structs field by field
 // from words; both must reproduce the C++ bytes (every field is a 4-byte scalar, so a
 // C++ struct's bytes ARE its fields in declaration order; static asserts in layout.h

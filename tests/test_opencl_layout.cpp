@@ -1,10 +1,11 @@
 // The GPU-visible structs of kernels/layout.h must have the same size, field offsets
-// and bytes in OpenCL C as in C++. kernels/layout_check.cl holds the field table; it is
-// included here as C++ (its kernels compile only as OpenCL C).
+// and bytes in OpenCL C as in C++. tests/kernels/layout_check.cl holds the field table;
+// it is included here as C++ (its kernels compile only as OpenCL C), and embedded as
+// OpenCL C source by tests/CMakeLists.txt.
 #include "host/backend.h"
 #include "host/opencl/cl_runtime.h"
-#include "host/opencl/kernel_sources.h"
-#include "kernels/layout_check.cl"
+#include "test_kernels/layout_check_cl.h"
+#include "tests/kernels/layout_check.cl"
 
 #include <gtest/gtest.h>
 
@@ -59,8 +60,8 @@ class OpenClLayout : public ::testing::Test {
       return;
     }
     try {
-      program_ = opencl::build_program(*rt_, opencl::layout_check_source(), opencl::base_build_options(),
-                                       "kernels/layout_check.cl")
+      program_ = opencl::build_program(*rt_, opencl_src::layout_check_cl, opencl::base_build_options(),
+                                       "tests/kernels/layout_check.cl")
                      .program;
     } catch (const std::exception& e) {
       build_error_ = e.what();

@@ -1,11 +1,9 @@
 #include "host/opencl/kernel_sources.h"
 
-#include "opencl/layout_check_cl.h"
 #include "opencl/trace_cl.h"
 #include "opencl/trace_bv_cl.h"
 
 namespace masq::opencl {
 std::string trace_source() { return opencl_src::trace_cl; }
 std::string trace_bv_source() { return opencl_src::trace_bv_cl; }
-std::string layout_check_source() { return opencl_src::layout_check_cl; }
 } // namespace masq::opencl

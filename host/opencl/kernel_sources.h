@@ -4,7 +4,6 @@
 #include <string>
 
 namespace masq::opencl {
-std::string trace_source();        // kernels/trace.cl
-std::string trace_bv_source();     // kernels/trace_bv.cl
-std::string layout_check_source(); // kernels/layout_check.cl (tests)
+std::string trace_source();    // kernels/trace.cl
+std::string trace_bv_source(); // kernels/trace_bv.cl
 } // namespace masq::opencl

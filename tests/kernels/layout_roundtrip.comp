@@ -1,5 +1,7 @@
 // GLSL half of the layout test (tests/test_glsl_layout.cpp): proves that std430 puts
-// every field of every GPU struct in kernels/layout.h where C++ puts it.
+// every field of every GPU struct in kernels/layout.h where C++ puts it. A test kernel:
+// compiled into test_glsl_layout by tests/CMakeLists.txt (kernel headers through
+// masq_add_spirv's -I kernels), not shipped.
 // For each struct type T (section k) and element i:
 //   struct -> words: load in_T[i] through the struct and write its fields, in
 //     declaration order, as 32-bit words to flat_out (the C++ struct's bytes, since

@@ -1,5 +1,7 @@
 // GLSL half of tests/test_glsl_child_order.cpp: the Vulkan kernels' order_children
-// (a sorting network) on given entry distances, to compare with the C++ one.
+// (a sorting network) on given entry distances, to compare with the C++ one. A test
+// kernel: compiled into test_glsl_child_order by tests/CMakeLists.txt (kernel headers
+// through masq_add_spirv's -I kernels), not shipped.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;

@@ -1,11 +1,14 @@
-// Layout check for the GPU-visible structs of layout.h, in OpenCL C and C++.
+// Layout check for the GPU-visible structs of kernels/layout.h, in OpenCL C and C++ (a
+// test kernel: embedded into test_opencl_layout by tests/CMakeLists.txt, not shipped).
 // The field lists below are the single table both sides use: OpenCL C compiles the
 // kernels at the end of this file; tests/test_opencl_layout.cpp includes this file as
 // C++ (the kernels are then skipped) and compares sizes, offsets and field reads.
 // Every field of every struct in layout.h must be listed here (F: scalar, A: array).
 #ifndef MASQ_KERNEL_LAYOUT_CHECK_CL
 #define MASQ_KERNEL_LAYOUT_CHECK_CL
-#include "layout.h"
+// kernels/layout.h by a path relative to this file: cmake/embed_opencl.cmake resolves an
+// include from the including file's folder only.
+#include "../../kernels/layout.h"
 
 #define MASQ_LAYOUT_STRUCTS(S) \
   S(WideNode) S(Instance) S(MasqInstance) S(MasqOwner) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(RoundCone) S(Sphere) S(Curve) S(Ray) \

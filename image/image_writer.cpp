@@ -1,7 +1,7 @@
-#include "bench/image_writer.h"
-#include "scenes/error.h"
+// write_rgb through OpenImageIO (EXR keeps float samples, every other format 8 bits).
+#include "image/image_writer.h"
+#include "masq/error.h"
 #include <OpenImageIO/imageio.h>
-#include <algorithm>
 
 namespace masq {
 
@@ -11,13 +11,6 @@ void write_rgb(const std::string& path, int width, int height, const std::vector
   OIIO::ImageSpec spec(width, height, 3, path.ends_with(".exr") ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) || !out->close())
     throw Error("image: writing '" + path + "' failed: " + out->geterror());
-}
-
-void heat_color(float x, float* rgb) {
-  x = std::clamp(x, 0.0f, 1.0f);
-  rgb[0] = std::clamp(3.0f * x - 1.0f, 0.0f, 1.0f);
-  rgb[1] = std::clamp(3.0f * x - 2.0f, 0.0f, 1.0f);
-  rgb[2] = std::clamp(x < 0.33f ? 3.0f * x : 2.0f - 3.0f * x, 0.0f, 1.0f) + std::clamp(3.0f * x - 2.0f, 0.0f, 1.0f);
 }
 
 } // namespace masq

@@ -1,0 +1,10 @@
+// Writing an image file: what `masq render` and the bench's heatmaps save.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace masq {
+// Writes an RGB image with OpenImageIO, the format by the extension (EXR as float, PNG
+// and the others 8-bit); throws on failure.
+void write_rgb(const std::string& path, int width, int height, const std::vector<float>& rgb);
+} // namespace masq
