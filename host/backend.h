@@ -4,6 +4,7 @@
 #pragma once
 #include "bvh/packed_scene.h"
 #include "masq/error.h"
+#include "masq/names.h"
 #include <memory>
 #include <span>
 #include <string>
@@ -16,7 +17,12 @@ namespace masq {
 // include/masq/error.h.
 
 enum class Query { Closest, Any };
-const char* query_name(Query q); // "closest", "any"
+inline constexpr NameRow<Query> query_rows[] = {
+    {Query::Closest, "closest", "the closest hit"},
+    {Query::Any, "any", "the first hit found, which ends the ray: occlusion"},
+};
+inline constexpr NameTable query_table{"query", query_rows};
+inline const char* query_name(Query q) { return query_table.name(q); }
 
 struct TraceTiming {
   double scene_seconds = 0;   // upload + driver acceleration-structure build

@@ -6,8 +6,6 @@
 
 namespace masq {
 
-const char* query_name(Query q) { return q == Query::Any ? "any" : "closest"; }
-
 const std::vector<std::string>& backend_names() {
   static const std::vector<std::string> names{"cpu", "vulkan", "opencl", "rayquery"};
   return names;
