@@ -69,20 +69,7 @@ struct Context::Impl {
 };
 
 Context::Context(const std::string& backend) : impl_(std::make_unique<Impl>()) {
-  if (backend != "best") {
-    impl_->backend = make_backend(backend);
-    return;
-  }
-  std::string why;
-  for (const char* name : {"vulkan", "opencl", "cpu"}) {
-    try {
-      impl_->backend = make_backend(name);
-      return;
-    } catch (const BackendUnavailable& e) {
-      why += (why.empty() ? "" : "; ") + std::string(e.what());
-    }
-  }
-  throw BackendUnavailable("best: no backend opens here (" + why + ")");
+  impl_->backend = backend == "best" ? make_best_backend() : make_backend(backend);
 }
 
 Context::~Context() = default;

@@ -1,14 +1,17 @@
-// The option name tables (include/masq/names.h): names round-trip, rows follow their
-// enums' order, and unknown names get one message naming the choices.
+// The option name tables (include/masq/names.h) and the backend registry
+// (host/backend_registry.cpp): names round-trip, rows follow their enums' order, unknown
+// names get one message naming the choices, and the registry's lists and "best" order.
 #include "bench/bench_runner.h"
 #include "bench/ray_sets.h"
 #include "bvh/bv_scene.h"
 #include "bvh/options.h"
 #include "host/backend.h"
+#include "host/bv_tracer.h"
 #include "scenes/scene.h"
 #include "stress/stress_cases.h"
 #include <gtest/gtest.h>
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -95,4 +98,20 @@ TEST(Names, BuilderColumns) {
     EXPECT_EQ(builder_leaf_block(b), b == Builder::Sah4 ? 4 : 1);
     EXPECT_EQ(builder_prices_isect(b), b == Builder::SahPriced);
   }
+}
+
+TEST(BackendRegistry, OneTableForEveryList) {
+  EXPECT_EQ(backend_names(), (std::vector<std::string>{"cpu", "vulkan", "opencl", "rayquery"}));
+  EXPECT_EQ(bv_backend_names(), (std::vector<std::string>{"cpu", "vulkan", "opencl"}));
+  // "best": vulkan, then opencl, then cpu; never rayquery.
+  std::map<int, std::string> best;
+  for (const BackendRow& r : backend_table.rows())
+    if (r.best_rank > 0) best[r.best_rank] = r.name;
+  EXPECT_EQ(best, (std::map<int, std::string>{{1, "vulkan"}, {2, "opencl"}, {3, "cpu"}}));
+  EXPECT_EQ(message_of([] { make_backend("bogus"); }),
+            "unknown backend 'bogus' (expected cpu, vulkan, opencl or rayquery)");
+  EXPECT_EQ(message_of([] { make_bv_tracer("rayquery"); }),
+            "unknown bv backend 'rayquery' (expected cpu, vulkan or opencl)");
+  EXPECT_EQ(make_backend("cpu")->name(), "cpu");
+  EXPECT_EQ(make_bv_tracer("cpu")->name(), "cpu");
 }
