@@ -20,31 +20,25 @@ static_assert(sizeof(RayStats) == sizeof(kernel::RayStats) &&
 
 const char* version() { return MASQ_VERSION; }
 
-masq::Method internal_method(Method m); // below
-
 Accel Accel::build(const Scene& scene, const AccelOptions& options) {
   masq::Scene s = scene.impl().scene;
   if (s.instances.empty())
     for (std::uint32_t g = 0; g < s.geometries.size(); ++g) s.instances.push_back({g, {}});
   validate_scene(s);
   AccelOptions o = options;
+  // The public option enums are the builder's own (bvh/options.h): they pass as they
+  // are, once known to be values of their tables (row() throws masq::Error otherwise).
+  method_table.row(options.method);
+  mode_table.row(options.mode);
+  builder_table.row(options.builder);
+  node_format_table.row(options.nodes);
   masq::AccelOptions ao;
-  ao.mode = options.mode == Mode::Fast ? masq::Mode::Fast : masq::Mode::Robust;
-  switch (options.builder) {
-    case Builder::Sah: ao.builder.kind = masq::Builder::Sah; break;
-    case Builder::Sbvh: ao.builder.kind = masq::Builder::Sbvh; break;
-    case Builder::SahReinsert: ao.builder.kind = masq::Builder::SahReinsert; break;
-    case Builder::SbvhReinsert: ao.builder.kind = masq::Builder::SbvhReinsert; break;
-    case Builder::Sah4: ao.builder.kind = masq::Builder::Sah4; break;
-    case Builder::SahPriced: ao.builder.kind = masq::Builder::SahPriced; break;
-    default: throw Error("Accel::build: unknown builder");
-  }
-  ao.nodes = options.nodes == NodeFormat::W8   ? masq::NodeFormat::W8
-             : options.nodes == NodeFormat::Q8 ? masq::NodeFormat::Q8
-                                               : masq::NodeFormat::W4;
+  ao.mode = options.mode;
+  ao.builder.kind = options.builder;
+  ao.nodes = options.nodes;
   ao.masq_instances = options.compact_masquerade ? masq::MasqInstances::Compact : masq::MasqInstances::Full;
   auto impl = std::make_shared<Impl>();
-  impl->packed = build_accel(s, internal_method(options.method), ao);
+  impl->packed = build_accel(s, options.method, ao);
   impl->options = o;
   Accel a;
   a.impl_ = std::move(impl);
@@ -74,32 +68,8 @@ struct Context::Impl {
            Query query, const char* what);
 };
 
-// A method of the public API as the builder's.
-masq::Method internal_method(Method m) {
-  switch (m) {
-    case Method::Ref: return masq::Method::Ref;
-    case Method::Masq: return masq::Method::Masq;
-    case Method::Cluster: return masq::Method::Cluster;
-    case Method::Auto: return masq::Method::Auto;
-  }
-  throw Error("Accel::build: unknown method");
-}
-
 Context::Context(const std::string& backend) : impl_(std::make_unique<Impl>()) {
-  if (backend != "best") {
-    impl_->backend = make_backend(backend);
-    return;
-  }
-  std::string why;
-  for (const char* name : {"vulkan", "opencl", "cpu"}) {
-    try {
-      impl_->backend = make_backend(name);
-      return;
-    } catch (const BackendUnavailable& e) {
-      why += (why.empty() ? "" : "; ") + std::string(e.what());
-    }
-  }
-  throw BackendUnavailable("best: no backend opens here (" + why + ")");
+  impl_->backend = backend == "best" ? make_best_backend() : make_backend(backend);
 }
 
 Context::~Context() = default;

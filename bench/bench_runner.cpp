@@ -270,14 +270,6 @@ std::vector<Lane> open_lanes(const std::string& name, const std::vector<const Bu
 
 } // namespace
 
-const char* auto_by_name(AutoBy a) { return a == AutoBy::Pilot ? "pilot" : "model"; }
-
-AutoBy parse_auto_by(const std::string& name) {
-  if (name == "pilot") return AutoBy::Pilot;
-  if (name == "model") return AutoBy::Model;
-  throw Error("unknown auto choice '" + name + "' (expected pilot or model)");
-}
-
 BuiltMethods build_methods(const Scene& scene, const BenchOptions& opt) {
   BuiltMethods built;
   for (Method m : opt.methods) {

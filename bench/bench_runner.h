@@ -26,8 +26,14 @@ namespace masq {
 // the structure cost model's choice (bvh/build_accel.h), as masq render and the library
 // make it.
 enum class AutoBy { Pilot, Model };
-const char* auto_by_name(AutoBy a);
-AutoBy parse_auto_by(const std::string& name); // throws masq::Error
+inline constexpr NameRow<AutoBy> auto_by_rows[] = {
+    {AutoBy::Pilot, "pilot",
+     "trace a sample of each ray set through each candidate on the backend measured, keep the fastest"},
+    {AutoBy::Model, "model", "the cost model's choice, as masq render makes it"},
+};
+inline constexpr NameTable auto_by_table{"auto choice", auto_by_rows};
+inline const char* auto_by_name(AutoBy a) { return auto_by_table.name(a); }
+inline AutoBy parse_auto_by(std::string_view name) { return auto_by_table.parse(name); } // throws masq::Error
 
 struct BenchOptions {
   std::vector<std::string> backends = backend_names();

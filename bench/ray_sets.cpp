@@ -8,21 +8,6 @@
 
 namespace masq {
 
-const char* ray_set_name(RaySet s) {
-  switch (s) {
-    case RaySet::Primary: return "primary";
-    case RaySet::Shadow: return "shadow";
-    case RaySet::Diffuse: return "diffuse";
-  }
-  return "?";
-}
-
-RaySet parse_ray_set(const std::string& name) {
-  for (RaySet s : {RaySet::Primary, RaySet::Shadow, RaySet::Diffuse})
-    if (name == ray_set_name(s)) return s;
-  throw Error("unknown ray set '" + name + "' (primary, shadow, diffuse)");
-}
-
 glm::dvec3 shadow_light(const Camera& camera) {
   glm::dvec3 back = camera.eye - camera.target;
   double dist = glm::length(back);

@@ -4,17 +4,25 @@
 // way a path tracer does).
 #pragma once
 #include "kernels/layout.h"
+#include "masq/names.h"
 #include "scenes/scene.h"
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace masq {
 
 enum class RaySet { Primary, Shadow, Diffuse };
-const char* ray_set_name(RaySet s); // "primary", "shadow", "diffuse"
-RaySet parse_ray_set(const std::string& name); // throws masq::Error
+inline constexpr NameRow<RaySet> ray_set_rows[] = {
+    {RaySet::Primary, "primary", "camera rays"},
+    {RaySet::Shadow, "shadow", "from the primary hits to a light"},
+    {RaySet::Diffuse, "diffuse", "cosine-weighted bounces from the primary hits"},
+};
+inline constexpr NameTable ray_set_table{"ray set", ray_set_rows};
+inline const char* ray_set_name(RaySet s) { return ray_set_table.name(s); }
+inline RaySet parse_ray_set(std::string_view name) { return ray_set_table.parse(name); } // throws masq::Error
 
 // The point light of the shadow rays: above, right of and behind the camera's target,
 // at the camera's distance (so shadow rays cross the scene at a different angle).

@@ -21,7 +21,7 @@ BenchOptions SuiteContext::bench_options(int width, int height) const {
 }
 
 const std::vector<std::string>& suite_names() {
-  static const std::vector<std::string> names = {"fig3", "table1", "table2", "fig9", "fig10", "error", "peers", "bv"};
+  static const std::vector<std::string> names = suite_table.names();
   return names;
 }
 
@@ -51,9 +51,7 @@ SuiteResult run_error_suite(SuiteContext& ctx) {
 }
 
 std::vector<SuiteResult> run_suites(SuiteContext& ctx, const std::vector<std::string>& names) {
-  for (const std::string& n : names)
-    if (std::find(suite_names().begin(), suite_names().end(), n) == suite_names().end())
-      throw Error("bench: unknown suite '" + n + "' (fig3, table1, table2, fig9, fig10, error, peers, bv, all)");
+  for (const std::string& n : names) suite_table.at(n); // throws masq::Error naming the suites
   auto wants = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
   auto timed = [](auto&& f) {
     auto t0 = std::chrono::steady_clock::now();

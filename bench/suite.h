@@ -7,6 +7,7 @@
 #include "bench/bench_runner.h"
 #include "bench/rt_cost_model.h"
 #include "bench/table.h"
+#include "masq/names.h"
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <array>
@@ -67,7 +68,23 @@ struct SuiteContext {
   BenchOptions bench_options(int width, int height) const; // quick/full repetitions
 };
 
-const std::vector<std::string>& suite_names(); // fig3 table1 table2 fig9 fig10 error peers
+// The suites, in the order they run.
+struct SuiteRow {
+  const char* name;
+  const char* help;
+};
+inline constexpr SuiteRow suite_rows[] = {
+    {"fig3", "the masquerade paper's Fig. 3: synthetic bundles"},
+    {"table1", "its Table 1: hair and fur, rays/s"},
+    {"table2", "its Table 2: memory"},
+    {"fig9", "its Fig. 9: AABB vs OBB surface area"},
+    {"fig10", "its Fig. 10: intersector calls"},
+    {"error", "run time against error of the curve intersectors"},
+    {"peers", "against Embree 3 and the driver's ray query"},
+    {"bv", "Kallberg & Larsson's slab-cut-ball, ball, OBB and AABB trees"},
+};
+inline constexpr NameTable suite_table{"suite", suite_rows};
+const std::vector<std::string>& suite_names(); // suite_table's names
 // Runs the named suites in a fixed order (fig3 first: it calibrates the RT model).
 std::vector<SuiteResult> run_suites(SuiteContext& ctx, const std::vector<std::string>& names);
 

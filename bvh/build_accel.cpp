@@ -16,14 +16,6 @@
 
 namespace masq {
 
-const char* masq_instances_name(MasqInstances m) { return m == MasqInstances::Compact ? "compact" : "full"; }
-
-MasqInstances parse_masq_instances(const std::string& name) {
-  if (name == "compact") return MasqInstances::Compact;
-  if (name == "full") return MasqInstances::Full;
-  throw Error("unknown masquerade instance form '" + name + "' (expected compact or full)");
-}
-
 namespace {
 
 Aabb triangle_box(const Geometry& g, const glm::uvec3& t) {

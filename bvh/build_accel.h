@@ -24,14 +24,6 @@ namespace masq {
 // build; the tests use it to exercise TLASes that mix every instance kind).
 enum class AutoSelect { WholeStructure, MixOnly };
 
-// How masquerade primitives are stored (docs/kernels.md, "Compact masquerade
-// instances"): compact: a 32-byte MasqInstance each (kernels/layout.h); full: the
-// 64-byte Instance a hardware TLAS entry takes. Cluster and BLAS instances are always
-// Instances.
-enum class MasqInstances { Compact, Full };
-const char* masq_instances_name(MasqInstances m);
-MasqInstances parse_masq_instances(const std::string& name); // throws masq::Error
-
 struct AccelOptions {
   SahOptions sah;
   BuilderOptions builder;               // binary BVH builder (bvh/builder.h); sah by default

@@ -3,30 +3,6 @@
 
 namespace masq {
 
-const char* builder_name(Builder b) {
-  switch (b) {
-    case Builder::Sah: return "sah";
-    case Builder::Sbvh: return "sbvh";
-    case Builder::SahReinsert: return "sah+reinsert";
-    case Builder::SbvhReinsert: return "sbvh+reinsert";
-    case Builder::Sah4: return "sah4";
-    case Builder::SahPriced: return "sah-priced";
-  }
-  return "?";
-}
-
-const std::vector<Builder>& all_builders() {
-  static const std::vector<Builder> all{Builder::Sah, Builder::Sbvh, Builder::SahReinsert, Builder::SbvhReinsert,
-                                       Builder::Sah4, Builder::SahPriced};
-  return all;
-}
-
-Builder parse_builder(const std::string& name) {
-  for (Builder b : all_builders())
-    if (name == builder_name(b)) return b;
-  throw Error("builder: unknown builder '" + name + "' (choose sah, sbvh, sah+reinsert, sbvh+reinsert, sah4 or sah-priced)");
-}
-
 BinaryBvh build_blas_binary(const std::vector<Aabb>& boxes, const PrimClipper& clip, const SahOptions& sah,
                             const BuilderOptions& opt, std::size_t* references) {
   SahOptions blas_sah = sah;

@@ -10,8 +10,8 @@
 // The wide collapse (bvh/wide_bvh.h) comes after, whichever builder ran.
 #pragma once
 #include "bvh/binned_sah.h"
-#include "bvh/builder_kind.h"
 #include "bvh/clip_bounds.h"
+#include "bvh/options.h"
 #include "bvh/reinsertion.h"
 #include "bvh/sbvh.h"
 #include <string>

@@ -10,22 +10,6 @@
 
 namespace masq {
 
-const char* bv_type_name(BvType t) {
-  switch (t) {
-    case BvType::Aabb: return "aabb";
-    case BvType::Sphere: return "sphere";
-    case BvType::Obb: return "obb";
-    case BvType::Scb: return "scb";
-  }
-  return "?";
-}
-
-BvType parse_bv_type(const std::string& name) {
-  for (BvType t : {BvType::Aabb, BvType::Sphere, BvType::Obb, BvType::Scb})
-    if (name == bv_type_name(t)) return t;
-  throw Error("bv: unknown bounding-volume type '" + name + "' (aabb, sphere, obb, scb)");
-}
-
 int bv_type_kernel_id(BvType t) {
   switch (t) {
     case BvType::Aabb: return MASQ_BV_AABB;
@@ -35,8 +19,6 @@ int bv_type_kernel_id(BvType t) {
   }
   return -1;
 }
-
-const char* bv_builder_name(BvBuilder b) { return b == BvBuilder::ObbSweep ? "obb-sweep" : "binned-sah"; }
 
 std::size_t BvScene::node_count() const { return bv_aabb.size() + bv_sphere.size() + bv_obb.size() + bv_scb.size(); }
 

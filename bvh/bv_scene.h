@@ -6,22 +6,35 @@
 #include "bvh/binned_sah.h"
 #include "bvh/packed_scene.h"
 #include "bvh/prim_bounds.h"
+#include "masq/names.h"
 #include "scenes/scene.h"
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace masq {
 
 enum class BvType { Aabb, Sphere, Obb, Scb };
-const char* bv_type_name(BvType t);              // "aabb", "sphere", "obb", "scb"
-BvType parse_bv_type(const std::string& name);   // throws masq::Error
-int bv_type_kernel_id(BvType t);                 // MASQ_BV_*
+inline constexpr NameRow<BvType> bv_type_rows[] = {
+    {BvType::Aabb, "aabb", "axis-aligned boxes"},
+    {BvType::Sphere, "sphere", "balls"},
+    {BvType::Obb, "obb", "oriented boxes"},
+    {BvType::Scb, "scb", "slab-cut balls"},
+};
+inline constexpr NameTable bv_type_table{"bounding-volume type", bv_type_rows};
+inline const char* bv_type_name(BvType t) { return bv_type_table.name(t); }
+inline BvType parse_bv_type(std::string_view name) { return bv_type_table.parse(name); } // throws masq::Error
+int bv_type_kernel_id(BvType t); // MASQ_BV_*
 
-// obb-sweep: the SCB paper's top-down SAH sweep with OBB areas (bvh/obb_sweep_bvh.h);
-// binned-sah: the project's binned SAH over world AABBs (bvh/binned_sah.h).
+// The sweep is bvh/obb_sweep_bvh.h, the binned SAH bvh/binned_sah.h.
 enum class BvBuilder { ObbSweep, BinnedSah };
-const char* bv_builder_name(BvBuilder b);
+inline constexpr NameRow<BvBuilder> bv_builder_rows[] = {
+    {BvBuilder::ObbSweep, "obb-sweep", "the SCB paper's top-down SAH sweep with OBB areas"},
+    {BvBuilder::BinnedSah, "binned-sah", "the project's binned SAH over world AABBs"},
+};
+inline constexpr NameTable bv_builder_table{"bounding-volume builder", bv_builder_rows};
+inline const char* bv_builder_name(BvBuilder b) { return bv_builder_table.name(b); }
 
 struct BvOptions {
   BvType type = BvType::Scb;

@@ -3,6 +3,7 @@
 // bfloat16 scales and an fp32 translation, 32 bytes instead of the 64 of an Instance.
 #pragma once
 #include "bvh/obb.h"
+#include "kernels/layout.h"
 #include <cstdint>
 #include <optional>
 

@@ -31,14 +31,6 @@ Affine3 from_mat3x4f(const Mat3x4f& m) {
   return a;
 }
 
-const char* curve_obb_name(CurveObb m) { return m == CurveObb::Paper ? "paper" : "tight"; }
-
-CurveObb parse_curve_obb(const std::string& name) {
-  if (name == "paper") return CurveObb::Paper;
-  if (name == "tight") return CurveObb::Tight;
-  throw Error("unknown curve OBB '" + name + "' (expected paper or tight)");
-}
-
 Aabb capsule_world_box(const CapsulePrim& c, const Affine3& xf) {
   Geometry g;
   g.type = PrimType::Capsule;

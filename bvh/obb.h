@@ -2,22 +2,14 @@
 // masquerade instance stores.
 #pragma once
 #include "bvh/aabb.h"
-#include "bvh/packed_scene.h"
+#include "bvh/mat3x4f.h"
+#include "bvh/options.h"
 #include "bvh/prim_bounds.h"
 #include "scenes/scene.h"
 #include <optional>
 #include <string>
 
 namespace masq {
-
-// How a curve's OBB is oriented. paper: Wald et al. 2020's, the chord p0->p3 as axis
-// and a square cross-section wide enough for the control points' distance to the
-// chord plus the radius (a cylinder's box). tight: the same axis, but the
-// cross-section axes follow the control polygon's largest offset from the chord, and
-// every side is fitted to the control balls' support (never larger than paper).
-enum class CurveObb { Paper, Tight };
-const char* curve_obb_name(CurveObb m);
-CurveObb parse_curve_obb(const std::string& name); // throws masq::Error
 
 // An object-space box: centre + axes (orthonormal columns) * [-half, half].
 struct ObbFrame {

@@ -6,45 +6,6 @@
 
 namespace masq {
 
-const char* method_name(Method m) {
-  switch (m) {
-    case Method::Ref: return "ref";
-    case Method::Masq: return "masq";
-    case Method::Cluster: return "cluster";
-    case Method::Auto: return "auto";
-  }
-  return "?";
-}
-
-Method parse_method(const std::string& name) {
-  for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto})
-    if (name == method_name(m)) return m;
-  throw Error("unknown method '" + name + "' (expected ref, masq, cluster or auto)");
-}
-
-const char* mode_name(Mode m) { return m == Mode::Robust ? "robust" : "fast"; }
-
-Mode parse_mode(const std::string& name) {
-  if (name == "robust") return Mode::Robust;
-  if (name == "fast") return Mode::Fast;
-  throw Error("unknown mode '" + name + "' (expected robust or fast)");
-}
-
-const char* node_format_name(NodeFormat f) {
-  switch (f) {
-    case NodeFormat::W4: return "w4";
-    case NodeFormat::W8: return "w8";
-    case NodeFormat::Q8: return "q8";
-  }
-  return "?";
-}
-
-NodeFormat parse_node_format(const std::string& name) {
-  for (NodeFormat f : {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8})
-    if (name == node_format_name(f)) return f;
-  throw Error("unknown node format '" + name + "' (expected w4, w8 or q8)");
-}
-
 int node_format_id(NodeFormat f) {
   switch (f) {
     case NodeFormat::W4: return MASQ_NODES_W4;

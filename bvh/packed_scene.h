@@ -2,7 +2,8 @@
 // uploads as-is (layouts from kernels/layout.h), plus what the rayquery backend needs
 // to hand the same scene to the driver's own acceleration-structure builder.
 #pragma once
-#include "bvh/builder_kind.h"
+#include "bvh/mat3x4f.h"
+#include "bvh/options.h"
 #include "kernels/layout.h"
 #include <array>
 #include <cstdint>
@@ -11,29 +12,10 @@
 
 namespace masq {
 
-// ref and masq: Wald et al. 2020; cluster: oriented clusters of thin primitives, one
-// instance per cluster (docs/methods.md); auto: per primitive or cluster, the cheapest of
-// the three by a surface-area cost model (docs/methods.md).
-enum class Method { Ref, Masq, Cluster, Auto };
-const char* method_name(Method m);
-Method parse_method(const std::string& name); // throws masq::Error
-
-using Mat3x4f = std::array<float, 12>; // row-major 3x4 affine
-
-// fast: the intersectors as their papers write them and an unpadded masquerade box
-// test; robust: the fp32-hardened intersectors and the conservative padded box test.
-enum class Mode { Robust, Fast };
-const char* mode_name(Mode m);
-Mode parse_mode(const std::string& name); // throws masq::Error
-
-// BVH node layout of the TLAS and every BLAS (docs/kernels.md, "Node formats"):
-// w4: 4-wide float boxes (128 B); w8: 8-wide float boxes (256 B); q8: 8-wide with
-// child boxes quantised to 8 bits per plane (80 B). The rayquery backend ignores it.
-enum class NodeFormat { W4, W8, Q8 };
-const char* node_format_name(NodeFormat f);
-NodeFormat parse_node_format(const std::string& name); // throws masq::Error
-int node_format_id(NodeFormat f);                      // MASQ_NODES_* of kernels/layout.h
-std::size_t node_format_bytes(NodeFormat f);           // one node
+// The BVH node layouts of kernels/layout.h (NodeFormat: bvh/options.h, docs/kernels.md,
+// "Node formats"). The rayquery backend ignores them.
+int node_format_id(NodeFormat f);            // MASQ_NODES_* of kernels/layout.h
+std::size_t node_format_bytes(NodeFormat f); // one node
 
 // The kernel variant a scene needs: the primitive types present (the others are
 // compiled out), the intersector mode and the phantom-curve iteration limit. Every

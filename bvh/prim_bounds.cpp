@@ -1,4 +1,5 @@
 #include "bvh/prim_bounds.h"
+#include "bvh/packed_scene.h"
 #include "scenes/error.h"
 #include <algorithm>
 #include <cmath>

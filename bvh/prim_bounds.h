@@ -5,11 +5,12 @@
 // hull's support function, so one routine serves AABBs, OBBs and their verification.
 #pragma once
 #include "bvh/aabb.h"
-#include "bvh/packed_scene.h"
 #include "scenes/scene.h"
 #include <array>
 
 namespace masq {
+
+struct PackedScene;
 
 struct BallHull {
   std::array<glm::dvec3, 4> centre{};

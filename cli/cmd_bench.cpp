@@ -169,12 +169,12 @@ int bench(BenchCli& c) {
     c.bench.ray_sets.clear();
     for (const std::string& r : c.ray_sets) c.bench.ray_sets.push_back(parse_ray_set(r));
   }
-  c.bench.shadow_any_hit = c.shadow_query == "any";
+  c.bench.shadow_any_hit = query_table.parse(c.shadow_query) == Query::Any;
   c.bench.auto_by = parse_auto_by(c.auto_by);
   c.bench.builders = parse_builders(c.scene);
   c.bench.node_formats = node_formats(c.scene);
   c.bench.progress = progress_line(c.quiet);
-  const bool bundle = c.scene.file.empty() && c.scene.scene == "bundle";
+  const bool bundle = c.scene.file.empty() && embedded_scene_table.parse(c.scene.scene) == EmbeddedScene::Bundle;
   fmt::print("scene '{}': {} primitives{}, {} mode, nodes {}, {} masquerade entries, {}x{} camera rays; ray sets: {}; "
              "{} warm-up + {} timed traces, median (min-max) of device time; builders: {}; auto by {}\n",
              scene.name, scene.primitive_count(),
@@ -227,30 +227,34 @@ Action add_bench(CLI::App& app) {
   c->prim_opt = cmd->get_option("--prim");
   cmd->add_flag("--error", c->error_mode,
                 "Run time against error: every curve intersector variant vs the long-double oracle (Pareto table)");
-  cmd->add_option("--backend", c->backends, "Backends to run (default: all)")->delimiter(',')->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
-  cmd->add_option("--method", c->methods, "Methods to run: ref masq cluster auto (default: all four)")->delimiter(',')->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
+  cmd->add_option("--backend", c->backends, "Backends to run (default: all): " + backend_table.help())
+      ->delimiter(',')
+      ->check(CLI::IsMember(backend_table.names()));
+  cmd->add_option("--method", c->methods, "Methods to run (default: all): " + method_table.help())
+      ->delimiter(',')
+      ->check(CLI::IsMember(method_table.names()));
   c->width_opt = cmd->add_option("--width", c->bench.width, "Rays per row")->capture_default_str()->check(CLI::Range(1, 16384));
   c->height_opt = cmd->add_option("--height", c->bench.height, "Rows of rays")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--warmup", c->bench.warmup, "Untimed traces first")->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option("--reps", c->bench.repetitions, "Timed traces")->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--rays", c->ray_sets, "Ray sets: primary (camera), shadow (hits to a light), diffuse (bounces from hits)")
-      ->check(CLI::IsMember({"primary", "shadow", "diffuse"}));
-  cmd->add_option("--shadow-query", c->shadow_query,
-                  "Shadow rays as an occlusion query (any: first hit ends the ray) or for the closest hit")
+  cmd->add_option("--rays", c->ray_sets, "Ray sets (default: all): " + ray_set_table.help())
+      ->check(CLI::IsMember(ray_set_table.names()));
+  cmd->add_option("--shadow-query", c->shadow_query, "What shadow rays ask for: " + query_table.help())
       ->capture_default_str()
-      ->check(CLI::IsMember({"any", "closest"}));
+      ->check(CLI::IsMember(query_table.names()));
   cmd->add_option("--auto-by", c->auto_by,
-                  "How auto keeps one of its candidates (ref, masq, cluster, the mix): pilot (trace a sample of each ray "
-                  "set through each on the backend measured, keep the fastest) or model (the cost model's choice, as "
-                  "masq render makes it)")
+                  "How auto keeps one of its candidates (ref, masq, cluster, the mix): " + auto_by_table.help())
       ->capture_default_str()
-      ->check(CLI::IsMember({"pilot", "model"}));
+      ->check(CLI::IsMember(auto_by_table.names()));
   cmd->add_flag("--fit-prices", c->fit_prices,
                 "Fit the auto method's cost-model prices per backend to the measured rows (docs/methods.md)");
   cmd->add_option("--json", c->json_path, "Also write every raw figure as JSON");
-  cmd->add_option("--suite", c->suites, "Reproduce the papers' tables: fig3 table1 table2 fig9 fig10 error peers bv, or all; "
-                                        "writes OUT/RESULTS.md and OUT/results.json")
-      ->check(CLI::IsMember({"fig3", "table1", "table2", "fig9", "fig10", "error", "peers", "bv", "all"}));
+  std::vector<std::string> suites = suite_names();
+  suites.push_back("all");
+  cmd->add_option("--suite", c->suites,
+                  "Reproduce the papers' tables: " + suite_table.help() +
+                      "; or all; writes OUT/RESULTS.md and OUT/results.json")
+      ->check(CLI::IsMember(suites));
   cmd->add_flag("--quick", c->quick, "Suites: the small variant (< 5 minutes on 2 cores)");
   cmd->add_option("--out", c->out_dir, "Suites: output directory of RESULTS.md, results.json and images (default: "
                                         "bench/results, with --quick bench/results-quick)");

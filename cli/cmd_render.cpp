@@ -69,12 +69,12 @@ Action add_render(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render a shaded image and an intersector-call heatmap");
   add_scene_options(*cmd, o->scene);
-  cmd->add_option("--backend", o->backend, "cpu, vulkan, opencl or rayquery")
+  cmd->add_option("--backend", o->backend, "Backend: " + backend_table.help())
       ->capture_default_str()
-      ->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
-  cmd->add_option("--method", o->method, "ref, masq, cluster or auto")
+      ->check(CLI::IsMember(backend_table.names()));
+  cmd->add_option("--method", o->method, "Method: " + method_table.help())
       ->capture_default_str()
-      ->check(CLI::IsMember({"ref", "masq", "cluster", "auto"}));
+      ->check(CLI::IsMember(method_table.names()));
   cmd->add_option("--width", o->width, "Image width")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--height", o->height, "Image height")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--out", o->out, "Output prefix: PREFIX_shaded.EXT and PREFIX_heat.EXT")->capture_default_str();

@@ -1,5 +1,6 @@
 // `masq stress`: the numerical stress suite (docs/robustness.md).
 #include "cli/commands.h"
+#include "host/backend.h"
 #include "scenes/error.h"
 #include "stress/stress_report.h"
 #include <fmt/format.h>
@@ -66,11 +67,12 @@ Action add_stress(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("stress", "Numerical stress suite: every primitive x backend x mode vs the long-double oracle");
   cmd->add_option("--rays", c->opt.sweep.rays_per_cell, "Rays per cell")->capture_default_str()->check(CLI::Range(16, 1 << 24));
   cmd->add_flag("--quick", c->opt.sweep.quick, "Fewer sweep points (the ctest subset)");
-  cmd->add_option("--prim", c->types, "Primitive types (default: all): triangle capsule cone sphere curve")
-      ->check(CLI::IsMember({"triangle", "capsule", "cone", "sphere", "curve"}));
-  cmd->add_option("--backend", c->opt.backends, "Backends (default: all): cpu vulkan opencl rayquery")
-      ->check(CLI::IsMember({"cpu", "vulkan", "opencl", "rayquery"}));
-  cmd->add_option("--mode", c->modes, "Modes (default: robust fast)")->check(CLI::IsMember({"robust", "fast"}));
+  cmd->add_option("--prim", c->types, "Primitive types (default: all): " + prim_type_table.help())
+      ->check(CLI::IsMember(prim_type_table.names()));
+  cmd->add_option("--backend", c->opt.backends, "Backends (default: all): " + backend_table.help())
+      ->check(CLI::IsMember(backend_table.names()));
+  cmd->add_option("--mode", c->modes, "Modes (default: all): " + mode_table.help())
+      ->check(CLI::IsMember(mode_table.names()));
   cmd->add_option("--seed", c->opt.sweep.seed, "Random seed")->capture_default_str();
   cmd->add_option("--json", c->json_path, "Write every figure as JSON to this file");
   cmd->add_flag("--check", c->check, "Exit 1 unless robust mode meets the acceptance bounds on every cell");

@@ -8,10 +8,9 @@
 namespace masq::cli {
 
 void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
-  cmd.add_option("--scene", opt.scene,
-                 "Embedded scene: bundle (the masquerade paper's), hair (on a head), fur (on a body), streamlines (ABC flow)")
+  cmd.add_option("--scene", opt.scene, "Embedded scene: " + embedded_scene_table.help())
       ->capture_default_str()
-      ->check(CLI::IsMember({"bundle", "hair", "fur", "streamlines"}));
+      ->check(CLI::IsMember(embedded_scene_table.names()));
   cmd.add_option("--file", opt.file,
                  "Scene file instead of --scene: .tfx (TressFX 3/4), .hair, .swc, .trk, .tck, .ply, .obj, .nff, .json (scene "
                  "description); strands use --prim capsule, cone or curve (Catmull-Rom through the points)");
@@ -25,19 +24,23 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
   cmd.add_option("--radius", opt.bundle.radius, "Strand radius")->capture_default_str()->check(CLI::PositiveNumber);
   cmd.add_option("--tilt", opt.bundle.tilt_deg, "Bundle tilt in degrees (X-Y plane)")->capture_default_str();
   cmd.add_option("--seed", opt.bundle.seed, "Random seed of the bundle")->capture_default_str();
-  cmd.add_option("--prim", opt.prim, "Strand primitive: capsule, cone (round cone r..r/2), curve (bent cubic), sphere (beads)")
+  // Strands are thin primitives: every type but triangles.
+  auto strand = [](const PrimTypeRow& r) { return r.value != PrimType::Triangle; };
+  cmd.add_option("--prim", opt.prim,
+                 "Strand primitive: " + prim_type_table.help(strand) +
+                     "; the bundle's cones taper from r to r/2, its curves bend and its spheres are beads")
       ->capture_default_str()
-      ->check(CLI::IsMember({"capsule", "cone", "curve", "sphere"}));
+      ->check(CLI::IsMember(prim_type_table.names(strand)));
   cmd.add_option("--subdiv", opt.subdivisions, "Curves: pre-subdivide each cubic into k pieces (1, 2, 4, 8...)")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
   cmd.add_flag("--ortho", opt.orthographic, "Orthographic view along +z from z=-5 (the paper's setup)");
-  cmd.add_option("--mode", opt.mode, "Intersectors and masquerade box test: robust (fp32-hardened, conservative) or fast (as published)")
+  cmd.add_option("--mode", opt.mode, "Intersectors and masquerade box test: " + mode_table.help())
       ->capture_default_str()
-      ->check(CLI::IsMember({"robust", "fast"}));
-  cmd.add_option("--curve-obb", opt.curve_obb, "Curve OBBs: paper (chord axis, cylinder) or tight (control-polygon fit)")
+      ->check(CLI::IsMember(mode_table.names()));
+  cmd.add_option("--curve-obb", opt.curve_obb, "Curve OBBs: " + curve_obb_table.help())
       ->capture_default_str()
-      ->check(CLI::IsMember({"paper", "tight"}));
+      ->check(CLI::IsMember(curve_obb_table.names()));
   cmd.add_option("--curve-iters", opt.curve_iters, "Phantom curve iteration limit")->capture_default_str()->check(CLI::Range(1, 64));
   cmd.add_option("--cluster-size", opt.cluster_size, "Methods cluster/auto: most primitives per oriented cluster")
       ->capture_default_str()
@@ -51,28 +54,24 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->capture_default_str()
       ->check(CLI::Range(1.0, 64.0));
   cmd.add_option("--nodes", opt.nodes,
-                 "BVH node format of the TLAS and every BLAS: w4 (4-wide float boxes), w8 (8-wide float boxes) or q8 "
-                 "(8-wide, boxes quantised to 8 bits per plane); bench takes a list (w4,w8,q8) and runs each")
+                 "BVH node format of the TLAS and every BLAS: " + node_format_table.help() +
+                     "; bench takes a comma-separated list and runs each")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::IsMember({"w4", "w8", "q8"}));
+      ->check(CLI::IsMember(node_format_table.names()));
   cmd.add_option("--masq-instance", opt.masq_instance,
-                 "Masquerade TLAS entries: compact (32 bytes: quaternion, bfloat16 scales, owner index) or full (the "
-                 "64-byte instance of RT hardware); docs/kernels.md")
+                 "Masquerade TLAS entries: " + masq_instances_table.help() + "; docs/kernels.md")
       ->capture_default_str()
-      ->check(CLI::IsMember({"compact", "full"}));
+      ->check(CLI::IsMember(masq_instances_table.names()));
   cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (default 1 1.5 2.5; docs/methods.md)")
       ->expected(3)
       ->check(CLI::PositiveNumber);
   cmd.add_option("--builder", opt.builders,
-                 "Binary BVH builder: sah (binned SAH, default), sbvh (spatial splits in every BLAS over primitives), "
-                 "sah+reinsert or sbvh+reinsert (insertion optimisation of the TLAS and every BLAS), sah4 (binned SAH "
-                 "pricing each BLAS leaf per block of four primitives: fuller leaves, for the cpu's four-lane capsule "
-                 "test), sah-priced (binned SAH pricing each BLAS leaf primitive at its type's intersector cost: mostly "
-                 "one-primitive leaves, fewer intersector calls, more nodes); bench takes a comma-separated list and runs each side by side (docs/builders.md)")
+                 "Binary BVH builder: " + builder_table.help() +
+                     "; bench takes a comma-separated list and runs each side by side (docs/builders.md)")
       ->delimiter(',')
       ->capture_default_str()
-      ->check(CLI::IsMember({"sah", "sbvh", "sah+reinsert", "sbvh+reinsert", "sah4", "sah-priced"}));
+      ->check(CLI::IsMember(builder_table.names()));
   cmd.add_option("--sbvh-budget", opt.sbvh_budget, "sbvh: at most this many BLAS references per primitive (>= 1)")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 64.0));
@@ -96,11 +95,12 @@ Scene make_scene(const SceneOptions& opt) {
     if (prim == PrimType::Curve) s = subdivide_curves(segments_to_curves(s), opt.subdivisions);
     return s;
   }
-  if (opt.scene == "hair" || opt.scene == "fur") {
+  const EmbeddedScene embedded = embedded_scene_table.parse(opt.scene);
+  if (embedded == EmbeddedScene::Hair || embedded == EmbeddedScene::Fur) {
     HairParams hp;
     hp.strands = opt.strands;
-    hp.surface = opt.scene == "fur" ? HairSurface::Body : HairSurface::Head;
-    if (opt.scene == "fur") {
+    hp.surface = embedded == EmbeddedScene::Fur ? HairSurface::Body : HairSurface::Head;
+    if (embedded == EmbeddedScene::Fur) {
       hp.points = 4;
       hp.length = 0.15;
       hp.gravity = 0.1;
@@ -109,7 +109,7 @@ Scene make_scene(const SceneOptions& opt) {
     hp.seed = opt.bundle.seed;
     return subdivide_curves(make_hair_scene(hp), opt.subdivisions);
   }
-  if (opt.scene == "streamlines") {
+  if (embedded == EmbeddedScene::Streamlines) {
     StreamlineParams sp;
     sp.lines = opt.strands;
     sp.type = prim == PrimType::Sphere ? PrimType::RoundCone : prim;
@@ -135,7 +135,7 @@ std::vector<NodeFormat> node_formats(const SceneOptions& opt) {
     if (std::find(out.begin(), out.end(), f) != out.end()) throw Error("--nodes: '" + n + "' is given twice");
     out.push_back(f);
   }
-  if (out.empty()) throw Error("--nodes: no node format given (expected w4, w8 or q8)");
+  if (out.empty()) throw Error("--nodes: no node format given (expected " + node_format_table.choices() + ")");
   return out;
 }
 

@@ -2,6 +2,7 @@
 // now, with a choice of strand primitive; the run's kernel mode and curve options).
 #pragma once
 #include "bvh/build_accel.h"
+#include "masq/names.h"
 #include "scenes/generators.h"
 #include "scenes/strand_generators.h"
 #include <CLI/CLI.hpp>
@@ -9,8 +10,18 @@
 #include <vector>
 
 namespace masq::cli {
+// The scenes --scene generates (scenes/generators.h, scenes/strand_generators.h).
+enum class EmbeddedScene { Bundle, Hair, Fur, Streamlines };
+inline constexpr NameRow<EmbeddedScene> embedded_scene_rows[] = {
+    {EmbeddedScene::Bundle, "bundle", "the masquerade paper's"},
+    {EmbeddedScene::Hair, "hair", "on a head"},
+    {EmbeddedScene::Fur, "fur", "on a body"},
+    {EmbeddedScene::Streamlines, "streamlines", "ABC flow"},
+};
+inline constexpr NameTable embedded_scene_table{"scene", embedded_scene_rows};
+
 struct SceneOptions {
-  std::string scene = "bundle"; // bundle, hair, fur, streamlines
+  std::string scene = "bundle"; // a name of embedded_scene_table
   std::string file;             // a scene file (overrides --scene)
   float file_radius = 0.0f;     // strands without radii in the file (0: the loader's default)
   int strands = 10000;          // hair, fur, streamlines: strand count
@@ -25,7 +36,7 @@ struct SceneOptions {
   int cluster_classes = 32;  // cluster, auto
   double cluster_leaf_price = 4.0; // cluster, auto: ClusterOptions::leaf_price
   std::vector<double> prices; // auto: node transform isect (empty: defaults)
-  // Binary BVH builders (bvh/builder_kind.h): bench runs each side by side; the other
+  // Binary BVH builders (builder_table, bvh/options.h): bench runs each side by side; the other
   // subcommands take one.
   std::vector<std::string> builders{"sah"};
   double sbvh_budget = 2.0;  // sbvh: at most this many references per primitive

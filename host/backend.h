@@ -4,6 +4,7 @@
 #pragma once
 #include "bvh/packed_scene.h"
 #include "masq/error.h"
+#include "masq/names.h"
 #include <memory>
 #include <span>
 #include <string>
@@ -16,7 +17,12 @@ namespace masq {
 // include/masq/error.h.
 
 enum class Query { Closest, Any };
-const char* query_name(Query q); // "closest", "any"
+inline constexpr NameRow<Query> query_rows[] = {
+    {Query::Closest, "closest", "the closest hit"},
+    {Query::Any, "any", "the first hit found, which ends the ray: occlusion"},
+};
+inline constexpr NameTable query_table{"query", query_rows};
+inline const char* query_name(Query q) { return query_table.name(q); }
 
 struct TraceTiming {
   double scene_seconds = 0;   // upload + driver acceleration-structure build
@@ -43,9 +49,26 @@ class Backend {
   virtual std::size_t device_bytes() const = 0;
 };
 
-// "cpu", "vulkan", "opencl", "rayquery".
-const std::vector<std::string>& backend_names();
-// Throws BackendUnavailable (one line naming the cause) when it cannot run here.
+class BvTracer; // host/bv_tracer.h
+
+// A row of the backend registry (host/backend_registry.cpp): how to open the backend,
+// whether it also traces binary bounding-volume hierarchies, and its place in "best".
+struct BackendRow {
+  const char* name;
+  const char* help;
+  std::unique_ptr<Backend> (*make)();     // throws BackendUnavailable (one line naming the cause)
+  std::unique_ptr<BvTracer> (*make_bv)(); // nullptr: no bv kernels for this backend
+  int best_rank;                          // "best" tries rank 1 first, then 2...; 0: never
+};
+// Every backend compiled in, in the order lists, defaults and reports use.
+extern const NameTable<BackendRow> backend_table;
+
+const std::vector<std::string>& backend_names(); // backend_table's names
+// Throws BackendUnavailable (one line naming the cause) when it cannot run here,
+// masq::Error for a name the registry does not hold.
 std::unique_ptr<Backend> make_backend(std::string_view name);
+// The first backend by best_rank that opens here; throws BackendUnavailable with every
+// one's cause when none does.
+std::unique_ptr<Backend> make_best_backend();
 
 } // namespace masq

@@ -26,7 +26,7 @@ class BvTracer {
   virtual TraceTiming timing() const = 0;
 };
 
-const std::vector<std::string>& bv_backend_names(); // cpu, vulkan, opencl
+const std::vector<std::string>& bv_backend_names(); // the registry's backends with a bv tracer
 // Throws BackendUnavailable (one line) when the backend cannot run here, masq::Error
 // for a name that is not a bv backend.
 std::unique_ptr<BvTracer> make_bv_tracer(std::string_view backend);

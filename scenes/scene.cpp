@@ -6,27 +6,6 @@
 
 namespace masq {
 
-const char* prim_type_name(PrimType t) {
-  switch (t) {
-    case PrimType::Triangle: return "triangle";
-    case PrimType::Capsule: return "capsule";
-    case PrimType::RoundCone: return "round cone";
-    case PrimType::Sphere: return "sphere";
-    case PrimType::Curve: return "curve";
-  }
-  return "?";
-}
-
-const char* prim_type_key(PrimType t) {
-  return t == PrimType::RoundCone ? "cone" : prim_type_name(t);
-}
-
-PrimType parse_prim_type(const std::string& key) {
-  for (PrimType t : {PrimType::Triangle, PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve})
-    if (key == prim_type_key(t)) return t;
-  throw Error("unknown primitive type '" + key + "' (expected triangle, capsule, cone, sphere or curve)");
-}
-
 std::size_t Scene::primitive_count() const {
   std::size_t n = 0;
   // Callable before validate_scene (found by ASan: EmbreePeer::set_scene counted first):

@@ -1,18 +1,37 @@
 // The in-memory scene every loader and generator produces: geometries of one primitive
 // type each, placed by instances with affine transforms, and a camera.
 #pragma once
+#include "masq/names.h"
 #include <array>
 #include <glm/glm.hpp>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace masq {
 
 enum class PrimType { Triangle, Capsule, RoundCone, Sphere, Curve };
-const char* prim_type_name(PrimType t); // for messages: "round cone"
-const char* prim_type_key(PrimType t);  // for options and files: "cone"
-PrimType parse_prim_type(const std::string& key); // throws masq::Error
+
+// A primitive type's row: its name in options and files ("cone"), help, and the noun
+// messages use ("round cone").
+struct PrimTypeRow {
+  PrimType value;
+  const char* name;
+  const char* help;
+  const char* noun;
+};
+inline constexpr PrimTypeRow prim_type_rows[] = {
+    {PrimType::Triangle, "triangle", "watertight triangles", "triangle"},
+    {PrimType::Capsule, "capsule", "a segment swept by a ball", "capsule"},
+    {PrimType::RoundCone, "cone", "round cone: the hull of two balls, Han et al.'s link", "round cone"},
+    {PrimType::Sphere, "sphere", "a ball", "sphere"},
+    {PrimType::Curve, "curve", "cubic Bezier swept by a ball", "curve"},
+};
+inline constexpr NameTable prim_type_table{"primitive type", prim_type_rows};
+inline const char* prim_type_name(PrimType t) { return prim_type_table.row(t).noun; } // for messages
+inline const char* prim_type_key(PrimType t) { return prim_type_table.name(t); }     // for options and files
+inline PrimType parse_prim_type(std::string_view key) { return prim_type_table.parse(key); } // throws masq::Error
 
 struct CapsulePrim {
   glm::vec3 a;

@@ -11,19 +11,6 @@
 
 namespace masq::stress {
 
-const char* ray_kind_name(RayKind k) {
-  switch (k) {
-    case RayKind::Silhouette: return "silhouette";
-    case RayKind::Grazing: return "grazing";
-    case RayKind::AxisParallel: return "axis-parallel";
-    case RayKind::Random: return "random";
-    case RayKind::SurfaceOut: return "surface-out";
-    case RayKind::SurfaceIn: return "surface-in";
-    case RayKind::Invalid: return "nan/inf";
-  }
-  return "?";
-}
-
 namespace {
 
 constexpr int kPrims = 4;           // primitives per cell scene

@@ -4,6 +4,7 @@
 // is deterministic from the seed.
 #pragma once
 #include "kernels/layout.h"
+#include "masq/names.h"
 #include "scenes/scene.h"
 #include <cstdint>
 #include <string>
@@ -12,8 +13,24 @@
 namespace masq::stress {
 
 enum class RayKind { Silhouette, Grazing, AxisParallel, Random, SurfaceOut, SurfaceIn, Invalid };
-inline constexpr int kRayKinds = 7;
-const char* ray_kind_name(RayKind k);
+// In enum order: the reports index their per-kind counts by RayKind(k).
+inline constexpr NameRow<RayKind> ray_kind_rows[] = {
+    {RayKind::Silhouette, "silhouette", "passing just inside or outside the primitive's outline"},
+    {RayKind::Grazing, "grazing", "at a shallow angle to the surface"},
+    {RayKind::AxisParallel, "axis-parallel", "along a world axis"},
+    {RayKind::Random, "random", "random directions near the primitive"},
+    {RayKind::SurfaceOut, "surface-out", "starting on the surface, leaving it"},
+    {RayKind::SurfaceIn, "surface-in", "starting on the surface, entering it"},
+    {RayKind::Invalid, "nan/inf", "NaN or infinite components, zero direction, empty interval"},
+};
+inline constexpr NameTable ray_kind_table{"ray kind", ray_kind_rows};
+inline constexpr int kRayKinds = int(ray_kind_table.size());
+static_assert([] {
+  for (int k = 0; k < kRayKinds; ++k)
+    if (ray_kind_rows[k].value != RayKind(k)) return false;
+  return true;
+}());
+inline const char* ray_kind_name(RayKind k) { return ray_kind_table.name(k); }
 
 struct CellSpec {
   PrimType type = PrimType::Capsule;

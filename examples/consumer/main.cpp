@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
       capsules.push_back({{x, -0.5f, 0}, {x, 0.5f, 0}, 0.03f});
     }
     scene.add_capsules(capsules);
-    Accel accel = Accel::build(scene, {Method::Masq, Mode::Robust});
+    // Options by name, as a command line or a language binding gives them (masq/names.h).
+    Accel accel = Accel::build(scene, {method_table.parse("masq"), mode_table.parse("robust")});
 
     std::vector<Ray> rays;
     const int n = 64;
@@ -33,8 +34,9 @@ int main(int argc, char** argv) {
     // over the 32 rows with |y| < 0.5 plus one row into each round cap (distance
     // sqrt(2)/64 < 0.03 from the end point), so 8 * 2 * 34 = 544 hits.
     const int expected = 544;
-    std::printf("masq %s on %s (%s): %d hits of %zu rays (expected %d)\n", version(), ctx.backend().c_str(),
-                ctx.device().c_str(), count, rays.size(), expected);
+    std::printf("masq %s, method %s, on %s (%s): %d hits of %zu rays (expected %d)\n", version(),
+                method_table.name(accel.options().method), ctx.backend().c_str(), ctx.device().c_str(), count,
+                rays.size(), expected);
     return count == expected ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "consumer: %s\n", e.what());

@@ -1,8 +1,10 @@
 /// @file masq/types.h
-/// Plain value types of the public API: vectors, rays, hits, primitives, transforms.
+/// Plain value types of the public API: vectors, rays, hits, primitives, transforms, and
+/// the build options with their name tables (masq/names.h).
 /// Rays, hits and counters have the same 32/48/16-byte layouts as the kernels' own
 /// structs, so a batch crosses into a backend with one copy.
 #pragma once
+#include "masq/names.h"
 #include <array>
 #include <cstdint>
 
@@ -13,38 +15,78 @@ struct Vec3 {
   float x = 0, y = 0, z = 0;
 };
 
-/// How thin primitives are bounded in the acceleration structure.
-enum class Method {
-  Ref,  ///< one BLAS of primitive AABBs per geometry (the paper's reference method)
-  Masq, ///< one TLAS instance per thin primitive, its transform mapping the unit box onto the primitive's OBB
-  Cluster, ///< one TLAS instance per cluster of similarly oriented thin primitives, its BLAS built in the cluster's frame
-  Auto, ///< builds Ref, Masq, Cluster and a per-cluster mix; keeps the one a whole-structure cost model prices lowest
+/// How thin primitives are bounded in the acceleration structure (docs/methods.md).
+/// Each value's name and meaning: method_table.
+enum class Method { Ref, Masq, Cluster, Auto };
+
+inline constexpr NameRow<Method> method_rows[] = {
+    {Method::Ref, "ref", "one BLAS of primitive AABBs per geometry: the masquerade paper's reference method"},
+    {Method::Masq, "masq",
+     "one TLAS instance per thin primitive, its transform mapping the unit box onto the primitive's OBB"},
+    {Method::Cluster, "cluster",
+     "one TLAS instance per cluster of similarly oriented thin primitives, its BLAS built in the cluster's frame"},
+    {Method::Auto, "auto",
+     "builds ref, masq, cluster and a per-cluster mix and keeps the one a whole-structure cost model prices lowest"},
 };
+inline constexpr NameTable method_table{"method", method_rows};
 
 /// Which binary BVH builder makes the hierarchies (before they are collapsed to wide
-/// nodes). Spatial splits apply to every BLAS over primitives; reinsertion to the TLAS and
-/// every BLAS. See docs/builders.md for what each costs and gains.
-enum class Builder {
-  Sah,          ///< binned SAH (default)
-  Sbvh,         ///< binned SAH plus spatial splits with clipped references (Stich et al. 2009)
-  SahReinsert,  ///< binned SAH, then insertion optimisation (Bittner et al. 2013)
-  SbvhReinsert, ///< both
-  Sah4,         ///< binned SAH pricing each BLAS leaf per block of 4 primitives (fuller leaves: pays on the cpu backend)
-  SahPriced,    ///< binned SAH pricing each BLAS leaf primitive at its type's intersector cost (mostly 1-primitive leaves: fewer intersector calls, more nodes)
+/// nodes). Each value's name, meaning and parts: builder_table; docs/builders.md says
+/// what each costs and gains.
+enum class Builder { Sah, Sbvh, SahReinsert, SbvhReinsert, Sah4, SahPriced };
+
+/// A builder's row: its name and help, and the parts it is made of.
+struct BuilderRow {
+  Builder value;
+  const char* name;
+  const char* help;
+  bool spatial_splits; ///< spatial splits with clipped references in every BLAS over primitives
+  bool reinsertion;    ///< insertion optimisation of the TLAS and every BLAS
+  int leaf_block;      ///< a BLAS leaf over primitives is priced per block of this many primitives
+  bool priced_isect;   ///< a BLAS leaf primitive is priced at its type's intersector cost (else at 1)
 };
 
-/// Which intersectors and box test the kernels use.
-enum class Mode {
-  Robust, ///< fp32-hardened intersectors and a conservatively padded box test (default)
-  Fast,   ///< the intersectors as their papers write them; can miss silhouette hits
+// Columns: value, name, help, spatial_splits, reinsertion, leaf_block, priced_isect.
+inline constexpr BuilderRow builder_rows[] = {
+    {Builder::Sah, "sah", "binned SAH", false, false, 1, false},
+    {Builder::Sbvh, "sbvh", "binned SAH plus spatial splits in every BLAS over primitives, after Stich et al. 2009",
+     true, false, 1, false},
+    {Builder::SahReinsert, "sah+reinsert",
+     "binned SAH, then insertion optimisation of the TLAS and every BLAS, after Bittner et al. 2013",
+     false, true, 1, false},
+    {Builder::SbvhReinsert, "sbvh+reinsert", "spatial splits, then insertion optimisation",
+     true, true, 1, false},
+    {Builder::Sah4, "sah4",
+     "binned SAH pricing each BLAS leaf per block of four primitives: fuller leaves, for the cpu's four-lane "
+     "capsule test",
+     false, false, 4, false},
+    {Builder::SahPriced, "sah-priced",
+     "binned SAH pricing each BLAS leaf primitive at its type's intersector cost: mostly one-primitive leaves, "
+     "fewer intersector calls, more nodes",
+     false, false, 1, true},
 };
+inline constexpr NameTable builder_table{"builder", builder_rows};
 
-/// How the BVH nodes of the TLAS and every BLAS are stored (same hits either way).
-enum class NodeFormat {
-  W4, ///< 4 children, float boxes, 128 B per node (default)
-  W8, ///< 8 children, float boxes, 256 B per node
-  Q8, ///< 8 children, boxes quantised conservatively to 8 bits per plane, 80 B per node
+/// Which intersectors and box test the kernels use. Each value's name and meaning: mode_table.
+enum class Mode { Robust, Fast };
+
+inline constexpr NameRow<Mode> mode_rows[] = {
+    {Mode::Robust, "robust", "fp32-hardened intersectors and a conservatively padded box test"},
+    {Mode::Fast, "fast",
+     "the intersectors as their papers write them and an unpadded box test; can miss silhouette hits"},
 };
+inline constexpr NameTable mode_table{"mode", mode_rows};
+
+/// How the BVH nodes of the TLAS and every BLAS are stored (same hits either way). Each
+/// value's name and layout: node_format_table.
+enum class NodeFormat { W4, W8, Q8 };
+
+inline constexpr NameRow<NodeFormat> node_format_rows[] = {
+    {NodeFormat::W4, "w4", "4 children, float boxes, 128 B per node"},
+    {NodeFormat::W8, "w8", "8 children, float boxes, 256 B per node"},
+    {NodeFormat::Q8, "q8", "8 children, boxes quantised conservatively to 8 bits per plane, 80 B per node"},
+};
+inline constexpr NameTable node_format_table{"node format", node_format_rows};
 
 /// A ray. dir need not be unit length; t is measured in units of dir. Only hits with
 /// tmin <= t <= tmax count.

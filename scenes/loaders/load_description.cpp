@@ -7,6 +7,7 @@
 #include "scenes/loaders/load_any.h"
 #include "scenes/loaders/loader.h"
 #include "scenes/strand_generators.h"
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -102,12 +103,12 @@ glm::dvec3 get_vec3(const Ctx& c, const json& j, const std::string& path) {
 
 PrimType get_prim(const Ctx& c, const json& j, const std::string& path, std::initializer_list<PrimType> allowed) {
   std::string s = get_string(c, j, path);
-  std::string names;
-  for (PrimType t : allowed) {
-    if (s == prim_type_key(t)) return t;
-    names += (names.empty() ? "" : ", ") + std::string(prim_type_key(t));
-  }
-  fail(c, path, "unknown primitive type '" + s + "' (expected " + names + ")");
+  auto is_allowed = [&](const PrimTypeRow& r) {
+    return std::find(allowed.begin(), allowed.end(), r.value) != allowed.end();
+  };
+  const PrimTypeRow* row = prim_type_table.find(s);
+  if (row && is_allowed(*row)) return row->value;
+  fail(c, path, "unknown primitive type '" + s + "' (expected " + prim_type_table.choices(is_allowed) + ")");
 }
 
 Affine3 get_transform(const Ctx& c, const json& j, const std::string& path) {

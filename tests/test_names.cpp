@@ -1,0 +1,117 @@
+// The option name tables (include/masq/names.h) and the backend registry
+// (host/backend_registry.cpp): names round-trip, rows follow their enums' order, unknown
+// names get one message naming the choices, and the registry's lists and "best" order.
+#include "bench/bench_runner.h"
+#include "bench/ray_sets.h"
+#include "bvh/bv_scene.h"
+#include "bvh/options.h"
+#include "host/backend.h"
+#include "host/bv_tracer.h"
+#include "scenes/scene.h"
+#include "stress/stress_cases.h"
+#include <gtest/gtest.h>
+#include <functional>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+using namespace masq;
+
+namespace {
+
+// Every row's value is its index (the enums are indexed by value: BuildStats'
+// auto_candidates, the stress reports' per-kind counts), names are distinct, and each
+// name parses back to its value.
+template <class Table>
+void expect_table_of_enum(const Table& table) {
+  SCOPED_TRACE(table.what());
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    const auto& r = table.rows()[i];
+    EXPECT_EQ(static_cast<std::size_t>(r.value), i) << r.name;
+    EXPECT_TRUE(seen.insert(r.name).second) << r.name << " twice";
+    EXPECT_NE(std::string(r.help), "") << r.name;
+    EXPECT_EQ(table.parse(r.name), r.value);
+    EXPECT_STREQ(table.name(r.value), r.name);
+  }
+  EXPECT_THROW(table.parse("no such name"), Error);
+}
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+} // namespace
+
+TEST(Names, EveryTableRoundTripsInEnumOrder) {
+  expect_table_of_enum(method_table);
+  expect_table_of_enum(builder_table);
+  expect_table_of_enum(mode_table);
+  expect_table_of_enum(node_format_table);
+  expect_table_of_enum(curve_obb_table);
+  expect_table_of_enum(masq_instances_table);
+  expect_table_of_enum(prim_type_table);
+  expect_table_of_enum(bv_type_table);
+  expect_table_of_enum(bv_builder_table);
+  expect_table_of_enum(ray_set_table);
+  expect_table_of_enum(auto_by_table);
+  expect_table_of_enum(query_table);
+  expect_table_of_enum(stress::ray_kind_table);
+}
+
+TEST(Names, UnknownNameNamesTheChoices) {
+  EXPECT_EQ(message_of([] { parse_method("bogus"); }), "unknown method 'bogus' (expected ref, masq, cluster or auto)");
+  EXPECT_EQ(message_of([] { parse_mode("exact"); }), "unknown mode 'exact' (expected robust or fast)");
+  EXPECT_EQ(message_of([] { parse_node_format("w16"); }), "unknown node format 'w16' (expected w4, w8 or q8)");
+  EXPECT_EQ(message_of([] { parse_prim_type("cylinder"); }),
+            "unknown primitive type 'cylinder' (expected triangle, capsule, cone, sphere or curve)");
+}
+
+TEST(Names, ListsAndHelpComeFromTheRows) {
+  EXPECT_EQ(choice_list(std::vector<std::string>{}), "");
+  EXPECT_EQ(choice_list(std::vector<std::string>{"a"}), "a");
+  EXPECT_EQ(choice_list(std::vector<std::string>{"a", "b", "c"}), "a, b or c");
+  EXPECT_EQ(mode_table.names(), (std::vector<std::string>{"robust", "fast"}));
+  EXPECT_EQ(mode_table.help(),
+            std::string("robust (") + api::mode_rows[0].help + ") or fast (" + api::mode_rows[1].help + ")");
+  auto strands = [](const PrimTypeRow& r) { return r.value != PrimType::Triangle; };
+  EXPECT_EQ(prim_type_table.choices(strands), "capsule, cone, sphere or curve");
+  EXPECT_EQ(all_builders(), builder_table.values());
+  // The names messages and files used before the tables.
+  EXPECT_STREQ(prim_type_name(PrimType::RoundCone), "round cone");
+  EXPECT_STREQ(prim_type_key(PrimType::RoundCone), "cone");
+  EXPECT_STREQ(stress::ray_kind_name(stress::RayKind::Invalid), "nan/inf");
+}
+
+// The builder's parts, as bvh/builder.cpp and bvh/build_accel.cpp read them.
+TEST(Names, BuilderColumns) {
+  for (Builder b : all_builders()) {
+    SCOPED_TRACE(builder_name(b));
+    EXPECT_EQ(builder_splits(b), b == Builder::Sbvh || b == Builder::SbvhReinsert);
+    EXPECT_EQ(builder_reinserts(b), b == Builder::SahReinsert || b == Builder::SbvhReinsert);
+    EXPECT_EQ(builder_leaf_block(b), b == Builder::Sah4 ? 4 : 1);
+    EXPECT_EQ(builder_prices_isect(b), b == Builder::SahPriced);
+  }
+}
+
+TEST(BackendRegistry, OneTableForEveryList) {
+  EXPECT_EQ(backend_names(), (std::vector<std::string>{"cpu", "vulkan", "opencl", "rayquery"}));
+  EXPECT_EQ(bv_backend_names(), (std::vector<std::string>{"cpu", "vulkan", "opencl"}));
+  // "best": vulkan, then opencl, then cpu; never rayquery.
+  std::map<int, std::string> best;
+  for (const BackendRow& r : backend_table.rows())
+    if (r.best_rank > 0) best[r.best_rank] = r.name;
+  EXPECT_EQ(best, (std::map<int, std::string>{{1, "vulkan"}, {2, "opencl"}, {3, "cpu"}}));
+  EXPECT_EQ(message_of([] { make_backend("bogus"); }),
+            "unknown backend 'bogus' (expected cpu, vulkan, opencl or rayquery)");
+  EXPECT_EQ(message_of([] { make_bv_tracer("rayquery"); }),
+            "unknown bv backend 'rayquery' (expected cpu, vulkan or opencl)");
+  EXPECT_EQ(make_backend("cpu")->name(), "cpu");
+  EXPECT_EQ(make_bv_tracer("cpu")->name(), "cpu");
+}
