@@ -1,7 +1,7 @@
 // The private halves of the public API's pimpl classes (include/masq/). Only api/*.cpp
 // include this; it is not installed.
 #pragma once
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "masq/context.h"
 #include "scenes/scene.h"
 

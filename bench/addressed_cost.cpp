@@ -4,7 +4,7 @@
 // before each set_scene, host/limit_knob.h), and each mode keeps its fastest trace, so
 // load from other processes on a shared machine biases neither.
 //   masq_addressed_cost [strands=20000] [width=256] [rounds=5] [backend=vulkan]
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "scenes/camera.h"
 #include "scenes/strand_generators.h"

@@ -1,7 +1,7 @@
 #include "bench/bench_runner.h"
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <cstdint>
 #include <tuple>

@@ -7,7 +7,7 @@
 #pragma once
 #include "bench/backend_pool.h"
 #include "bench/ray_sets.h"
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "bvh/packed_scene.h"
 #include "host/auto_pilot.h"
 #include "host/backend.h"
@@ -23,7 +23,7 @@ namespace masq {
 
 // How the bench's auto rows keep a candidate: Pilot: per backend and ray set, the one
 // that traces a sample of those rays fastest on that backend (host/auto_pilot.h); Model:
-// the structure cost model's choice (bvh/build_accel.h), as masq render and the library
+// the structure cost model's choice (bvh/twolevel/build_accel.h), as masq render and the library
 // make it.
 enum class AutoBy { Pilot, Model };
 inline constexpr NameRow<AutoBy> auto_by_rows[] = {

@@ -1,9 +1,9 @@
 #include "bench/error_mode.h"
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "oracle/oracle.h"
 #include "scenes/camera.h"
 #include "scenes/curve_tools.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>

@@ -1,9 +1,9 @@
 #include "bench/heatmap.h"
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "image/heat_color.h"
 #include "image/image_writer.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <cmath>
 #include <filesystem>

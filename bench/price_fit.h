@@ -1,4 +1,4 @@
-// Fits the auto method's cost-model prices (bvh/method_plan.h: CostPrices) to measured
+// Fits the auto method's cost-model prices (bvh/twolevel/method_plan.h: CostPrices) to measured
 // rows: time per ray = ray + node * (TLAS + BLAS node visits) + transform * transforms +
 // isect * intersector calls, by least squares over one backend's rows (every method and
 // ray set it ran), then scaled so that node = 1. `ray` (set-up, hit write-back) is the
@@ -8,7 +8,7 @@
 // scene do.
 #pragma once
 #include "bench/bench_runner.h"
-#include "bvh/method_plan.h"
+#include "bvh/twolevel/method_plan.h"
 #include <optional>
 #include <string>
 #include <vector>

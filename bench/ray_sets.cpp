@@ -1,6 +1,6 @@
 #include "bench/ray_sets.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <cmath>
 #include <numbers>

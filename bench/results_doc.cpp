@@ -1,6 +1,6 @@
 #include "bench/results_doc.h"
 #include "peers/embree_peer.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <chrono>
 #include <cstdio>
 #include <ctime>

@@ -1,6 +1,6 @@
 #include "bench/suite.h"
 #include "bench/error_mode.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 #include <algorithm>
 #include <chrono>

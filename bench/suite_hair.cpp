@@ -6,7 +6,7 @@
 #include "bench/method_compare.h"
 #include "bench/suite.h"
 #include "scenes/curve_tools.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/loaders/load_any.h"
 #include "scenes/strand_generators.h"
 #include <chrono>

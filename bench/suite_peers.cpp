@@ -5,7 +5,7 @@
 #include "bench/suite.h"
 #include "oracle/oracle.h"
 #include "peers/embree_peer.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
 #include <algorithm>

@@ -1,5 +1,5 @@
 // An affine map as GPU records store it: fp32, row-major 3x4 (kernels/layout.h,
-// Instance::world_to_object). A header of its own so that bvh/obb.h and
+// Instance::world_to_object). A header of its own so that bvh/bounds/obb.h and
 // bvh/packed_scene.h share it without including each other.
 #pragma once
 #include <array>

@@ -27,7 +27,7 @@ using api::node_format_table;
 inline const char* node_format_name(NodeFormat f) { return node_format_table.name(f); }
 inline NodeFormat parse_node_format(std::string_view name) { return node_format_table.parse(name); } // throws
 
-// The binary-BVH builders (bvh/builder.h, docs/builders.md); their parts are columns of
+// The binary-BVH builders (bvh/build/builder.h, docs/builders.md); their parts are columns of
 // builder_table.
 using Builder = api::Builder;
 using api::builder_table;
@@ -39,10 +39,10 @@ inline bool builder_splits(Builder b) { return builder_table.row(b).spatial_spli
 inline int builder_leaf_block(Builder b) { return builder_table.row(b).leaf_block; }
 inline bool builder_reinserts(Builder b) { return builder_table.row(b).reinsertion; }
 // Whether a BLAS over primitives prices each leaf primitive at its type's intersector
-// price against a box step (blas_isect_price in bvh/structure_cost.h) rather than at 1.
+// price against a box step (blas_isect_price in bvh/twolevel/structure_cost.h) rather than at 1.
 inline bool builder_prices_isect(Builder b) { return builder_table.row(b).priced_isect; }
 
-// How a curve's OBB is oriented (bvh/obb.h). paper: Wald et al. 2020's, the chord p0->p3
+// How a curve's OBB is oriented (bvh/bounds/obb.h). paper: Wald et al. 2020's, the chord p0->p3
 // as axis and a square cross-section wide enough for the control points' distance to
 // the chord plus the radius (a cylinder's box). tight: the same axis, but the
 // cross-section axes follow the control polygon's largest offset from the chord, and

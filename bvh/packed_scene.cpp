@@ -1,7 +1,5 @@
 #include "bvh/packed_scene.h"
-#include "bvh/compact_instance.h"
-#include "bvh/obb.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 
 namespace masq {
@@ -55,25 +53,6 @@ std::int32_t PackedScene::tlas_ref(std::size_t entry) const {
 
 std::size_t PackedScene::tlas_entry(std::int32_t ref) const {
   return ref >= 0 ? std::size_t(ref) : instances.size() + std::size_t(~ref);
-}
-
-kernel::Instance PackedScene::entry_instance(std::size_t entry) const {
-  if (entry < instances.size()) return instances[entry];
-  if (entry - instances.size() >= masq_instances.size())
-    throw Error("scene: TLAS entry " + std::to_string(entry) + " of " + std::to_string(tlas_entry_count()));
-  const kernel::MasqInstance& c = masq_instances[entry - instances.size()];
-  const std::size_t owner = c.s2_owner & MASQ_OWNER_MASK;
-  if (owner >= masq_owners.size())
-    throw Error("scene: compact masquerade entry " + std::to_string(entry - instances.size()) + " names owner " +
-                std::to_string(owner) + " of " + std::to_string(masq_owners.size()));
-  kernel::Instance k{};
-  Mat3x4f m = to_mat3x4f(decode_masq_instance(c));
-  std::copy(m.begin(), m.end(), k.world_to_object);
-  k.blas_root = -1;
-  k.geom = masq_owners[owner].geom;
-  k.prim = c.prim;
-  k.scene_inst = masq_owners[owner].scene_inst;
-  return k;
 }
 
 std::size_t PackedScene::primitive_bytes() const {

@@ -49,11 +49,11 @@ struct BuildStats {
   double obb_area = 0, aabb_area = 0;
   std::size_t clusters = 0;     // cluster instances (cluster and auto)
   // The cluster shape the structure was built with (ClusterOptions max_size and
-  // leaf_price; auto tries several, bvh/build_accel.cpp).
+  // leaf_price; auto tries several, bvh/twolevel/build_accel.cpp).
   int cluster_size = 0;
   double cluster_leaf_price = 0;
   std::size_t masq_prims = 0;   // masquerade instances (masq and auto)
-  // Expected work per ray of this structure under the auto prices (bvh/structure_cost.h).
+  // Expected work per ray of this structure under the auto prices (bvh/twolevel/structure_cost.h).
   double model_cost = 0;
   double model_triangles = 0; // its share spent in triangle geometries
   // auto: the candidate it kept (ref, masq, cluster, or Auto for its per-cluster mix)
@@ -109,10 +109,7 @@ struct PackedScene {
   std::size_t tlas_entry_count() const { return instances.size() + masq_instances.size(); }
   std::int32_t tlas_ref(std::size_t entry) const; // the TLAS leaf reference of an entry
   std::size_t tlas_entry(std::int32_t ref) const; // and back
-  // Entry e as a full Instance record (a compact entry with its decoded map rounded to
-  // fp32, geometry and scene instance from its owner): what the rayquery backend
-  // uploads and the host walks read. Throws masq::Error for an entry out of range.
-  kernel::Instance entry_instance(std::size_t entry) const;
+  // (An entry as a full Instance record: tlas_entry_instance in bvh/nodes/compact_instance.h.)
   std::size_t primitive_bytes() const;    // geoms + all primitive arrays
 };
 

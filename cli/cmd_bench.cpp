@@ -6,7 +6,7 @@
 #include "bench/suite.h"
 #include "cli/commands.h"
 #include "cli/scene_options.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <algorithm>
@@ -97,7 +97,7 @@ int bench_error(BenchCli& c) {
   return 0;
 }
 
-// What auto kept, and why: the model's cost per candidate (bvh/structure_cost.h) and, by
+// What auto kept, and why: the model's cost per candidate (bvh/twolevel/structure_cost.h) and, by
 // pilot, each candidate's pilot time on each backend and ray set.
 void print_auto_choices(const std::vector<BenchRow>& rows, AutoBy by) {
   auto kept_name = [](const BenchRow& r) {

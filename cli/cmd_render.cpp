@@ -1,12 +1,12 @@
 // masq render: a shaded image and a heatmap of intersector calls per pixel.
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "cli/commands.h"
 #include "cli/scene_options.h"
 #include "host/backend.h"
 #include "image/heat_color.h"
 #include "image/image_writer.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>

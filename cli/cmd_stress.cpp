@@ -1,7 +1,7 @@
 // `masq stress`: the numerical stress suite (docs/robustness.md).
 #include "cli/commands.h"
 #include "host/backend.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "stress/stress_report.h"
 #include <fmt/format.h>
 #include <fstream>

@@ -1,7 +1,7 @@
 #include "cli/scene_options.h"
 #include "scenes/curve_tools.h"
 #include "scenes/loaders/load_any.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <cstdio>
 

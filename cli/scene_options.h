@@ -1,7 +1,7 @@
 // Scene and acceleration options shared by every subcommand (the embedded bundle for
 // now, with a choice of strand primitive; the run's kernel mode and curve options).
 #pragma once
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "masq/names.h"
 #include "scenes/generators.h"
 #include "scenes/strand_generators.h"

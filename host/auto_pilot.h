@@ -1,11 +1,11 @@
 // Method auto chosen by measurement: a pilot sample of the caller's own rays is traced
-// through each of auto's candidates (bvh/build_accel.h: ref, masq, cluster, the mix) on
+// through each of auto's candidates (bvh/twolevel/build_accel.h: ref, masq, cluster, the mix) on
 // the backend that will trace them, and the fastest is kept. The structure cost model
-// (bvh/structure_cost.h) counts node visits, transforms and intersector calls, but on
+// (bvh/twolevel/structure_cost.h) counts node visits, transforms and intersector calls, but on
 // these devices the time per ray also depends on what it cannot see (memory footprint,
 // lanes waiting on each other, coherence; docs/methods.md, "auto by pilot").
 #pragma once
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include <cstddef>
 #include <span>

@@ -51,7 +51,7 @@ class Backend {
 
 class BvTracer; // host/bv_tracer.h
 
-// A row of the backend registry (host/backend_registry.cpp): how to open the backend,
+// A row of the backend registry (host/registry/backend_registry.cpp): how to open the backend,
 // whether it also traces binary bounding-volume hierarchies, and its place in "best".
 struct BackendRow {
   const char* name;

@@ -1,11 +1,11 @@
-// Tracing a binary bounding-volume hierarchy (bvh/bv_scene.h) with the bv kernels
+// Tracing a binary bounding-volume hierarchy (bvh/bv/bv_scene.h) with the bv kernels
 // (kernels/bv_traverse.h), on the cpu, vulkan and opencl backends. A separate entry
 // point from Backend: the scene is one world-space hierarchy (no TLAS, no instances),
 // and each BV type is its own compiled kernel variant. Counters per ray in RayStats:
 // blas_nodes = N_b (ray/volume tests), isect_calls = N_t (ray/primitive tests),
 // tlas_nodes = nodes visited.
 #pragma once
-#include "bvh/bv_scene.h"
+#include "bvh/bv/bv_scene.h"
 #include "host/backend.h"
 #include <memory>
 #include <span>

@@ -3,7 +3,7 @@
 // to it. The backends upload, bind and pass the arrays by walking these rows; none
 // names an array.
 #pragma once
-#include "bvh/bv_scene.h"
+#include "bvh/bv/bv_scene.h"
 #include "bvh/packed_scene.h"
 #include "kernels/kernel_data.h"
 #include <array>

@@ -5,7 +5,7 @@
 // count == 0 is an inner node whose two children are the adjacent nodes child and
 // child + 1 (one index per node, and both children arrive in one cache line pair).
 // Node 0 is the root. The host fits every volume in double and rounds it outward, so
-// the fp32 volume contains the exact primitives (bvh/bv_fit.cpp).
+// the fp32 volume contains the exact primitives (bvh/bv/bv_fit.cpp).
 #ifndef MASQ_KERNEL_BV_LAYOUT_H
 #define MASQ_KERNEL_BV_LAYOUT_H
 #include "shim.h"

@@ -82,7 +82,7 @@ FN TraceOut trace_bv_closest(KD_PARAM Ray ray, int node_count) {
     float tr = BV_HIT(KD(BV_NODES)[nd.child + 1], best.t);
     if (MASQ_STATS) res.stats.blas_nodes = res.stats.blas_nodes + 2;
     // Farther first, so the nearer child is popped next. The builder bounds the depth
-    // below the stack size (bvh/bv_scene.cpp), so the checks never drop a child.
+    // below the stack size (bvh/bv/bv_scene.cpp), so the checks never drop a child.
     bool left_first = tl <= tr;
     int near_i = left_first ? nd.child : nd.child + 1;
     int far_i = left_first ? nd.child + 1 : nd.child;

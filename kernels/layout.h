@@ -56,7 +56,7 @@ STRUCT_END(WideNode8)
 // boxes are 8-bit grid coordinates against the node's own frame: on axis k, plane q
 // lies at origin[k] + q * 2^(e_k - 127), which fp32 evaluates exactly up to the one
 // rounding of the sum (q * 2^e is exact), so fma or not gives the same value; the host
-// (bvh/quant_node.cpp) rounds lo down and hi up and checks that decode. Bytes are packed
+// (bvh/nodes/quant_node.cpp) rounds lo down and hi up and checks that decode. Bytes are packed
 // into uints, byte j of a pair of words being slot j (slot j: word j / 4, bits 8 (j % 4)).
 //  exps: bytes 0..2 the biased exponents e_x, e_y, e_z (1..254); byte 3 unused.
 //  meta: per slot 0 = empty, 0x80 = inner node, 1..127 = leaf of that many references.
@@ -140,7 +140,7 @@ STRUCT_END(Instance)
 // Linear part: M_ij = sigma_i * N_ji (M = diag(s) R^T), two roundings per entry and no
 // addition, so fma contraction cannot change it: each entry is within two roundings of
 // sigma_i * N_ji, and the host proves the primitive inside the unit box under every
-// matrix that close (with a 2x margin; bvh/compact_instance.cpp).
+// matrix that close (with a 2x margin; bvh/nodes/compact_instance.cpp).
 #define MASQ_OWNER_MASK 0xFFFFu
 #define MASQ_MAX_OWNERS 65536
 STRUCT_BEGIN(MasqInstance)

@@ -1,6 +1,6 @@
 // Decoding a compact masquerade entry (MasqInstance, kernels/layout.h) into the affine
 // world -> unit-box map the traversal tests, exactly as the host's encoder
-// (bvh/compact_instance.cpp) assumes: N = |q|^2 R(q) in exact integer arithmetic, then
+// (bvh/nodes/compact_instance.cpp) assumes: N = |q|^2 R(q) in exact integer arithmetic, then
 // per entry one int -> float conversion and one product with the row's scale.
 #ifndef MASQ_KERNEL_MASQ_INSTANCE_H
 #define MASQ_KERNEL_MASQ_INSTANCE_H

@@ -19,7 +19,7 @@
 //   source: SCENE = the PackedScene member of the same name (bvh/packed_scene.h);
 //     NODES = PackedScene::node_data(), the node array of the scene's format (w8 and q8
 //     nodes are read as words through the node_words view below); BV = the BvScene
-//     member of the same name (bvh/bv_scene.h).
+//     member of the same name (bvh/bv/bv_scene.h).
 // Comments inside the macro are /* */ ones: a // comment would swallow the line splice.
 #ifndef MASQ_KERNEL_SCENE_ARRAY_TABLE_H
 #define MASQ_KERNEL_SCENE_ARRAY_TABLE_H

@@ -13,7 +13,7 @@
 //    Away from the ends the surfaces agree (the test counts end rays apart).
 //  - For hits inside instances, Ng comes back in the instance's object space.
 #include "peers/embree_peer.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>

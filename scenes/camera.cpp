@@ -1,5 +1,5 @@
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <cmath>
 

@@ -1,5 +1,5 @@
 #include "scenes/curve_tools.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/strand_generators.h"
 #include <string>
 

@@ -1,5 +1,5 @@
 #include "scenes/generators.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <cmath>
 #include <random>
 

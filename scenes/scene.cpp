@@ -1,5 +1,5 @@
 #include "scenes/scene.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <cmath>
 #include <string>
 #include <utility>

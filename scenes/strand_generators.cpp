@@ -1,5 +1,5 @@
 #include "scenes/strand_generators.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <cmath>
 #include <random>

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Checks that includes point down the layers (docs/architecture.md): a file may include
 files of its own folder and of folders on a lower layer, never of a folder on its own
-layer or above. Run from anywhere; exits 1 naming every include that points the wrong way
-(ctest: layers).
+layer or above; and that no files include each other in a circle, inside a folder
+either. Run from anywhere; exits 1 naming every include that points the wrong way and
+every circle (ctest: layers).
 
 The table below is the one list of folders and their layers, top to bottom. A folder
 not listed is an error, so a new folder gets a row here (and a line in
@@ -49,14 +50,67 @@ def folder_of(path):
     return None
 
 
+def source_files(root):
+    """The repository's files: git's list, or a walk of the tree outside a checkout."""
+    try:
+        return subprocess.check_output(["git", "ls-files"], cwd=root, text=True, stderr=subprocess.DEVNULL).split()
+    except (OSError, subprocess.CalledProcessError):
+        out = []
+        for folder, dirs, names in os.walk(root):
+            dirs[:] = [d for d in dirs if not d.startswith((".", "build", "_"))]
+            out += [os.path.relpath(os.path.join(folder, n), root) for n in names]
+        return out
+
+
+def circles(graph):
+    """The include circles of graph (file -> files it includes): strongly connected
+    components of more than one file (Tarjan's algorithm, iterative)."""
+    index, low, on_stack, stack, found = {}, {}, set(), [], []
+    for start in graph:
+        if start in index:
+            continue
+        work = [(start, iter(graph[start]))]
+        index[start] = low[start] = len(index)
+        stack.append(start)
+        on_stack.add(start)
+        while work:
+            node, children = work[-1]
+            child = next(children, None)
+            if child is not None:
+                if child not in index:
+                    index[child] = low[child] = len(index)
+                    stack.append(child)
+                    on_stack.add(child)
+                    work.append((child, iter(graph.get(child, []))))
+                elif child in on_stack:
+                    low[node] = min(low[node], index[child])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                component = []
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    component.append(member)
+                    if member == node:
+                        break
+                if len(component) > 1:
+                    found.append(sorted(component))
+    return found
+
+
 def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    files = subprocess.check_output(["git", "ls-files"], cwd=root, text=True).split()
+    files = source_files(root)
     known = set(files)
     problems = []
+    graph = {}
     for f in files:
         if not SOURCE.search(f) or f.startswith("scripts/"):
             continue
+        graph.setdefault(f, [])
         src = folder_of(f)
         if src is None:
             problems.append(f"{f}: folder not in the layer table of scripts/check_layers.py")
@@ -71,18 +125,21 @@ def main():
                 target = next((c for c in candidates if c in known), None)
                 if target is None:
                     continue  # generated headers (spirv/, opencl/, cpu/) and system ones
+                graph[f].append(target)
                 dst = folder_of(target)
                 if dst is None or dst == src:
                     continue
                 if LAYERS[dst] >= LAYERS[src]:
                     problems.append(f"{f}:{lineno}: includes {target} ({dst}, layer {LAYERS[dst]}) from "
                                     f"{src} (layer {LAYERS[src]})")
+    for circle in circles(graph):
+        problems.append("include circle: " + " -> ".join(circle))
     for p in problems:
         print(p)
     if problems:
-        print(f"check_layers: {len(problems)} include(s) point up or sideways (docs/architecture.md)")
+        print(f"check_layers: {len(problems)} include(s) point up or sideways, or go round (docs/architecture.md)")
         return 1
-    print("check_layers: every include points down")
+    print("check_layers: every include points down, and none goes round")
     return 0
 
 

@@ -2,7 +2,7 @@
 #include "oracle/oracle.h"
 #include "scenes/camera.h"
 #include "scenes/curve_tools.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 #include "stress/stress_runner.h"
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "oracle/oracle.h"
 #include <fmt/format.h>

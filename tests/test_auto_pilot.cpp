@@ -6,7 +6,7 @@
 #include "bench/suite.h"
 #include "host/auto_pilot.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
 #include <map>

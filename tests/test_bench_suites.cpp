@@ -8,7 +8,7 @@
 #include "bench/suite.h"
 #include "bench/table.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 #include <cmath>
 #include <gtest/gtest.h>

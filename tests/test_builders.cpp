@@ -1,14 +1,14 @@
-// The BVH builders of bvh/builder.h: clipped bounds are conservative, SBVH keeps every
+// The BVH builders of bvh/build/builder.h: clipped bounds are conservative, SBVH keeps every
 // primitive and its budget, reinsertion never raises the SAH cost and keeps a valid
 // tree, and every builder traces the same hits as the default on every backend.
-#include "bvh/build_accel.h"
-#include "bvh/builder.h"
-#include "bvh/clip_bounds.h"
-#include "bvh/prim_bounds.h"
-#include "bvh/structure_cost.h"
+#include "bvh/twolevel/build_accel.h"
+#include "bvh/build/builder.h"
+#include "bvh/bounds/clip_bounds.h"
+#include "bvh/bounds/prim_bounds.h"
+#include "bvh/twolevel/structure_cost.h"
 #include "host/backend.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 #include "tests/random_affine.h"
 #include "tests/test_env.h"

@@ -7,10 +7,10 @@
 #define MASQ_KERNEL_VARIANT v_bv_test
 #include "kernels/bv_tests.h"
 
-#include "bvh/bounding_sphere.h"
-#include "bvh/bv_fit.h"
-#include "bvh/bv_scene.h"
-#include "bvh/build_accel.h"
+#include "bvh/bounds/bounding_sphere.h"
+#include "bvh/bv/bv_fit.h"
+#include "bvh/bv/bv_scene.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/bv_tracer.h"
 #include "oracle/oracle.h"
 #include "scenes/camera.h"

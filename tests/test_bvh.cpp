@@ -1,7 +1,7 @@
 // Binned SAH + wide collapse: every primitive lands in exactly one leaf, every child
 // box (fp32, rounded outward) contains its subtree, traversal stack needs fit.
-#include "bvh/build_accel.h"
-#include "bvh/wide_bvh.h"
+#include "bvh/twolevel/build_accel.h"
+#include "bvh/nodes/wide_bvh.h"
 #include "kernels/variants.h"
 #include "scenes/generators.h"
 #include <gtest/gtest.h>

@@ -2,8 +2,8 @@
 // partition invariants, conservative local boxes under the stored fp32 transforms
 // (checked in double), no false culls far from the origin, and the effect on the
 // default scene (fewer intersector calls than ref, memory within 1.2x of ref).
-#include "bvh/build_accel.h"
-#include "bvh/cluster_blas.h"
+#include "bvh/twolevel/build_accel.h"
+#include "bvh/twolevel/cluster_blas.h"
 #include "host/backend.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"

@@ -1,9 +1,9 @@
-// Compact masquerade entries (bvh/compact_instance.h, kernels/masq_instance.h): the
+// Compact masquerade entries (bvh/nodes/compact_instance.h, kernels/masq_instance.h): the
 // decoded map keeps every primitive inside the unit box, also under the worst decode
 // error the encoder allows for; the kernel's own fp32 decode stays within that bound;
 // and the box is hardly looser than the 64-byte instance's.
-#include "bvh/compact_instance.h"
-#include "bvh/prim_bounds.h"
+#include "bvh/nodes/compact_instance.h"
+#include "bvh/bounds/prim_bounds.h"
 #include "kernels/masq_instance.h"
 #include <gtest/gtest.h>
 #include <cstdio>

@@ -14,7 +14,7 @@
 //    curves within 3e-2 (1.7 degrees): the phantom intersector accepts a crossing once
 //    its residual is below 2^-7 r, which tilts the normal by up to ~0.45 degrees before
 //    a non-uniformly scaled instance transform stretches it.
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "oracle/oracle.h"
 #include "scenes/camera.h"

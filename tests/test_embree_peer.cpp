@@ -4,7 +4,7 @@
 #include "oracle/oracle.h"
 #include "peers/embree_peer.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 #include "tests/random_rays.h"
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Embedded strand generators: counts, determinism, valid scenes, every primitive form.
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "scenes/strand_generators.h"
 #include <gtest/gtest.h>
 

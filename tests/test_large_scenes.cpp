@@ -8,11 +8,11 @@
 // t; any-hit: same occlusion, and for the vulkan kernel the same hit). Before these
 // paths existed such scenes were refused (tests/test_vulkan_backend.cpp keeps that error
 // for arrays over one allocation, MASQ_VK_MAX_ALLOCATION_BYTES, tested here too).
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "host/bv_tracer.h"
 #include "host/vulkan/rayquery_plan.h"
-#include "bvh/bv_scene.h"
+#include "bvh/bv/bv_scene.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"
 #include <gtest/gtest.h>

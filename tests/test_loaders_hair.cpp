@@ -1,5 +1,5 @@
 // TressFX (.tfx) and Cem Yuksel .hair loaders: real files, round trips, bad input.
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/loaders/load_hair.h"
 #include "scenes/loaders/load_tressfx.h"
 #include <gtest/gtest.h>

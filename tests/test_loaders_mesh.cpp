@@ -1,6 +1,6 @@
 // PLY and NFF loaders: real data (Stanford bunny, SPD 3.14 scenes), binary/ASCII
 // equivalence, strands, three-line NFF cones, and one broken input per error class.
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/loaders/load_nff.h"
 #include "scenes/loaders/load_ply.h"
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // SWC, TrackVis .trk and MRtrix .tck loaders: real files from MASQ_DATA_DIR, a .tck
 // round trip through a test writer, and one handmade broken input per error class.
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/loaders/load_swc.h"
 #include "scenes/loaders/load_tracks.h"
 #include <gtest/gtest.h>

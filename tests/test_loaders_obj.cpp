@@ -1,6 +1,6 @@
 // Wavefront OBJ loader: faces (quads triangulated, relative indices), `l` polylines as
 // capsules / round cones, mixed files, path == memory, and one broken input per error.
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/loaders/load_obj.h"
 #include <gtest/gtest.h>
 #include <cmath>

@@ -10,7 +10,7 @@
 // prices a transform at 10 node visits, so it keeps no masquerade entry on this scene)
 // must not change with the option either. And the memory target: masq within 1.5x ref
 // on generated hair.
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "scenes/generators.h"
 #include "scenes/strand_generators.h"

@@ -1,9 +1,9 @@
 // The option name tables (include/masq/names.h) and the backend registry
-// (host/backend_registry.cpp): names round-trip, rows follow their enums' order, unknown
+// (host/registry/backend_registry.cpp): names round-trip, rows follow their enums' order, unknown
 // names get one message naming the choices, and the registry's lists and "best" order.
 #include "bench/bench_runner.h"
 #include "bench/ray_sets.h"
-#include "bvh/bv_scene.h"
+#include "bvh/bv/bv_scene.h"
 #include "bvh/options.h"
 #include "host/backend.h"
 #include "host/bv_tracer.h"
@@ -89,7 +89,7 @@ TEST(Names, ListsAndHelpComeFromTheRows) {
   EXPECT_STREQ(stress::ray_kind_name(stress::RayKind::Invalid), "nan/inf");
 }
 
-// The builder's parts, as bvh/builder.cpp and bvh/build_accel.cpp read them.
+// The builder's parts, as bvh/build/builder.cpp and bvh/twolevel/build_accel.cpp read them.
 TEST(Names, BuilderColumns) {
   for (Builder b : all_builders()) {
     SCOPED_TRACE(builder_name(b));

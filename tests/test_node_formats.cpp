@@ -1,12 +1,12 @@
-// Node formats (bvh/wide_bvh.h, bvh/quant_node.h): the q8 quantisation is conservative
+// Node formats (bvh/nodes/wide_bvh.h, bvh/nodes/quant_node.h): the q8 quantisation is conservative
 // for every kind of box, each format reaches every primitive exactly once through boxes
 // that contain it, and the traversal stack bound the builder proves holds for 4 and 8
 // children.
-#include "bvh/build_accel.h"
-#include "bvh/quant_node.h"
-#include "bvh/wide_bvh.h"
+#include "bvh/twolevel/build_accel.h"
+#include "bvh/nodes/quant_node.h"
+#include "bvh/nodes/wide_bvh.h"
 #include "kernels/variants.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
 #include <algorithm>

@@ -6,7 +6,7 @@
 // The binary builder with spatial splits and reinsertion is checked too (ref).
 // Any hit: the same occluded/unoccluded answer (which blocker is found first is up to
 // the traversal order, so the primitive may differ by design).
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"

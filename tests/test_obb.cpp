@@ -1,6 +1,6 @@
 // The masquerade transform, as stored in fp32, maps each capsule inside the unit box
 // (checked in double on surface samples) and is tight (the capsule reaches the faces).
-#include "bvh/obb.h"
+#include "bvh/bounds/obb.h"
 #include <gtest/gtest.h>
 #include <random>
 #include "tests/random_affine.h"

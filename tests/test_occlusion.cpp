@@ -3,7 +3,7 @@
 // reports is a real one (the oracle hits that primitive), and it does no more work than
 // the closest-hit variant.
 #include "bench/ray_sets.h"
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "oracle/oracle.h"
 #include "scenes/camera.h"

@@ -2,12 +2,12 @@
 // plus its error paths. Both run kernels/traverse.h, so this checks the OpenCL dialect
 // and the host plumbing (upload, chunking, variants), not the intersectors' accuracy
 // (that is the oracle tests' job).
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/cpu/cpu_backend.h"
 #include "host/opencl/cl_runtime.h"
 #include "host/opencl/opencl_backend.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 
 #include <gtest/gtest.h>

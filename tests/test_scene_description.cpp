@@ -1,6 +1,6 @@
 // Scene description files (.json): files and generators combined with transforms, the
 // camera, path resolution (relative, ${MASQ_DATA}), and one broken input per error class.
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/loaders/load_description.h"
 #include <gtest/gtest.h>
 #include <cmath>

@@ -1,6 +1,6 @@
 // Bad scenes get a clear error naming the element, never a crash or a silent NaN.
-#include "bvh/build_accel.h"
-#include "scenes/error.h"
+#include "bvh/twolevel/build_accel.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
 #include <cmath>

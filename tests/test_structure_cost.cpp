@@ -1,9 +1,9 @@
-// The whole-structure cost model (bvh/structure_cost.h) and method auto's choice by it:
+// The whole-structure cost model (bvh/twolevel/structure_cost.h) and method auto's choice by it:
 // exact values on one-primitive scenes, the choice on bundles whose winner is clear
 // (axis-aligned: ref; dense and tilted: an oriented structure), and that auto's arrays
 // are byte for byte those of the candidate it reports keeping.
-#include "bvh/build_accel.h"
-#include "bvh/structure_cost.h"
+#include "bvh/twolevel/build_accel.h"
+#include "bvh/twolevel/structure_cost.h"
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
 #include <cstring>

@@ -3,11 +3,11 @@
 // driver's own acceleration structures find the candidates and calls the same
 // intersector. Also: stats variants, chunked tracing, and clean errors when a scene
 // exceeds the device's limits (faked small through the test hook).
-#include "bvh/build_accel.h"
+#include "bvh/twolevel/build_accel.h"
 #include "host/cpu/cpu_backend.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 #include "cpu/bv_units.h"
 #include "host/cpu/cpu_units.h"
 #include "host/scene_arrays.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <atomic>
 #include <chrono>

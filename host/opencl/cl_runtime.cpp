@@ -1,7 +1,7 @@
 #include "host/opencl/cl_runtime.h"
 
 #include "host/backend.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 
 #include <chrono>
 #include <sstream>

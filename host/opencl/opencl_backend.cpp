@@ -4,7 +4,7 @@
 #include "host/opencl/cl_runtime.h"
 #include "host/opencl/cl_scene_buffers.h"
 #include "host/opencl/kernel_sources.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 
 #include <algorithm>
 #include <chrono>

@@ -22,9 +22,10 @@
 // lavapipe builds its BVH in submission order without sorting, so primitives and
 // instances are submitted in the order of masq's own BVH leaves (PackedScene's
 // geometry_leaf_order and tlas_leaf_order), and each part is a contiguous run of it.
-#include "bvh/cluster_blas.h"
-#include "bvh/obb.h"
-#include "bvh/prim_bounds.h"
+#include "bvh/nodes/compact_instance.h"
+#include "bvh/twolevel/cluster_blas.h"
+#include "bvh/bounds/obb.h"
+#include "bvh/bounds/prim_bounds.h"
 #include "host/vulkan/acceleration_structures.h"
 #include "host/vulkan/rayquery_plan.h"
 #include "host/vulkan/trace_dispatch.h"
@@ -211,7 +212,7 @@ class RayQueryBackend final : public Backend {
                    std::size_t n = std::min(kChunk, plan_.entries.size() - first);
                    chunk.resize(n);
                    for (std::size_t k = 0; k < n; ++k)
-                     chunk[k] = s.entry_instance(static_cast<std::size_t>(plan_.entries[first + k].inst));
+                     chunk[k] = tlas_entry_instance(s, static_cast<std::size_t>(plan_.entries[first + k].inst));
                    b.upload(chunk.data(), n * sizeof(kernel::Instance), first * sizeof(kernel::Instance));
                  }
                });
@@ -222,7 +223,7 @@ class RayQueryBackend final : public Backend {
   }
 
   // The driver BLAS of a cluster: each member's exact local box under every scene
-  // instance's stored maps (bvh/cluster_blas.h), padded per local axis by twice the
+  // instance's stored maps (bvh/twolevel/cluster_blas.h), padded per local axis by twice the
   // driver's fp32 transform error for any origin within reach_ and any point it can
   // hit (|t d| <= 3 reach_): 2 (gamma_4 (|S_k|_1 reach + |s_k|) + gamma_3 |S_k|_1 3 reach).
   const vk::AccelStructure& cluster_blas(const PackedScene& s, int root) {
@@ -326,7 +327,7 @@ class RayQueryBackend final : public Backend {
                                                 std::uint32_t rank) {
     const bool robust = s.features.mode == Mode::Robust;
     const std::size_t i = static_cast<std::size_t>(en.inst);
-    const kernel::Instance inst = s.entry_instance(i); // a compact entry with its decoded map
+    const kernel::Instance inst = tlas_entry_instance(s, i); // a compact entry with its decoded map
     VkAccelerationStructureInstanceKHR e{};
     e.instanceCustomIndex = rank;
     e.mask = 0xFF;

@@ -1,5 +1,6 @@
 #include "host/vulkan/rayquery_plan.h"
-#include "bvh/wide_bvh.h"
+#include "bvh/nodes/compact_instance.h"
+#include "bvh/nodes/wide_bvh.h"
 #include "masq/error.h"
 #include <fmt/format.h>
 #include <algorithm>
@@ -27,7 +28,7 @@ RayQueryPlan plan_ray_query(const PackedScene& s, std::uint64_t max_primitives) 
     throw Error(fmt::format("rayquery: {} bottom-level structures; SBT record offsets hold 24 bits",
                             plan.blas.size()));
   for (std::int32_t i : s.tlas_leaf_order) {
-    const kernel::Instance inst = s.entry_instance(static_cast<std::size_t>(i)); // compact ones expanded
+    const kernel::Instance inst = tlas_entry_instance(s, static_cast<std::size_t>(i)); // compact ones expanded
     if (inst.prim == MASQ_INST_CLUSTER) plan.entries.push_back({i, plan.clusters.at(inst.blas_root)});
     else if (inst.blas_root >= 0)
       for (std::int32_t b : geom_blas[static_cast<std::size_t>(inst.geom)]) plan.entries.push_back({i, b});

@@ -26,7 +26,7 @@ struct RayQueryPlan {
     std::size_t first, count;
   };
   struct Entry {
-    std::int32_t inst; // TLAS entry id (PackedScene::entry_instance)
+    std::int32_t inst; // TLAS entry id (tlas_entry_instance, bvh/nodes/compact_instance.h)
     std::int32_t blas; // BLAS id (SBT record offset); 0 for masquerade (the unit box)
   };
   std::vector<Blas> blas;               // by BLAS id

@@ -1,7 +1,7 @@
 // Checked Vulkan calls: a failing call throws masq::Error naming the call, the file,
 // the line and the VkResult by name.
 #pragma once
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <vulkan/vulkan.h>
 #include <string>
 

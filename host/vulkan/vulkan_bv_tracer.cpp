@@ -5,7 +5,7 @@
 #include "host/bv_tracer.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "kernels/kernel_data.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "spirv/trace_bv_modules.h"
 #include <chrono>
 #include <map>

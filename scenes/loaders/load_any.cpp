@@ -1,6 +1,6 @@
 #include "scenes/loaders/load_any.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/loaders/load_description.h"
 #include "scenes/loaders/load_hair.h"
 #include "scenes/loaders/load_obj.h"

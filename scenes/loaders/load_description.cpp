@@ -2,7 +2,7 @@
 #include "scenes/loaders/load_description.h"
 #include "scenes/camera.h"
 #include "scenes/curve_tools.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
 #include "scenes/loaders/loader.h"

@@ -1,5 +1,5 @@
 #include "scenes/loaders/load_obj.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <tiny_obj_loader.h>
 #include <cmath>
 #include <cstdlib>

@@ -1,5 +1,5 @@
 #include "scenes/loaders/load_ply.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <algorithm>
 #include <charconv>
 #include <cmath>

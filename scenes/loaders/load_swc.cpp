@@ -1,5 +1,5 @@
 #include "scenes/loaders/load_swc.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <charconv>
 #include <cmath>
 #include <cstdint>

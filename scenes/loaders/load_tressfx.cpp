@@ -1,6 +1,6 @@
 #include "scenes/loaders/load_tressfx.h"
 #include "scenes/camera.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <cmath>
 #include <cstdint>
 #include <cstring>

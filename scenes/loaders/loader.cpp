@@ -1,5 +1,5 @@
 #include "scenes/loaders/loader.h"
-#include "scenes/error.h"
+#include "masq/error.h"
 #include <cerrno>
 #include <cmath>
 #include <sstream>

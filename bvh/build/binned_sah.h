@@ -1,0 +1,35 @@
+// Binary BVH by binned SAH (Wald 2007): centroid bins per axis, best of the bin planes.
+#pragma once
+#include "bvh/bounds/aabb.h"
+#include <vector>
+
+namespace masq {
+
+struct SahOptions {
+  int bins = 16;
+  int max_leaf_size = 4;    // a leaf never holds more unless primitives cannot be split
+  double traversal_cost = 1.0;
+  double intersection_cost = 1.0;
+  // A leaf's intersection cost counts blocks of this many primitives (Embree's SAH block
+  // size): 4 prices a leaf of 1-4 primitives as one four-lane test, as the cpu backend
+  // runs capsules (kernels/capsule_simd_cpp.h); 1 prices each primitive.
+  int leaf_block = 1;
+};
+
+struct BinaryNode {
+  Aabb box;
+  int left = -1;  // inner: child indices; leaf: -1
+  int right = -1;
+  int first = 0;  // leaf: range in BinaryBvh::order
+  int count = 0;  // leaf: > 0
+  bool is_leaf() const { return count > 0; }
+};
+
+struct BinaryBvh {
+  std::vector<BinaryNode> nodes; // nodes[0] is the root (when any)
+  std::vector<int> order;        // primitive ids in leaf order
+};
+
+BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt = {});
+
+} // namespace masq

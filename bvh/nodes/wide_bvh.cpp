@@ -1,0 +1,282 @@
+#include "bvh/nodes/wide_bvh.h"
+#include "bvh/nodes/quant_node.h"
+#include "kernels/variants.h"
+#include "masq/error.h"
+#include <algorithm>
+
+namespace masq {
+
+namespace {
+
+// Children of a wide node of `width`: repeatedly open the inner child of largest area,
+// as long as the node keeps at most max_inner inner children (each one beyond the first
+// is a stack entry that waits while the nearest is traversed).
+std::vector<int> gather(const BinaryBvh& bvh, int binary, int width, int max_inner) {
+  std::vector<int> kids{bvh.nodes[binary].left, bvh.nodes[binary].right};
+  auto is_inner = [&](int n) { return !bvh.nodes[n].is_leaf(); };
+  while (int(kids.size()) < width) {
+    int inner = int(std::count_if(kids.begin(), kids.end(), is_inner));
+    int best = -1;
+    double best_area = -1.0;
+    for (int i = 0; i < int(kids.size()); ++i) {
+      const BinaryNode& n = bvh.nodes[kids[i]];
+      if (n.is_leaf() || n.box.area() <= best_area) continue;
+      if (inner - 1 + int(is_inner(n.left)) + int(is_inner(n.right)) > max_inner) continue;
+      best = i;
+      best_area = n.box.area();
+    }
+    if (best < 0) break;
+    int open = kids[best];
+    kids[best] = bvh.nodes[open].left;
+    kids.push_back(bvh.nodes[open].right);
+  }
+  return kids;
+}
+
+// Stack entries a node needs (its own entry not counted): popping it pushes `inner`
+// entries; the nearest is popped next while the other inner-1 wait below it. The same
+// bound holds for any width, since a node's children are all pushed at once.
+int stack_need(int inner, int deepest) { return inner == 0 ? 0 : inner - 1 + std::max(1, deepest); }
+
+struct Common {
+  const BinaryBvh& bvh;
+  int max_inner; // inner children per node (gather)
+  const std::vector<std::int32_t>& ref_ids;
+  std::vector<std::int32_t>& refs;
+  WideBvhInfo info;
+  double root_area = 0;
+
+  int emit_leaf_refs(const BinaryNode& leaf) {
+    int first = int(refs.size());
+    for (int i = leaf.first; i < leaf.first + leaf.count; ++i) refs.push_back(ref_ids[bvh.order[i]]);
+    ++info.leaves;
+    info.sah_cost += leaf.box.area() / root_area * leaf.count;
+    return first;
+  }
+  void count_node(const Aabb& box, int depth) {
+    ++info.nodes;
+    info.depth = std::max(info.depth, depth);
+    info.sah_cost += box.area() / root_area;
+  }
+};
+
+// w4 and w8: float boxes rounded outward, children emitted depth first.
+template <class Node, int Width>
+struct FloatCollapser : Common {
+  std::vector<Node>& nodes;
+
+  static void set_box(Node& w, int slot, const Aabb& b) {
+    w.lo_x[slot] = round_down(b.lo.x);
+    w.lo_y[slot] = round_down(b.lo.y);
+    w.lo_z[slot] = round_down(b.lo.z);
+    w.hi_x[slot] = round_up(b.hi.x);
+    w.hi_y[slot] = round_up(b.hi.y);
+    w.hi_z[slot] = round_up(b.hi.z);
+  }
+
+  // Emits the wide node for a list of binary children; returns {index, stack need}.
+  std::pair<int, int> emit(const std::vector<int>& kids, const Aabb& box, int depth) {
+    int index = int(nodes.size());
+    nodes.push_back({});
+    count_node(box, depth);
+    Node w{};
+    for (int s = 0; s < Width; ++s) w.count[s] = -1;
+    int inner = 0, deepest = 0;
+    for (int s = 0; s < int(kids.size()); ++s) {
+      const BinaryNode& c = bvh.nodes[kids[s]];
+      set_box(w, s, c.box);
+      if (c.is_leaf()) {
+        w.child[s] = emit_leaf_refs(c);
+        w.count[s] = c.count;
+      } else {
+        auto [child, need] = emit(gather(bvh, kids[s], Width, max_inner), c.box, depth + 1);
+        w.child[s] = child;
+        w.count[s] = 0;
+        ++inner;
+        deepest = std::max(deepest, need);
+      }
+    }
+    nodes[index] = w;
+    return {index, stack_need(inner, deepest)};
+  }
+};
+
+// q8: a node's inner children are allocated side by side before any is filled, and its
+// leaves' references side by side, so one base index each addresses them.
+struct QuantCollapser : Common {
+  std::vector<kernel::QuantNode8>& nodes;
+
+  // Fills node `index` (already allocated); returns its stack need.
+  int fill(int index, const std::vector<int>& kids, int depth) {
+    Aabb box;
+    for (int k : kids) box.grow(bvh.nodes[k].box);
+    count_node(box, depth);
+    QuantFrame frame = quant_frame(box);
+    std::array<QuantBox, 8> qboxes{};
+    std::array<std::uint8_t, 8> meta{};
+    const int ref_base = int(refs.size());
+    std::vector<int> inner_kids;
+    for (int s = 0; s < int(kids.size()); ++s) {
+      const BinaryNode& c = bvh.nodes[kids[s]];
+      qboxes[std::size_t(s)] = quantize_box(frame, c.box);
+      if (c.is_leaf()) {
+        if (c.count > MASQ_Q8_MAX_LEAF)
+          throw Error("bvh: a leaf of " + std::to_string(c.count) + " references exceeds the q8 node format's " +
+                      std::to_string(MASQ_Q8_MAX_LEAF) + "; use node format w4 or w8");
+        emit_leaf_refs(c);
+        meta[std::size_t(s)] = std::uint8_t(c.count);
+      } else {
+        meta[std::size_t(s)] = std::uint8_t(MASQ_Q8_INNER);
+        inner_kids.push_back(kids[s]);
+      }
+    }
+    const int child_base = int(nodes.size());
+    nodes.resize(nodes.size() + inner_kids.size());
+    int deepest = 0;
+    for (std::size_t j = 0; j < inner_kids.size(); ++j)
+      deepest = std::max(deepest, fill(child_base + int(j), gather(bvh, inner_kids[j], 8, max_inner), depth + 1));
+    nodes[std::size_t(index)] = pack_quant_node(frame, qboxes, meta, child_base, ref_base);
+    return stack_need(int(inner_kids.size()), deepest);
+  }
+};
+
+void check_stack(WideBvhInfo& info, int need) {
+  info.stack_need = 1 + need;
+  if (info.stack_need > MASQ_STACK_SIZE)
+    throw Error("bvh: traversal would need a stack of " + std::to_string(info.stack_need) +
+                " entries; the kernels have " + std::to_string(MASQ_STACK_SIZE));
+}
+
+// One collapse with at most max_inner inner children per node; {info, stack need}.
+template <class Node, int Width>
+WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
+                           std::vector<std::int32_t>& refs, int max_inner, int& need) {
+  FloatCollapser<Node, Width> c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
+  const BinaryNode& root = bvh.nodes[0];
+  c.root_area = std::max(root.box.area(), 1e-300);
+  // A root that is itself a leaf becomes a wide node with one leaf slot.
+  std::vector<int> kids = root.is_leaf() ? std::vector<int>{0} : gather(bvh, 0, Width, max_inner);
+  auto [index, n] = c.emit(kids, root.box, 1);
+  c.info.root = index;
+  need = n;
+  return c.info;
+}
+
+WideBvhInfo collapse_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
+                           std::vector<kernel::QuantNode8>& nodes, std::vector<std::int32_t>& refs, int max_inner,
+                           int& need) {
+  QuantCollapser c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
+  const BinaryNode& root = bvh.nodes[0];
+  c.root_area = std::max(root.box.area(), 1e-300);
+  std::vector<int> kids = root.is_leaf() ? std::vector<int>{0} : gather(bvh, 0, 8, max_inner);
+  int index = int(nodes.size());
+  nodes.emplace_back();
+  need = c.fill(index, kids, 1);
+  c.info.root = index;
+  return c.info;
+}
+
+// Each waiting sibling is a stack entry, so a full 8-wide node on every level of a deep
+// tree needs up to 7 entries per level where a 4-wide one needs 3. When the worst case
+// exceeds the kernels' stack, the collapse is redone with fewer inner children per node
+// (6, then 4 like w4, 3, 2: leaf slots stay free); the node arrays are rolled back.
+template <class Node, class Collapse>
+WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, std::vector<Node>& nodes,
+                                  std::vector<std::int32_t>& refs, Collapse collapse) {
+  if (bvh.nodes.empty()) return {};
+  const std::size_t nodes0 = nodes.size(), refs0 = refs.size();
+  int need = 0;
+  WideBvhInfo info;
+  for (int max_inner : {8, 6, 4, 3, 2}) {
+    if (max_inner > width) continue;
+    nodes.resize(nodes0);
+    refs.resize(refs0);
+    info = collapse(max_inner, need);
+    info.max_inner = max_inner;
+    if (1 + need <= MASQ_STACK_SIZE) break;
+  }
+  check_stack(info, need);
+  return info;
+}
+
+template <class Node, int Width>
+WideBvhInfo append_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
+                         std::vector<std::int32_t>& refs) {
+  return collapse_within_stack(bvh, Width, nodes, refs, [&](int max_inner, int& need) {
+    return collapse_float<Node, Width>(bvh, ref_ids, nodes, refs, max_inner, need);
+  });
+}
+
+WideBvhInfo append_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
+                         std::vector<kernel::QuantNode8>& nodes, std::vector<std::int32_t>& refs) {
+  return collapse_within_stack(bvh, 8, nodes, refs, [&](int max_inner, int& need) {
+    return collapse_quant(bvh, ref_ids, nodes, refs, max_inner, need);
+  });
+}
+
+template <class Node, int Width>
+void float_slots(const Node& n, std::vector<NodeSlot>& out) {
+  for (int s = 0; s < Width; ++s) {
+    NodeSlot slot;
+    slot.child = n.child[s];
+    slot.count = n.count[s];
+    slot.box.lo = {n.lo_x[s], n.lo_y[s], n.lo_z[s]};
+    slot.box.hi = {n.hi_x[s], n.hi_y[s], n.hi_z[s]};
+    out.push_back(slot);
+  }
+}
+
+} // namespace
+
+WideBvhInfo append_wide_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
+                            std::vector<kernel::WideNode>& nodes, std::vector<std::int32_t>& refs) {
+  return append_float<kernel::WideNode, MASQ_WIDTH>(bvh, ref_ids, nodes, refs);
+}
+
+WideBvhInfo append_bvh_nodes(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, NodeFormat format,
+                             PackedScene& ps) {
+  switch (format) {
+    case NodeFormat::W8: return append_float<kernel::WideNode8, MASQ_WIDTH8>(bvh, ref_ids, ps.nodes8, ps.refs);
+    case NodeFormat::Q8: return append_quant(bvh, ref_ids, ps.qnodes, ps.refs);
+    case NodeFormat::W4: break;
+  }
+  return append_wide_bvh(bvh, ref_ids, ps.nodes, ps.refs);
+}
+
+std::vector<NodeSlot> node_slots(const PackedScene& ps, std::int32_t node) {
+  std::vector<NodeSlot> out;
+  const std::size_t i = std::size_t(node);
+  switch (ps.features.nodes) {
+    case NodeFormat::W4: float_slots<kernel::WideNode, MASQ_WIDTH>(ps.nodes.at(i), out); break;
+    case NodeFormat::W8: float_slots<kernel::WideNode8, MASQ_WIDTH8>(ps.nodes8.at(i), out); break;
+    case NodeFormat::Q8: {
+      const kernel::QuantNode8& n = ps.qnodes.at(i);
+      auto byte = [](const std::uint32_t* words, int s) { return (words[s / 4] >> (8 * (s % 4))) & 255u; };
+      int next_child = n.child_base, next_ref = n.ref_base;
+      for (int s = 0; s < MASQ_WIDTH8; ++s) {
+        NodeSlot slot;
+        unsigned m = byte(n.meta, s);
+        if (m == MASQ_Q8_INNER) {
+          slot.child = next_child++;
+          slot.count = 0;
+        } else if (m != 0) {
+          slot.child = next_ref;
+          slot.count = int(m);
+          next_ref += int(m);
+        }
+        const std::uint32_t* lo[3] = {n.qlo_x, n.qlo_y, n.qlo_z};
+        const std::uint32_t* hi[3] = {n.qhi_x, n.qhi_y, n.qhi_z};
+        for (int k = 0; k < 3; ++k) {
+          int e = int((n.exps >> (8 * k)) & 255u);
+          slot.box.lo[k] = quant_decode(n.origin[k], e, byte(lo[k], s));
+          slot.box.hi[k] = quant_decode(n.origin[k], e, byte(hi[k], s));
+        }
+        out.push_back(slot);
+      }
+      break;
+    }
+  }
+  return out;
+}
+
+} // namespace masq

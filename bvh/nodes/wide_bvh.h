@@ -1,0 +1,44 @@
+// Collapse a binary BVH into wide nodes of one node format (w4, w8 or q8; see
+// kernels/layout.h and docs/kernels.md) and append them, in the GPU layout, to the node
+// array shared by the TLAS and every BLAS.
+#pragma once
+#include "bvh/build/binned_sah.h"
+#include "bvh/packed_scene.h"
+#include "kernels/layout.h"
+#include <cstdint>
+#include <vector>
+
+namespace masq {
+
+struct WideBvhInfo {
+  std::int32_t root = -1;  // index in the node array
+  std::size_t nodes = 0;
+  std::size_t leaves = 0;
+  double sah_cost = 0;     // traversal 1 per wide node visit, intersection 1 per reference
+  int depth = 0;           // wide levels
+  int stack_need = 0;      // worst-case traversal stack entries (kernel has MASQ_STACK_SIZE)
+  int max_inner = 0;       // inner children per node the collapse allowed (< width: capped to fit the stack)
+};
+
+// Appends to the array of `format` in `ps` (ps.nodes, ps.nodes8 or ps.qnodes) and leaf
+// references to ps.refs as ref_ids[order[i]] (e.g. primitive or instance ids). Throws
+// masq::Error if traversal would need more than the kernel's fixed stack even with two
+// inner children per node, or (q8) a leaf holds more than MASQ_Q8_MAX_LEAF references.
+WideBvhInfo append_bvh_nodes(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, NodeFormat format,
+                             PackedScene& ps);
+
+// The w4 case on bare arrays.
+WideBvhInfo append_wide_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
+                            std::vector<kernel::WideNode>& nodes, std::vector<std::int32_t>& refs);
+
+// One slot of a node of any format, decoded as the kernels decode it (host walks:
+// the rayquery backend's cluster members, tests). count > 0: leaf of count references
+// from child; 0: inner node child; < 0: empty.
+struct NodeSlot {
+  std::int32_t child = -1;
+  std::int32_t count = -1;
+  Aabb box; // the box the kernels test (q8: decoded)
+};
+std::vector<NodeSlot> node_slots(const PackedScene& ps, std::int32_t node);
+
+} // namespace masq

@@ -1,0 +1,393 @@
+#include "bvh/twolevel/build_accel.h"
+#include "bvh/build/builder.h"
+#include "bvh/bounds/clip_bounds.h"
+#include "bvh/twolevel/cluster_blas.h"
+#include "bvh/nodes/compact_instance.h"
+#include "bvh/bounds/obb.h"
+#include "bvh/bounds/prim_bounds.h"
+#include "bvh/twolevel/structure_cost.h"
+#include "bvh/nodes/wide_bvh.h"
+#include "masq/error.h"
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <map>
+#include <utility>
+
+namespace masq {
+
+namespace {
+
+Aabb triangle_box(const Geometry& g, const glm::uvec3& t) {
+  Aabb b;
+  for (int k = 0; k < 3; ++k) b.grow(glm::dvec3(g.vertices[t[k]]));
+  return b;
+}
+
+Aabb transform_box(const Aabb& b, const Affine3& xf) {
+  Aabb out;
+  for (int i = 0; i < 8; ++i)
+    out.grow(xf.apply_point({i & 1 ? b.hi.x : b.lo.x, i & 2 ? b.hi.y : b.lo.y, i & 4 ? b.hi.z : b.lo.z}));
+  return out;
+}
+
+kernel::Instance make_instance(const Mat3x4f& world_to_object, int blas_root, int geom, int prim, int scene_inst) {
+  kernel::Instance k{};
+  std::memcpy(k.world_to_object, world_to_object.data(), sizeof(k.world_to_object));
+  k.blas_root = blas_root;
+  k.geom = geom;
+  k.prim = prim;
+  k.scene_inst = scene_inst;
+  return k;
+}
+
+int kernel_type(PrimType t) {
+  switch (t) {
+    case PrimType::Triangle: return MASQ_PRIM_TRIANGLE;
+    case PrimType::Capsule: return MASQ_PRIM_CAPSULE;
+    case PrimType::RoundCone: return MASQ_PRIM_ROUND_CONE;
+    case PrimType::Sphere: return MASQ_PRIM_SPHERE;
+    case PrimType::Curve: return MASQ_PRIM_CURVE;
+  }
+  return -1;
+}
+
+void copy3(float* dst, const glm::vec3& v) {
+  for (int k = 0; k < 3; ++k) dst[k] = v[k];
+}
+
+void pack_primitives(const Scene& scene, PackedScene& ps) {
+  for (const Geometry& g : scene.geometries) {
+    kernel::Geometry kg{};
+    kg.type = kernel_type(g.type);
+    kg.count = int(g.primitive_count());
+    switch (g.type) {
+      case PrimType::Triangle:
+        kg.first = int(ps.triangles.size());
+        for (const glm::uvec3& t : g.triangles) {
+          kernel::Triangle kt{};
+          copy3(kt.v0, g.vertices[t.x]);
+          copy3(kt.v1, g.vertices[t.y]);
+          copy3(kt.v2, g.vertices[t.z]);
+          ps.triangles.push_back(kt);
+        }
+        break;
+      case PrimType::Capsule:
+        kg.first = int(ps.capsules.size());
+        for (const CapsulePrim& c : g.capsules) {
+          kernel::Capsule kc{};
+          copy3(kc.a, c.a);
+          copy3(kc.b, c.b);
+          kc.radius = c.radius;
+          ps.capsules.push_back(kc);
+        }
+        break;
+      case PrimType::RoundCone:
+        kg.first = int(ps.cones.size());
+        for (const RoundConePrim& c : g.cones) {
+          kernel::RoundCone kc{};
+          copy3(kc.a, c.a);
+          copy3(kc.b, c.b);
+          kc.ra = c.ra;
+          kc.rb = c.rb;
+          ps.cones.push_back(kc);
+        }
+        break;
+      case PrimType::Sphere:
+        kg.first = int(ps.spheres.size());
+        for (const SpherePrim& sp : g.spheres) {
+          kernel::Sphere ks{};
+          copy3(ks.center, sp.center);
+          ks.radius = sp.radius;
+          ps.spheres.push_back(ks);
+        }
+        break;
+      case PrimType::Curve:
+        kg.first = int(ps.curves.size());
+        for (const CurvePrim& c : g.curves) {
+          kernel::Curve kc{};
+          copy3(kc.p0, c.p[0]);
+          copy3(kc.p1, c.p[1]);
+          copy3(kc.p2, c.p[2]);
+          copy3(kc.p3, c.p[3]);
+          kc.radius = c.radius;
+          ps.curves.push_back(kc);
+        }
+        break;
+    }
+    ps.geoms.push_back(kg);
+  }
+}
+
+void note_feature(KernelFeatures& f, PrimType t) {
+  switch (t) {
+    case PrimType::Triangle: f.triangles = true; break;
+    case PrimType::Capsule: f.capsules = true; break;
+    case PrimType::RoundCone: f.cones = true; break;
+    case PrimType::Sphere: f.spheres = true; break;
+    case PrimType::Curve: f.curves = true; break;
+  }
+}
+
+// One method's structure; for Method::Auto the per-cluster mix of bvh/twolevel/method_plan.cpp.
+PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt) {
+  auto start = std::chrono::steady_clock::now();
+  PackedScene ps;
+  ps.method = method;
+  ps.builder = opt.builder.kind;
+  pack_primitives(scene, ps);
+  ps.features.mode = opt.mode;
+  ps.features.curve_iters = opt.curve_iters;
+  ps.features.nodes = opt.nodes; // before any node is appended (cluster BLAS read it)
+  ps.stats.cluster_size = opt.cluster.max_size;
+  ps.stats.cluster_leaf_price = opt.cluster.leaf_price;
+  for (const Instance& inst : scene.instances) {
+    PrimType t = scene.geometries[inst.geometry].type;
+    note_feature(ps.features, t);
+    Affine3 w2o = inverse(inst.object_to_world);
+    kernel::Frame f{};
+    Mat3x4f m = to_mat3x4f(w2o);
+    std::memcpy(f.world_to_object, m.data(), sizeof(f.world_to_object));
+    ps.frames.push_back(f);
+    ps.frame_object_to_world.push_back(to_mat3x4f(inst.object_to_world));
+  }
+
+  // What goes where, per geometry (bvh/twolevel/method_plan.h).
+  PlanOptions plan_opt;
+  plan_opt.cluster = opt.cluster;
+  plan_opt.curve_obb = opt.curve_obb;
+  plan_opt.prices = kMixPlannerPrices;
+  std::vector<std::vector<int>> insts_of(scene.geometries.size());
+  for (std::size_t si = 0; si < scene.instances.size(); ++si) insts_of[scene.instances[si].geometry].push_back(int(si));
+  std::vector<GeometryPlan> plans(scene.geometries.size());
+  for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
+    if (!insts_of[gi].empty() && scene.geometries[gi].primitive_count() > 0)
+      plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt);
+
+  // The ordinary BLAS of each geometry over the primitives its plan keeps there.
+  std::vector<int> blas_root(scene.geometries.size(), -1);
+  std::vector<Aabb> blas_box(scene.geometries.size());
+  ps.geometry_leaf_order.resize(scene.geometries.size());
+  for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
+    const Geometry& g = scene.geometries[gi];
+    const std::vector<std::int32_t>& ids = plans[gi].blas_prims;
+    if (ids.empty()) continue;
+    std::vector<Aabb> boxes;
+    boxes.reserve(ids.size());
+    for (std::int32_t p : ids)
+      boxes.push_back(g.type == PrimType::Triangle ? triangle_box(g, g.triangles[std::size_t(p)])
+                                                   : hull_box(ball_hull(g, std::size_t(p))));
+    // Spatial splits clip the primitive itself (object space), item i being ids[i].
+    PrimClipper clip = [&](int item, int axis, double lo, double hi) {
+      return clip_primitive(g, std::size_t(ids[std::size_t(item)]), axis, lo, hi);
+    };
+    std::size_t references = 0;
+    SahOptions blas_sah = opt.sah;
+    if (builder_prices_isect(opt.builder.kind)) blas_sah.intersection_cost *= blas_isect_price(kernel_type(g.type));
+    BinaryBvh bvh = build_blas_binary(boxes, clip, blas_sah, opt.builder, &references);
+    WideBvhInfo info = append_bvh_nodes(bvh, ids, opt.nodes, ps);
+    blas_root[gi] = info.root;
+    blas_box[gi] = bvh.nodes[0].box;
+    ps.stats.blas_references += references;
+    ps.stats.blas_primitives += ids.size();
+    // The driver's submission order (rayquery) names each primitive once: spatial
+    // splits may put one in several leaves; its first leaf decides.
+    std::vector<char> seen(ids.size(), 0);
+    for (int i : bvh.order)
+      if (!seen[std::size_t(i)]) {
+        seen[std::size_t(i)] = 1;
+        ps.geometry_leaf_order[gi].push_back(ids[std::size_t(i)]);
+      }
+    ps.stats.blas_nodes += info.nodes;
+    ps.stats.blas_leaves += info.leaves;
+    ps.stats.blas_sah_cost += info.sah_cost;
+    ps.stats.max_depth = std::max(ps.stats.max_depth, info.depth);
+  }
+
+  // TLAS entries: per scene instance its BLAS and masquerade instances, then per
+  // geometry its cluster instances (their BLAS are shared by the scene instances); the
+  // compact masquerade entries come last (entry ids: PackedScene::tlas_ref).
+  std::vector<Aabb> inst_boxes;
+  std::vector<Aabb> compact_boxes;
+  std::vector<Mat3x4f> compact_unit_to_world;
+  std::map<std::pair<int, int>, std::uint32_t> owner_of; // (geometry, scene instance) -> owner
+  const std::size_t owner_limit = std::size_t(std::clamp(opt.masq_owner_limit, 0, MASQ_MAX_OWNERS));
+  for (std::size_t si = 0; si < scene.instances.size(); ++si) {
+    const Instance& inst = scene.instances[si];
+    const Geometry& g = scene.geometries[inst.geometry];
+    int gi = int(inst.geometry);
+    if (blas_root[gi] >= 0) {
+      Mat3x4f w2o;
+      std::memcpy(w2o.data(), ps.frames[si].world_to_object, sizeof(float) * 12);
+      ps.instances.push_back(make_instance(w2o, blas_root[gi], gi, -1, int(si)));
+      ps.instance_object_to_world.push_back(ps.frame_object_to_world[si]);
+      inst_boxes.push_back(transform_box(blas_box[gi], inst.object_to_world));
+    }
+    for (std::int32_t p : plans[std::size_t(gi)].masq_prims) {
+      if (opt.masq_instances == MasqInstances::Compact) {
+        auto owner = owner_of.find({gi, int(si)});
+        if (owner == owner_of.end() && owner_of.size() < owner_limit) {
+          owner = owner_of.emplace(std::pair<int, int>{gi, int(si)}, std::uint32_t(ps.masq_owners.size())).first;
+          ps.masq_owners.push_back({gi, int(si), {0, 0}});
+        }
+        std::optional<CompactMasquerade> cm;
+        if (owner != owner_of.end()) cm = compact_masquerade(g, std::size_t(p), inst.object_to_world, opt.curve_obb);
+        if (cm) { // else: a 64-byte Instance below
+          set_masq_owner(cm->inst, owner->second);
+          ps.stats.obb_area += cm->box.obb_area;
+          ps.stats.aabb_area += cm->box.aabb_area;
+          ps.stats.masq_prims += 1;
+          ps.masq_instances.push_back(cm->inst);
+          compact_unit_to_world.push_back(cm->box.unit_to_world);
+          compact_boxes.push_back(cm->box.world_box);
+          continue;
+        }
+      }
+      MasqueradeBox mb = masquerade_box(g, std::size_t(p), inst.object_to_world, opt.curve_obb);
+      ps.stats.obb_area += mb.obb_area;
+      ps.stats.aabb_area += mb.aabb_area;
+      ps.stats.masq_prims += 1;
+      ps.instances.push_back(make_instance(mb.world_to_unit, -1, gi, int(p), int(si)));
+      ps.instance_object_to_world.push_back(mb.unit_to_world);
+      inst_boxes.push_back(mb.world_box);
+    }
+  }
+  for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
+    if (!plans[gi].clusters.empty())
+      append_cluster_instances(scene, int(gi), plans[gi].clusters, insts_of[gi], opt.sah, opt.cluster.leaf_price,
+                               opt.builder, ps, inst_boxes);
+  if (ps.masq_instances.size() > std::size_t(INT32_MAX) - ps.instances.size())
+    throw Error("accel: more than 2^31-1 TLAS entries");
+  inst_boxes.insert(inst_boxes.end(), compact_boxes.begin(), compact_boxes.end());
+  ps.instance_object_to_world.insert(ps.instance_object_to_world.end(), compact_unit_to_world.begin(),
+                                     compact_unit_to_world.end());
+  ps.stats.instances = ps.tlas_entry_count();
+  if (!inst_boxes.empty()) {
+    BinaryBvh tlas = build_boxes_binary(inst_boxes, opt.sah, opt.builder);
+    std::vector<std::int32_t> ids(inst_boxes.size()); // the leaves' references (entry e: tlas_ref(e))
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = ps.tlas_ref(i);
+    WideBvhInfo info = append_bvh_nodes(tlas, ids, opt.nodes, ps);
+    ps.tlas_root = info.root;
+    ps.tlas_leaf_order.assign(tlas.order.begin(), tlas.order.end());
+    ps.stats.tlas_nodes = info.nodes;
+    ps.stats.tlas_leaves = info.leaves;
+    ps.stats.sah_cost = info.sah_cost;
+    ps.stats.max_depth += info.depth;
+  }
+  // A single BLAS under an identity instance: the kernels skip the TLAS stage and the
+  // ray transform (the TLAS is still built, for the rayquery backend and the stats).
+  // Not for a cluster instance: its transform is the cluster's frame, not the scene's.
+  ps.features.single_blas = ps.instances.size() == 1 && ps.masq_instances.empty() && ps.instances[0].blas_root >= 0 &&
+                            ps.instances[0].prim != MASQ_INST_CLUSTER &&
+                            scene.instances[ps.instances[0].scene_inst].object_to_world.is_identity();
+  ps.stats.node_bytes = ps.node_bytes();
+  StructureCost sc = structure_cost(ps, opt.prices);
+  ps.stats.model_cost = sc.total;
+  ps.stats.model_triangles = sc.triangles;
+  ps.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return ps;
+}
+
+} // namespace
+
+std::vector<ClusterOptions> auto_cluster_shapes(const ClusterOptions& given) {
+  std::vector<ClusterOptions> out = {given};
+  for (int size : {given.max_size, kAutoLargeCluster})
+    for (double price : {given.leaf_price, 1.0}) {
+      ClusterOptions c = given;
+      c.max_size = size;
+      c.leaf_price = price;
+      bool seen = std::any_of(out.begin(), out.end(),
+                              [&](const ClusterOptions& o) { return o.max_size == size && o.leaf_price == price; });
+      if (!seen) out.push_back(c);
+    }
+  return out;
+}
+
+namespace {
+
+void check_accel_input(const Scene& scene, const AccelOptions& opt) {
+  if (opt.curve_iters < 1 || opt.curve_iters > 64)
+    throw Error("accel: curve_iters " + std::to_string(opt.curve_iters) + " outside 1..64");
+  validate_scene(scene);
+  if (scene.primitive_count() > std::size_t(INT32_MAX) / 2)
+    throw Error("scene: " + std::to_string(scene.primitive_count()) + " primitives exceed the 32-bit index range");
+}
+
+} // namespace
+
+AutoCandidates build_auto_candidates(const Scene& scene, const AccelOptions& opt) {
+  check_accel_input(scene, opt);
+  auto start = std::chrono::steady_clock::now();
+  AutoCandidates out;
+  // Triangles stay in a BLAS under every method: a mesh has one candidate, ref's.
+  bool thin = std::any_of(scene.geometries.begin(), scene.geometries.end(),
+                          [](const Geometry& g) { return g.type != PrimType::Triangle && g.primitive_count() > 0; });
+  for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
+    if (m != Method::Ref && !thin) {
+      out.costs[std::size_t(m)] = out.costs[std::size_t(Method::Ref)];
+      continue;
+    }
+    // The cluster candidate in several shapes, the cheapest by the model standing for
+    // it: how many members a cluster takes and how full its leaves are decide between
+    // transforms, node visits and intersector calls, and which wins depends on the
+    // scene (a bundle of parallel strands wants a few large clusters, fur many small
+    // ones; docs/methods.md).
+    std::vector<ClusterOptions> shapes = {opt.cluster};
+    if (m == Method::Cluster) shapes = auto_cluster_shapes(opt.cluster);
+    PackedScene cand;
+    for (std::size_t k = 0; k < shapes.size(); ++k) {
+      AccelOptions one = opt;
+      one.cluster = shapes[k];
+      PackedScene c = build_planned(scene, m, one);
+      if (k == 0 || c.stats.model_cost < cand.stats.model_cost) cand = std::move(c);
+    }
+    out.costs[std::size_t(m)] = cand.stats.model_cost;
+    out.built.push_back(std::move(cand));
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+std::size_t model_choice(const AutoCandidates& c) {
+  // The lowest model cost, ties to the earlier (ref, masq, cluster, mix), compared
+  // without the triangles' share, which every candidate has alike. A candidate other
+  // than ref must be cheaper than ref by kAutoMargin: within that the model cannot tell
+  // them apart (docs/methods.md).
+  constexpr double kAutoMargin = 0.10;
+  std::size_t best = 0;
+  double best_key = 0;
+  for (std::size_t i = 0; i < c.built.size(); ++i) {
+    const PackedScene& p = c.built[i];
+    double key = p.stats.model_cost - p.stats.model_triangles;
+    if (p.method != Method::Ref) key /= 1.0 - kAutoMargin;
+    if (i == 0 || key < best_key) {
+      best = i;
+      best_key = key;
+    }
+  }
+  return best;
+}
+
+void mark_as_auto(PackedScene& kept, const AutoCandidates& c) {
+  kept.stats.auto_choice = kept.method;
+  kept.method = Method::Auto;
+  kept.stats.auto_candidates = c.costs;
+  kept.stats.build_seconds = c.seconds;
+}
+
+PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt) {
+  if (method != Method::Auto || opt.auto_select == AutoSelect::MixOnly) {
+    check_accel_input(scene, opt);
+    return build_planned(scene, method, opt);
+  }
+  // auto: build every candidate whole and keep the one the structure cost model prices
+  // lowest. The per-cluster mix alone misjudges sparse scenes, where what an instance
+  // does to the TLAS decides (docs/methods.md); the whole structures show it.
+  AutoCandidates c = build_auto_candidates(scene, opt);
+  PackedScene best = std::move(c.built[model_choice(c)]);
+  mark_as_auto(best, c);
+  return best;
+}
+
+} // namespace masq

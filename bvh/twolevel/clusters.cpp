@@ -1,0 +1,135 @@
+#include "bvh/twolevel/clusters.h"
+#include "bvh/bounds/obb.h"
+#include "masq/error.h"
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace masq {
+
+namespace {
+
+glm::dvec3 any_perpendicular(const glm::dvec3& w) {
+  glm::dvec3 helper = std::abs(w.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  return glm::normalize(glm::cross(w, helper));
+}
+
+glm::dmat3 frame_along(const glm::dvec3& w) {
+  glm::dvec3 u = any_perpendicular(w);
+  return glm::dmat3(w, u, glm::cross(w, u));
+}
+
+// Hull box in the frame whose axes are the columns of `axes` (about the object origin).
+Aabb box_in_frame(const BallHull& h, const glm::dmat3& axes) {
+  Aabb b;
+  for (int k = 0; k < 3; ++k) {
+    b.lo[k] = -h.support(-axes[k]);
+    b.hi[k] = h.support(axes[k]);
+  }
+  return b;
+}
+
+} // namespace
+
+std::vector<glm::dvec3> orientation_classes(int count) {
+  // A Fibonacci spiral over z in (0, 1]: equal areas of the hemisphere per point.
+  std::vector<glm::dvec3> dirs;
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < count; ++i) {
+    double z = 1.0 - (i + 0.5) / count;
+    double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    dirs.push_back({r * std::cos(golden * i), r * std::sin(golden * i), z});
+  }
+  return dirs;
+}
+
+glm::dvec3 primitive_axis(const Geometry& g, std::size_t prim) {
+  if (g.type == PrimType::Sphere || g.type == PrimType::Triangle) return glm::dvec3(0.0);
+  BallHull h = ball_hull(g, prim);
+  glm::dvec3 d = h.centre[h.count - 1] - h.centre[0];
+  if (h.count == 4 && glm::length(d) == 0.0) d = h.centre[2] - h.centre[1];
+  double l = glm::length(d);
+  return l > 0.0 && std::isfinite(l) ? d / l : glm::dvec3(0.0);
+}
+
+std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int32_t>& prims,
+                                   const ClusterOptions& opt) {
+  if (opt.max_size < 2 || opt.max_size > 256)
+    throw Error("cluster: max_size " + std::to_string(opt.max_size) + " outside 2..256");
+  if (opt.classes < 1 || opt.classes > 1024)
+    throw Error("cluster: classes " + std::to_string(opt.classes) + " outside 1..1024");
+  if (g.type == PrimType::Triangle || g.type == PrimType::Sphere)
+    throw Error(std::string("cluster: a ") + prim_type_name(g.type) + " geometry has no orientation to cluster by");
+  const std::vector<glm::dvec3> dirs = orientation_classes(opt.classes);
+  std::vector<std::vector<std::int32_t>> by_class(dirs.size());
+  std::vector<glm::dvec3> axis(g.primitive_count(), glm::dvec3(0.0));
+  for (std::int32_t p : prims) {
+    glm::dvec3 w = primitive_axis(g, std::size_t(p));
+    axis[std::size_t(p)] = w;
+    std::size_t best = 0;
+    double best_dot = -1.0;
+    for (std::size_t c = 0; c < dirs.size(); ++c) {
+      double d = std::abs(glm::dot(w, dirs[c])); // antipodal axes are the same orientation
+      if (d > best_dot) best_dot = d, best = c;
+    }
+    by_class[best].push_back(p);
+  }
+
+  std::vector<Cluster> out;
+  for (std::size_t c = 0; c < dirs.size(); ++c) {
+    if (by_class[c].empty()) continue;
+    glm::dmat3 class_axes = frame_along(dirs[c]);
+    // Top-down k-d split of the class at the centroids' widest extent (in the class's
+    // frame), at a multiple of max_size nearest the middle: every cluster but one per
+    // class is full, which keeps the per-cluster instance cost (64 B + a TLAS entry)
+    // spread over max_size members.
+    std::vector<glm::dvec3> centroid(g.primitive_count());
+    for (std::int32_t p : by_class[c]) centroid[std::size_t(p)] = box_in_frame(ball_hull(g, std::size_t(p)), class_axes).center();
+    std::vector<std::vector<std::int32_t>> parts{by_class[c]};
+    while (!parts.empty()) {
+      std::vector<std::int32_t> part = std::move(parts.back());
+      parts.pop_back();
+      if (int(part.size()) > opt.max_size) {
+        Aabb cb;
+        for (std::int32_t p : part) cb.grow(centroid[std::size_t(p)]);
+        glm::dvec3 ext = cb.hi - cb.lo;
+        int split_axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+        std::size_t k = std::size_t(opt.max_size);
+        std::size_t mid = std::max<std::size_t>(1, (part.size() / 2 + k / 2) / k) * k;
+        std::nth_element(part.begin(), part.begin() + std::ptrdiff_t(mid), part.end(), [&](std::int32_t a, std::int32_t b) {
+          return centroid[std::size_t(a)][split_axis] < centroid[std::size_t(b)][split_axis];
+        });
+        parts.emplace_back(part.begin(), part.begin() + std::ptrdiff_t(mid));
+        parts.emplace_back(part.begin() + std::ptrdiff_t(mid), part.end());
+        continue;
+      }
+      Cluster cl;
+      cl.members = std::move(part);
+      // Dominant axis: the members' axes summed with their signs aligned to the class.
+      glm::dvec3 sum(0.0);
+      for (std::int32_t p : cl.members) {
+        const glm::dvec3& w = axis[std::size_t(p)];
+        sum += glm::dot(w, dirs[c]) < 0.0 ? -w : w;
+      }
+      double l = glm::length(sum);
+      cl.axes = frame_along(l > 1e-12 ? sum / l : dirs[c]);
+      Aabb about_origin;
+      for (std::int32_t p : cl.members) about_origin.grow(box_in_frame(ball_hull(g, std::size_t(p)), cl.axes));
+      glm::dvec3 mid_pt = about_origin.center();
+      cl.centre = cl.axes * mid_pt;
+      cl.local_box.lo = about_origin.lo - mid_pt;
+      cl.local_box.hi = about_origin.hi - mid_pt;
+      out.push_back(std::move(cl));
+    }
+  }
+  return out;
+}
+
+Affine3 cluster_object_to_local(const Cluster& c) {
+  Affine3 a;
+  a.linear = glm::transpose(c.axes);
+  a.translation = -(a.linear * c.centre);
+  return a;
+}
+
+} // namespace masq

@@ -1,0 +1,49 @@
+// Oriented clusters of thin primitives (method cluster, docs/methods.md): primitives of
+// one geometry grouped by axis direction (antipodal directions are the same class) and
+// then by position, so that one instance per cluster, rotating the cluster's dominant
+// axis onto x, turns its members' local AABBs into tight world OBBs. Woop et al. 2014
+// group by orientation similarity the same way; the masquerade paper names it as
+// future work.
+#pragma once
+#include "bvh/bounds/aabb.h"
+#include "bvh/bounds/prim_bounds.h"
+#include "scenes/scene.h"
+#include <cstdint>
+#include <vector>
+
+namespace masq {
+
+struct ClusterOptions {
+  int max_size = 32;     // members per cluster (2..256); docs/methods.md shows the sweep
+  int classes = 32;      // orientation classes over the hemisphere of axis directions (1..1024)
+  // The cluster BLAS's SAH price of a node visit, in intersector calls (>= 1). Members
+  // are parallel and side by side, so at price 1 the SAH splits down to one member per
+  // leaf: the fewest intersector calls, at 2-2.5x the node bytes of ref's BLAS. 4 fills
+  // the leaves (cluster bytes <= ref's) at ~2 more calls per ray. docs/methods.md.
+  double leaf_price = 4.0;
+};
+
+struct Cluster {
+  std::vector<std::int32_t> members; // primitive ids of the geometry
+  glm::dmat3 axes{1.0};              // orthonormal columns; axes[0]: the dominant axis
+  glm::dvec3 centre{0.0};            // object-space centre of the members' local box
+  Aabb local_box;                    // members' hull box in the frame (axes, centre), exact in double
+};
+
+// The class directions: `count` points spread evenly over the upper hemisphere (z >= 0).
+std::vector<glm::dvec3> orientation_classes(int count);
+
+// The axis a primitive is oriented along (unit; chord for curves), or zero when it has
+// none (a sphere, or both ends at one point).
+glm::dvec3 primitive_axis(const Geometry& g, std::size_t prim);
+
+// Clusters of the primitives `prims` of a capsule, round-cone or curve geometry: each
+// orientation class split top-down (k-d, at multiples of max_size) until every part
+// has at most opt.max_size members. Primitives without an axis join class 0.
+std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int32_t>& prims,
+                                   const ClusterOptions& opt);
+
+// Object space -> the cluster's local frame (rotation and translation).
+Affine3 cluster_object_to_local(const Cluster& c);
+
+} // namespace masq
