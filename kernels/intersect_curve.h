@@ -39,7 +39,7 @@
 //    control polygon's length).
 // At most MASQ_CURVE_ITERS steps per phase and start; most rays stop after 2 to 5, so
 // the limit costs time only on hard rays. Measured against the long-double oracle
-// (tests/test_curve_intersector.cpp): at 12 no disagreement outside the fp32 band on
+// (tests/test_curve_intersector_*.cpp): at 12 no disagreement outside the fp32 band on
 // 57,600 random and silhouette rays (at 8: 8 of them, 1.4e-4); rays within ~0.03 rad
 // of a bent curve's tangent remain the weak spot (1.2e-3 flips, 0.7e-3 wrong
 // crossings at 12; the paper's loop: 3.9% and 2.2%).

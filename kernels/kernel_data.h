@@ -73,7 +73,7 @@ LAYOUT_NS_END
 
 #if defined(MASQ_LANG_OPENCL)
 // The OpenCL kernels take every scene array as a parameter, in table order, before their
-// own (the host sets them in the same order, host/opencl/cl_scene_args.h), and set up
+// own (the host sets them in the same order, host/opencl/cl_scene_buffers.h), and set up
 // `kd` from them with MASQ_CL_SET_KERNEL_DATA.
 #define MASQ_CL_PARAM(T, name, b, kernels, source) __global const T* name,
 #define MASQ_CL_SCENE_PARAMS MASQ_SCENE_ARRAYS(MASQ_CL_PARAM)
