@@ -1,4 +1,5 @@
 #include "host/kernel_variant.h"
+#include "kernels/layout.h"
 #include "masq/error.h"
 #include <string>
 
@@ -27,18 +28,6 @@ static_assert(units_of("node_format") == MASQ_NODE_FORMAT_COUNT,
               "kernels/variant_table.h: the cpu units of MASQ_NODE_FORMAT must cover every node format");
 
 } // namespace
-
-KernelVariant kernel_variant(const KernelFeatures& features, const TraceSwitches& trace) {
-  KernelVariant v;
-#define MASQ_FROM_FEATURES(member) features.member
-#define MASQ_FROM_TRACE(member) trace.member
-#define MASQ_VARIANT_SET(NAME, key, T, DEF, ID, units, source) v.key = switch_value(MASQ_FROM_##source);
-  MASQ_VARIANTS(MASQ_VARIANT_SET)
-#undef MASQ_VARIANT_SET
-#undef MASQ_FROM_TRACE
-#undef MASQ_FROM_FEATURES
-  return v;
-}
 
 std::array<std::int32_t, kVariantSwitchCount> switch_values(const KernelVariant& v) {
 #define MASQ_VARIANT_VALUE(NAME, key, T, DEF, ID, units, source) v.key,

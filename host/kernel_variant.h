@@ -1,9 +1,9 @@
 // The kernel variant of one dispatch on the host: one value per switch of
-// kernels/variant_table.h, made from the scene's KernelFeatures and the trace call. Each
-// backend hands these values to its kernels through its one mechanism: Vulkan
-// specialization constants, OpenCL -D options, the cpu's generated kernel units.
+// kernels/variant_table.h (made from the scene and the trace call by kernel_variant,
+// host/scene_variant.h). Each backend hands these values to its kernels through its one
+// mechanism: Vulkan specialization constants, OpenCL -D options, the cpu's generated
+// kernel units. A light header: every cpu kernel unit includes it.
 #pragma once
-#include "bvh/packed_scene.h"
 #include "kernels/variant_table.h"
 #include <array>
 #include <cstddef>
@@ -12,12 +12,6 @@
 
 namespace masq {
 
-// What a trace call adds to the scene's features (the TRACE(...) sources of the table).
-struct TraceSwitches {
-  bool stats = false;   // per-ray counters wanted
-  bool any_hit = false; // occlusion query: the first hit found ends the ray
-};
-
 // One value per switch, as the kernels read it (bool as 0 or 1), named by the row's key.
 struct KernelVariant {
 #define MASQ_VARIANT_FIELD(NAME, key, T, DEF, ID, units, source) std::int32_t key = DEF;
@@ -25,14 +19,6 @@ struct KernelVariant {
 #undef MASQ_VARIANT_FIELD
   bool operator==(const KernelVariant&) const = default;
 };
-
-// The kernel's value of a host option (the table's host source column).
-inline std::int32_t switch_value(bool b) { return b ? 1 : 0; }
-inline std::int32_t switch_value(int i) { return i; }
-inline std::int32_t switch_value(Mode m) { return m == Mode::Robust ? 1 : 0; }
-inline std::int32_t switch_value(NodeFormat f) { return node_format_id(f); }
-
-KernelVariant kernel_variant(const KernelFeatures& features, const TraceSwitches& trace);
 
 // A row of the table as the host sees it.
 struct VariantSwitch {

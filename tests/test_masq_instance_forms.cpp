@@ -33,7 +33,8 @@ constexpr double kRelT = 1e-6;
 Scene every_primitive_scene(std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   Scene s;
-  s.name = "every primitive " + std::to_string(seed);
+  s.name = "every primitive ";
+  s.name += std::to_string(seed); // not "..." + string: a GCC 12 -Warray-bounds false positive
   for (PrimType t : {PrimType::Triangle, PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve})
     s.geometries.push_back(t == PrimType::Triangle ? make_random_mesh(96, 1.0, seed + 7)
                                                    : make_random_geometry(t, 150, 0.004f, 0.05f, 1.0, seed + int(t)));

@@ -2,6 +2,7 @@
 #include "cpu/trace_units.h"
 #include "host/cpu/cpu_units.h"
 #include "host/scene_arrays.h"
+#include "host/scene_variant.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <atomic>

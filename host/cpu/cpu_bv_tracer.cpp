@@ -3,6 +3,7 @@
 #include "cpu/bv_units.h"
 #include "host/cpu/cpu_units.h"
 #include "host/scene_arrays.h"
+#include "host/scene_variant.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <atomic>

@@ -1,8 +1,8 @@
-// What a generated cpu kernel unit's entry needs besides its kernel: the unit
-// declarations and the setting of the switches the cpu reads at run time ("cpu units"
-// 0 in kernels/variant_table.h) from the dispatch's KernelVariant, once per call.
+// What a generated cpu kernel unit's entry needs besides its kernel: its signature and
+// the setting of the switches the cpu reads at run time ("cpu units" 0 in
+// kernels/variant_table.h) from the dispatch's KernelVariant, once per call.
 #pragma once
-#include "host/cpu/cpu_units.h"
+#include "host/cpu/cpu_unit_fn.h"
 
 #define MASQ_CPU_SET_SWITCH(NAME, key, T, DEF, ID, units, source) MASQ_CPU_SET_SWITCH_##units(NAME, key, T)
 #define MASQ_CPU_SET_SWITCH_0(NAME, key, T) ns::NAME = static_cast<T>(variant.key);

@@ -5,22 +5,13 @@
 // and one template per family: trace_unit.inc (the two-level kernel) and bv_unit.inc
 // (the binary hierarchies).
 #pragma once
-#include "host/kernel_variant.h"
-#include "kernels/kernel_data.h"
+#include "host/cpu/cpu_unit_fn.h"
 #include <array>
 #include <functional>
 #include <span>
 #include <string_view>
 
 namespace masq::cpu {
-
-// A unit's entry: traces rays [begin, end) of a batch with the switches the unit reads at
-// run time taken from v. root: the TLAS root (trace units) or the node count (bv units).
-using UnitFn = void (*)(const kernel::KernelData& kd, const KernelVariant& v, const kernel::Ray* rays,
-                        kernel::Hit* hits, kernel::RayStats* stats, int begin, int end, int root);
-#define MASQ_CPU_UNIT_DECLARE(name)                                                                   \
-  void name(const kernel::KernelData& kd, const KernelVariant& v, const kernel::Ray* rays, kernel::Hit* hits, \
-            kernel::RayStats* stats, int begin, int end, int root);
 
 // One compiled switch value of a unit (key: the table's, or an extra axis such as bv_type).
 struct UnitAxis {

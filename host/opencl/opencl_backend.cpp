@@ -1,9 +1,9 @@
 #include "host/opencl/opencl_backend.h"
 
-#include "host/kernel_variant.h"
 #include "host/opencl/cl_runtime.h"
 #include "host/opencl/cl_scene_buffers.h"
 #include "host/opencl/kernel_sources.h"
+#include "host/scene_variant.h"
 #include "masq/error.h"
 
 #include <algorithm>

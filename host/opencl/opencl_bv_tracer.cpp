@@ -5,6 +5,7 @@
 #include "host/opencl/cl_runtime.h"
 #include "host/opencl/cl_scene_buffers.h"
 #include "host/opencl/kernel_sources.h"
+#include "host/scene_variant.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <chrono>

@@ -32,6 +32,7 @@
 #include "host/vulkan/vulkan_backends.h"
 #include "kernels/kernel_data.h"
 #include "host/limit_knob.h"
+#include "host/scene_variant.h"
 #include "spirv/rayquery_comp_addr_spv.h"
 #include "spirv/rayquery_comp_spv.h"
 #include <fmt/format.h>

@@ -4,6 +4,7 @@
 // the rows of kernels/scene_array_table.h the bv kernels read.
 #include "host/bv_tracer.h"
 #include "host/vulkan/trace_dispatch.h"
+#include "host/scene_variant.h"
 #include "kernels/kernel_data.h"
 #include "masq/error.h"
 #include "spirv/trace_bv_modules.h"

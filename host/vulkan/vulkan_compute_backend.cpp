@@ -6,6 +6,7 @@
 // an array over one storage binding are refused.
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vulkan_backends.h"
+#include "host/scene_variant.h"
 #include "kernels/kernel_data.h"
 #include "spirv/trace_comp_addr_spv.h"
 #include "spirv/trace_comp_spv.h"

@@ -1,0 +1,25 @@
+// How a scene and a trace call choose their kernel variant: the host sources of
+// kernels/variant_table.h (FEATURES(...): the scene's KernelFeatures; TRACE(...): the
+// call's TraceSwitches), each converted to the kernel's value by switch_value().
+#pragma once
+#include "bvh/packed_scene.h"
+#include "host/kernel_variant.h"
+#include <cstdint>
+
+namespace masq {
+
+// What a trace call adds to the scene's features.
+struct TraceSwitches {
+  bool stats = false;   // per-ray counters wanted
+  bool any_hit = false; // occlusion query: the first hit found ends the ray
+};
+
+// The kernel's value of a host option.
+inline std::int32_t switch_value(bool b) { return b ? 1 : 0; }
+inline std::int32_t switch_value(int i) { return i; }
+inline std::int32_t switch_value(Mode m) { return m == Mode::Robust ? 1 : 0; }
+inline std::int32_t switch_value(NodeFormat f) { return node_format_id(f); }
+
+KernelVariant kernel_variant(const KernelFeatures& features, const TraceSwitches& trace);
+
+} // namespace masq
