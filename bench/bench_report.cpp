@@ -117,11 +117,19 @@ Table bench_node_ratios(const std::vector<BenchRow>& rows) {
 
 Table bench_table(const std::vector<BenchRow>& rows) {
   Table t;
-  t.header = {"backend", "method", "nodes", "rays",   "Mrays/s", "(min-max)", "tlas/r", "blas/r",   "xf/r",
-              "isect/r", "hit%",   "accel MiB", "B/prim", "dev MiB", "build ms", "compile ms"};
+  t.header = {"backend", "method",  "nodes",   "rays",      "Mrays/s", "(min-max)", "dev ms",   "wall ms",
+              "up/back ms", "tlas/r", "blas/r", "xf/r", "isect/r", "hit%", "accel MiB", "B/prim", "dev MiB", "build ms",
+              "compile ms"};
   t.left_columns = 4;
   std::vector<std::string> why; // one note per distinct reason, so the columns stay narrow
+  std::vector<std::string> unfilled; // one note per device and ray count too small to fill it
   for (const BenchRow& r : rows) {
+    if (r.unavailable.empty() && r.fill_rays > 0 && r.rays < double(r.fill_rays)) {
+      std::string note = fmt::format("too small to fill the device: {} on {} traces {:.0f} rays at a time; it needs "
+                                     "about {} to keep every lane busy (host/device_fill.h); raise --width/--height",
+                                     r.backend, r.device, r.rays, r.fill_rays);
+      if (std::find(unfilled.begin(), unfilled.end(), note) == unfilled.end()) unfilled.push_back(note);
+    }
     if (!r.unavailable.empty()) {
       auto it = std::find(why.begin(), why.end(), r.unavailable);
       std::size_t k = std::size_t(it - why.begin()) + 1;
@@ -131,19 +139,26 @@ Table bench_table(const std::vector<BenchRow>& rows) {
       continue;
     }
     t.add({r.backend, method_label(r), node_format_name(r.nodes), rays_label(r), fmt::format("{:.3f}", r.mrays_per_s()),
-           fmt::format("({:.3f}-{:.3f})", r.rays / r.max_s * 1e-6, r.rays / r.min_s * 1e-6), per_ray(r.tlas_nodes),
+           fmt::format("({:.3f}-{:.3f})", r.rays / r.max_s * 1e-6, r.rays / r.min_s * 1e-6),
+           fmt::format("{:.2f}", r.median_s * 1e3), fmt::format("{:.2f}", r.wall_s * 1e3),
+           fmt::format("{:.2f}/{:.2f}", r.upload_s * 1e3, r.readback_s * 1e3), per_ray(r.tlas_nodes),
            per_ray(r.blas_nodes), per_ray(r.transforms), per_ray(r.isect_calls), fmt::format("{:.1f}", 100.0 * r.hit_fraction),
            fmt::format("{:.3f}", r.accel_bytes / 1048576.0),
            fmt::format("{:.1f}", double(r.accel_bytes) / double(std::max<std::size_t>(1, r.primitives))),
            fmt::format("{:.3f}", r.device_bytes / 1048576.0), fmt::format("{:.1f}", (r.build_s + r.scene_s) * 1e3),
            fmt::format("{:.1f}", r.compile_s * 1e3)});
   }
-  t.notes = {"per ray: tlas/blas = wide-node visits, xf = instance transforms, isect = intersector calls (rayquery: the "
+  t.notes = {"Mrays/s and dev ms: device time of one trace (median; Vulkan timestamps, OpenCL events, cpu wall); wall "
+             "ms: the same trace on the host clock (uploads, dispatches, waits, readbacks); up/back ms: its ray upload "
+             "and hit/counter readback (cpu: 0, it traces in place)",
+             "per ray: tlas/blas = wide-node visits, xf = instance transforms, isect = intersector calls (rayquery: the "
              "driver's traversal is not observable, n/a); hit% for shadow rays is the occluded fraction",
              "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, compact masquerade entries and "
              "their owners, frames); dev MiB: what the backend "
-             "holds on the device (rayquery: the driver's acceleration structures plus primitives); build ms: host "
-             "build + upload/driver build; compile ms: kernel/pipeline compile on first use of the variant (0: cached)"};
+             "holds on the device (rayquery: the driver's acceleration structures, compacted, plus primitives); build "
+             "ms: host build + upload/driver build; compile ms: kernel/pipeline compile on first use of the variant (0: "
+             "cached)"};
+  for (const std::string& n : unfilled) t.notes.push_back(n);
   for (std::size_t k = 0; k < why.size(); ++k) t.notes.push_back(fmt::format("[{}] {}", k + 1, why[k]));
   return t;
 }
@@ -201,6 +216,10 @@ nlohmann::json bench_row_json(const BenchRow& r) {
   }
   e["ray_count"] = r.rays;
   e["trace_seconds"] = {{"median", r.median_s}, {"min", r.min_s}, {"max", r.max_s}};
+  e["wall_seconds"] = r.wall_s; // medians over the timed traces, like trace_seconds.median
+  e["upload_seconds"] = r.upload_s;
+  e["readback_seconds"] = r.readback_s;
+  e["fill_rays"] = r.fill_rays; // 0: the device does not say
   e["mrays_per_s"] = r.mrays_per_s();
   e["per_ray"] = {{"tlas_nodes", r.tlas_nodes}, {"blas_nodes", r.blas_nodes}, {"transforms", r.transforms},
                   {"isect_calls", r.isect_calls}};

@@ -171,6 +171,7 @@ void prepare_lane(Lane& lane, BenchRow& row, const RayBatch& batch, std::size_t 
     lane.uploaded = &ps;
   }
   row.device = lane.be->device_name();
+  row.fill_rays = lane.be->fill_rays();
   row.scene_s = lane.be->timing().scene_seconds;
   std::vector<kernel::Hit> hits(batch.rays.size());
   std::vector<kernel::RayStats> stats(batch.rays.size());
@@ -185,7 +186,7 @@ void prepare_lane(Lane& lane, BenchRow& row, const RayBatch& batch, std::size_t 
 
 // Warm-up and timed traces of the counter-free variants, the lanes taking turns.
 void time_lanes(std::vector<Lane>& lanes, std::vector<BenchRow>& rows, const RayBatch& batch, const BenchOptions& opt) {
-  std::vector<std::vector<double>> times(lanes.size());
+  std::vector<std::vector<TraceTiming>> times(lanes.size());
   std::vector<kernel::Hit> hits(batch.rays.size());
   const int rounds = opt.warmup + opt.repetitions;
   for (int round = 0; round < rounds; ++round) {
@@ -197,7 +198,7 @@ void time_lanes(std::vector<Lane>& lanes, std::vector<BenchRow>& rows, const Ray
       try {
         lanes[i].be->trace(batch.rays, hits, {}, row.query);
         if (round == 0) row.compile_s = lanes[i].be->timing().compile_seconds;
-        if (round >= opt.warmup) times[i].push_back(lanes[i].be->timing().trace_seconds);
+        if (round >= opt.warmup) times[i].push_back(lanes[i].be->timing());
       } catch (const std::exception& e) {
         row.unavailable = e.what();
       }
@@ -206,10 +207,19 @@ void time_lanes(std::vector<Lane>& lanes, std::vector<BenchRow>& rows, const Ray
   for (std::size_t i = 0; i < lanes.size(); ++i) {
     BenchRow& row = rows[i];
     if (!row.unavailable.empty() || times[i].empty()) continue;
-    std::sort(times[i].begin(), times[i].end());
-    row.median_s = times[i][times[i].size() / 2];
-    row.min_s = times[i].front();
-    row.max_s = times[i].back();
+    auto sorted = [&](double TraceTiming::*field) {
+      std::vector<double> v;
+      for (const TraceTiming& t : times[i]) v.push_back(t.*field);
+      std::sort(v.begin(), v.end());
+      return v;
+    };
+    const std::vector<double> device = sorted(&TraceTiming::trace_seconds);
+    row.median_s = device[device.size() / 2];
+    row.min_s = device.front();
+    row.max_s = device.back();
+    row.wall_s = sorted(&TraceTiming::wall_seconds)[device.size() / 2];
+    row.upload_s = sorted(&TraceTiming::upload_seconds)[device.size() / 2];
+    row.readback_s = sorted(&TraceTiming::readback_seconds)[device.size() / 2];
     row.device_bytes = lanes[i].be->device_bytes();
   }
 }

@@ -68,7 +68,11 @@ struct BenchRow {
   Query query = Query::Closest;
   std::string unavailable; // non-empty: the backend could not run (why)
   double rays = 0;
-  double median_s = 0, min_s = 0, max_s = 0;
+  double median_s = 0, min_s = 0, max_s = 0; // device time of the timed traces
+  // Medians over the timed traces of the host-clock times (host/backend.h TraceTiming):
+  // the whole trace, and the parts writing rays and reading results back.
+  double wall_s = 0, upload_s = 0, readback_s = 0;
+  std::size_t fill_rays = 0; // rays that fill the row's device (Backend::fill_rays; 0: unknown)
   double build_s = 0, scene_s = 0, compile_s = 0;
   // Per ray, from the stats variant (rayquery: node tests and transforms are not observable: -1).
   double tlas_nodes = 0, blas_nodes = 0, transforms = 0, isect_calls = 0;

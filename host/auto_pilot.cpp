@@ -43,7 +43,8 @@ PilotResult run_pilot(std::span<Backend* const> slots, const AutoCandidates& can
     throw Error("auto pilot: ref_margin " + std::to_string(opt.ref_margin) + " outside [0, 1)");
   auto t0 = std::chrono::steady_clock::now();
   PilotResult res;
-  std::vector<kernel::Ray> sample = pilot_sample(rays, opt.max_rays);
+  // A sample too small to fill the device would time launch overhead, not the candidates.
+  std::vector<kernel::Ray> sample = pilot_sample(rays, std::max(opt.max_rays, slots[0]->fill_rays()));
   res.rays = sample.size();
   res.seconds.assign(n, 0.0);
   std::vector<kernel::Hit> hits(sample.size());

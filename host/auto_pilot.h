@@ -14,7 +14,9 @@
 namespace masq {
 
 struct PilotOptions {
-  std::size_t max_rays = 32768; // pilot sample (pilot_sample); all rays when there are fewer
+  // Pilot sample (pilot_sample); all rays when there are fewer. Raised to the backend's
+  // fill_rays where its device needs more to be busy (a large GPU; host/device_fill.h).
+  std::size_t max_rays = 32768;
   int rounds = 5;               // timed traces per candidate after one warm-up; the fastest counts
   // A candidate replaces ref only when its pilot is faster by more than this fraction:
   // ref is the smallest structure, and within timing noise the pilot cannot tell the

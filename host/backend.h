@@ -28,6 +28,14 @@ struct TraceTiming {
   double scene_seconds = 0;   // upload + driver acceleration-structure build
   double compile_seconds = 0; // kernel/pipeline compile of the variant used (first use)
   double trace_seconds = 0;   // last trace: device time (Vulkan timestamps, OpenCL events) or wall (cpu)
+  // The last trace on the host clock, the kernel variant ready: from the call to its hits
+  // and counters in host memory (every chunk's upload, dispatch, wait and readback), and
+  // the parts of it spent writing rays to the device and reading results back (Vulkan:
+  // host time of the copies; OpenCL: the transfer commands' device time; cpu: 0, it
+  // traces in place). wall - trace - upload - readback is submission and waiting.
+  double wall_seconds = 0;
+  double upload_seconds = 0;
+  double readback_seconds = 0;
 };
 
 class Backend {
@@ -47,6 +55,9 @@ class Backend {
   virtual TraceTiming timing() const = 0;
   // Bytes the backend holds on the device for the current scene (acceleration + primitives).
   virtual std::size_t device_bytes() const = 0;
+  // Rays one trace needs to keep every lane of the device busy (host/device_fill.h: a
+  // few waves of the threads it runs at once); 0 when the device does not say.
+  virtual std::size_t fill_rays() const { return 0; }
 };
 
 class BvTracer; // host/bv_tracer.h

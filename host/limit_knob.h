@@ -8,6 +8,10 @@
 //   MASQ_RQ_MAX_INSTANCES         rayquery: maxInstanceCount (instances per TLAS)
 //   MASQ_RQ_MAX_PRIMITIVES        rayquery: maxPrimitiveCount (primitives per BLAS)
 //   MASQ_CL_MAX_ALLOC_BYTES       opencl: CL_DEVICE_MAX_MEM_ALLOC_SIZE
+//   MASQ_VK_MAX_ALLOCATIONS       vulkan, rayquery: maxMemoryAllocationCount (live
+//                                 allocations per device, counted by vk::Buffer)
+//   MASQ_MAX_RAYS_PER_DISPATCH    vulkan, rayquery, opencl (and their bv tracers): rays in
+//                                 one dispatch, kMaxRaysPerDispatch by default (below)
 #pragma once
 #include "masq/error.h"
 #include <algorithm>
@@ -32,6 +36,20 @@ inline std::uint64_t lowered_limit(const char* backend, std::uint64_t device, co
   if (*end != '\0' || errno != 0 || n == 0 || *v == '-' || *v == '+' || *v == ' ')
     throw Error(std::string(backend) + ": " + env + "='" + v + "' is not a positive integer");
   return std::min<std::uint64_t>(limit, n);
+}
+
+// Rays in one dispatch unless MASQ_MAX_RAYS_PER_DISPATCH lowers it. A display GPU's
+// driver resets a kernel that runs past about 2 s (Windows TDR, Linux/macOS watchdogs).
+// masq's slowest traces, the counter variants on dense hair, run near 1 Mrays/s on the
+// two llvmpipe cores here and at 10-100x that on a GPU; 2^20 rays is then well under
+// a tenth of a second per dispatch on a GPU (about 1 s on this machine's CPU drivers,
+// which have no watchdog), while one dispatch still holds far more rays than any GPU
+// runs at once (an H100: 132 SMs x 2048 threads = 270K), so chunking costs only a
+// submit per 2^20 rays.
+inline constexpr std::uint64_t kMaxRaysPerDispatch = std::uint64_t{1} << 20;
+
+inline std::uint64_t max_rays_per_dispatch(const char* backend) {
+  return lowered_limit(backend, kMaxRaysPerDispatch, "MASQ_MAX_RAYS_PER_DISPATCH");
 }
 
 } // namespace masq

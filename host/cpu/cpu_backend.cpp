@@ -1,6 +1,7 @@
 #include "host/cpu/cpu_backend.h"
 #include "cpu/trace_units.h"
 #include "host/cpu/cpu_units.h"
+#include "host/device_fill.h"
 #include "host/scene_arrays.h"
 #include "host/scene_variant.h"
 #include "masq/error.h"
@@ -61,10 +62,13 @@ class CpuBackend final : public Backend {
     worker();
     for (std::thread& t : pool) t.join();
     timing_.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    timing_.wall_seconds = timing_.trace_seconds; // traced in place: no upload or readback
   }
 
   TraceTiming timing() const override { return timing_; }
   std::size_t device_bytes() const override { return scene_.acceleration_bytes() + scene_.primitive_bytes(); }
+  // Each thread takes 256 rays at a time (trace above).
+  std::size_t fill_rays() const override { return fill_rays_for(std::size_t(threads_) * 256); }
 
  private:
   int threads_ = thread_count();

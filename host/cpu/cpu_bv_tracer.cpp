@@ -64,6 +64,7 @@ class CpuBvTracer final : public BvTracer {
     worker();
     for (std::thread& t : pool) t.join();
     timing_.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    timing_.wall_seconds = timing_.trace_seconds; // traced in place: no upload or readback
   }
 
   TraceTiming timing() const override { return timing_; }

@@ -63,6 +63,29 @@ void check(cl_int code, std::string_view what) {
     throw Error("opencl: " + std::string(what) + " failed (" + cl_error_name(code) + ")");
 }
 
+std::size_t resident_threads(const Runtime& rt) {
+  cl_device_type type = 0;
+  cl_uint units = 0;
+  std::size_t group = 0;
+  if (rt.device.getInfo(CL_DEVICE_TYPE, &type) != CL_SUCCESS ||
+      rt.device.getInfo(CL_DEVICE_MAX_COMPUTE_UNITS, &units) != CL_SUCCESS ||
+      rt.device.getInfo(CL_DEVICE_MAX_WORK_GROUP_SIZE, &group) != CL_SUCCESS)
+    return 0; // the device does not say
+  if (type & CL_DEVICE_TYPE_CPU) return std::size_t(units) * 8;
+  return std::size_t(units) * group;
+}
+
+double event_seconds(const std::vector<cl::Event>& events) {
+  cl_ulong total_ns = 0;
+  for (const cl::Event& ev : events) {
+    cl_ulong t0 = 0, t1 = 0;
+    check(ev.getProfilingInfo(CL_PROFILING_COMMAND_START, &t0), "clGetEventProfilingInfo(start)");
+    check(ev.getProfilingInfo(CL_PROFILING_COMMAND_END, &t1), "clGetEventProfilingInfo(end)");
+    total_ns += t1 - t0;
+  }
+  return static_cast<double>(total_ns) * 1e-9;
+}
+
 namespace {
 
 std::string trim(std::string s) {

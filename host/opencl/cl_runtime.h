@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace masq::opencl {
 
@@ -39,6 +40,17 @@ struct Runtime {
 // The first GPU of any platform, else the first device of any type. Throws
 // BackendUnavailable (one line, naming the failing call) when there is none.
 Runtime open_runtime();
+
+// The work-items the runtime's device keeps in flight, for Backend::fill_rays
+// (host/device_fill.h). OpenCL reports compute units but not the threads resident on
+// one: a GPU or accelerator counts CL_DEVICE_MAX_WORK_GROUP_SIZE per unit (a lower
+// bound: an NVIDIA SM keeps 2048, an AMD CU up to 2560), a CPU 8 per unit (one AVX
+// vector of work-items per hardware thread, as PoCL vectorises them).
+std::size_t resident_threads(const Runtime& rt);
+
+// The device time of finished commands of a queue with profiling: the sum of each
+// event's end - start. Throws masq::Error naming the failing call.
+double event_seconds(const std::vector<cl::Event>& events);
 
 struct BuiltProgram {
   cl::Program program;

@@ -3,6 +3,7 @@
 #include "host/opencl/cl_runtime.h"
 #include "host/opencl/cl_scene_buffers.h"
 #include "host/opencl/kernel_sources.h"
+#include "host/device_fill.h"
 #include "host/scene_variant.h"
 #include "masq/error.h"
 
@@ -45,6 +46,7 @@ class OpenClBackend final : public Backend {
   std::string name() const override { return "opencl"; }
   std::string device_name() const override { return rt_.description; }
   TraceTiming timing() const override { return timing_; }
+  std::size_t fill_rays() const override { return fill_rays_for(opencl::resident_threads(rt_)); }
   std::size_t device_bytes() const override { return scene_ ? scene_->arrays.bytes : 0; }
 
   void set_scene(const PackedScene& scene) override {
@@ -71,15 +73,17 @@ class OpenClBackend final : public Backend {
     if (want_stats && stats.size() != rays.size())
       throw Error("opencl: " + std::to_string(rays.size()) + " rays but " + std::to_string(stats.size()) + " stats");
     Variant& v = variant(want_stats, query == Query::Any);
+    const auto start = std::chrono::steady_clock::now();
     timing_.compile_seconds = v.compile_seconds;
-    timing_.trace_seconds = 0;
+    timing_.trace_seconds = timing_.wall_seconds = timing_.upload_seconds = timing_.readback_seconds = 0;
     const std::size_t n = rays.size();
     if (n == 0) return;
 
     // All rays of a window live in one buffer; chunks of it are dispatched with
     // ray_offset. The window is as large as the device's largest allocation allows.
     // Both are bounded by kMaxWindowRays so ray_count and ray_offset fit the kernel's int.
-    const std::size_t chunk = std::min({n, chunk_rays_, kMaxWindowRays});
+    const std::size_t chunk = std::min<std::size_t>(
+        {n, chunk_rays_, kMaxWindowRays, static_cast<std::size_t>(max_rays_per_dispatch("opencl"))});
     std::size_t window = std::min({n, rt_.max_alloc_bytes() / sizeof(kernel::Ray), kMaxWindowRays});
     if (window > chunk) window -= window % chunk;
     window = std::max(window, chunk);
@@ -95,10 +99,11 @@ class OpenClBackend final : public Backend {
     check(k.setArg(arg++, stat_buf_), "clSetKernelArg(stats)");
     const cl_uint params_arg = arg; // kernel::TraceParams, set per chunk
 
-    std::vector<cl::Event> events;
+    std::vector<cl::Event> events, uploads, readbacks;
     for (std::size_t w0 = 0; w0 < n; w0 += window) {
       const std::size_t wn = std::min(window, n - w0);
-      check(rt_.queue.enqueueWriteBuffer(ray_buf_, CL_FALSE, 0, wn * sizeof(kernel::Ray), rays.data() + w0),
+      check(rt_.queue.enqueueWriteBuffer(ray_buf_, CL_FALSE, 0, wn * sizeof(kernel::Ray), rays.data() + w0, nullptr,
+                                         &uploads.emplace_back()),
             "clEnqueueWriteBuffer(rays)");
       for (std::size_t c0 = 0; c0 < wn; c0 += chunk) {
         const std::size_t cn = std::min(chunk, wn - c0);
@@ -110,24 +115,21 @@ class OpenClBackend final : public Backend {
               "clEnqueueNDRangeKernel(trace)");
         events.push_back(ev);
         // In-order queue: each read completes before the next chunk overwrites the buffer.
-        check(rt_.queue.enqueueReadBuffer(hit_buf_, CL_FALSE, 0, cn * sizeof(kernel::Hit), hits.data() + w0 + c0),
+        check(rt_.queue.enqueueReadBuffer(hit_buf_, CL_FALSE, 0, cn * sizeof(kernel::Hit), hits.data() + w0 + c0,
+                                          nullptr, &readbacks.emplace_back()),
               "clEnqueueReadBuffer(hits)");
         if (want_stats)
           check(rt_.queue.enqueueReadBuffer(stat_buf_, CL_FALSE, 0, cn * sizeof(kernel::RayStats),
-                                            stats.data() + w0 + c0),
+                                            stats.data() + w0 + c0, nullptr, &readbacks.emplace_back()),
                 "clEnqueueReadBuffer(stats)");
       }
       // The next window's upload must not overwrite rays still being traced.
       check(rt_.queue.finish(), "clFinish(trace)");
     }
-    cl_ulong total_ns = 0;
-    for (const cl::Event& ev : events) {
-      cl_ulong t0 = 0, t1 = 0;
-      check(ev.getProfilingInfo(CL_PROFILING_COMMAND_START, &t0), "clGetEventProfilingInfo(start)");
-      check(ev.getProfilingInfo(CL_PROFILING_COMMAND_END, &t1), "clGetEventProfilingInfo(end)");
-      total_ns += t1 - t0;
-    }
-    timing_.trace_seconds = static_cast<double>(total_ns) * 1e-9;
+    timing_.trace_seconds = opencl::event_seconds(events);
+    timing_.upload_seconds = opencl::event_seconds(uploads);
+    timing_.readback_seconds = opencl::event_seconds(readbacks);
+    timing_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
  private:

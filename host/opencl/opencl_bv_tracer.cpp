@@ -1,6 +1,7 @@
 // opencl bv tracer: kernels/trace_bv.cl built per (node type, counters, primitive
-// types) with -D switches, one dispatch per trace (rays are bounded by the device's
-// largest allocation, checked below).
+// types) with -D switches. All rays of a trace go up in one buffer (bounded by the
+// device's largest allocation, checked below) and are dispatched in chunks of at most
+// max_rays_per_dispatch (host/limit_knob.h: the watchdog bound) with ray_offset.
 #include "host/bv_tracer.h"
 #include "host/opencl/cl_runtime.h"
 #include "host/opencl/cl_scene_buffers.h"
@@ -45,34 +46,46 @@ class OpenClBvTracer final : public BvTracer {
       throw Error("opencl bv: hits/stats spans must have one entry per ray");
     if (rays.size() > std::size_t(INT32_MAX)) throw Error("opencl bv: more than 2^31-1 rays in one batch");
     cl::Kernel& k = kernel(want_stats);
-    timing_.trace_seconds = 0;
+    const auto start = std::chrono::steady_clock::now();
+    timing_.trace_seconds = timing_.wall_seconds = timing_.upload_seconds = timing_.readback_seconds = 0;
     const std::size_t n = rays.size();
     if (n == 0) return;
+    const std::size_t chunk = std::min<std::size_t>(n, max_rays_per_dispatch("opencl"));
     cl::Buffer ray_buf = scratch("rays", n * sizeof(kernel::Ray), CL_MEM_READ_ONLY);
-    cl::Buffer hit_buf = scratch("hits", n * sizeof(kernel::Hit), CL_MEM_WRITE_ONLY);
-    cl::Buffer stat_buf = scratch("stats", want_stats ? n * sizeof(kernel::RayStats) : kDummyBytes, CL_MEM_WRITE_ONLY);
-    check(rt_.queue.enqueueWriteBuffer(ray_buf, CL_FALSE, 0, n * sizeof(kernel::Ray), rays.data()),
+    cl::Buffer hit_buf = scratch("hits", chunk * sizeof(kernel::Hit), CL_MEM_WRITE_ONLY);
+    cl::Buffer stat_buf =
+        scratch("stats", want_stats ? chunk * sizeof(kernel::RayStats) : kDummyBytes, CL_MEM_WRITE_ONLY);
+    std::vector<cl::Event> dispatches, uploads, readbacks;
+    check(rt_.queue.enqueueWriteBuffer(ray_buf, CL_FALSE, 0, n * sizeof(kernel::Ray), rays.data(), nullptr,
+                                       &uploads.emplace_back()),
           "clEnqueueWriteBuffer(rays)");
     cl_uint arg = opencl::set_scene_args(k, buffers_);
     check(k.setArg(arg++, ray_buf), "clSetKernelArg(rays)");
     check(k.setArg(arg++, hit_buf), "clSetKernelArg(hits)");
     check(k.setArg(arg++, stat_buf), "clSetKernelArg(stats)");
-    const kernel::TraceParams params{int(n), node_count_, 0, 0}; // tlas_root: the node count
-    check(k.setArg(arg++, params), "clSetKernelArg(params)");
-    const std::size_t global = (n + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
-    cl::Event ev;
-    check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr, &ev),
-          "clEnqueueNDRangeKernel(trace_bv)");
-    check(rt_.queue.enqueueReadBuffer(hit_buf, CL_FALSE, 0, n * sizeof(kernel::Hit), hits.data()),
-          "clEnqueueReadBuffer(hits)");
-    if (want_stats)
-      check(rt_.queue.enqueueReadBuffer(stat_buf, CL_FALSE, 0, n * sizeof(kernel::RayStats), stats.data()),
-            "clEnqueueReadBuffer(stats)");
+    const cl_uint params_arg = arg;
+    for (std::size_t c0 = 0; c0 < n; c0 += chunk) {
+      const std::size_t cn = std::min(chunk, n - c0);
+      const kernel::TraceParams params{int(cn), node_count_, int(c0), 0}; // tlas_root: the node count
+      check(k.setArg(params_arg, params), "clSetKernelArg(params)");
+      const std::size_t global = (cn + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
+      check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr,
+                                           &dispatches.emplace_back()),
+            "clEnqueueNDRangeKernel(trace_bv)");
+      // In-order queue: each read completes before the next chunk overwrites the buffer.
+      check(rt_.queue.enqueueReadBuffer(hit_buf, CL_FALSE, 0, cn * sizeof(kernel::Hit), hits.data() + c0, nullptr,
+                                        &readbacks.emplace_back()),
+            "clEnqueueReadBuffer(hits)");
+      if (want_stats)
+        check(rt_.queue.enqueueReadBuffer(stat_buf, CL_FALSE, 0, cn * sizeof(kernel::RayStats), stats.data() + c0,
+                                          nullptr, &readbacks.emplace_back()),
+              "clEnqueueReadBuffer(stats)");
+    }
     check(rt_.queue.finish(), "clFinish(trace_bv)");
-    cl_ulong t0 = 0, t1 = 0;
-    check(ev.getProfilingInfo(CL_PROFILING_COMMAND_START, &t0), "clGetEventProfilingInfo(start)");
-    check(ev.getProfilingInfo(CL_PROFILING_COMMAND_END, &t1), "clGetEventProfilingInfo(end)");
-    timing_.trace_seconds = double(t1 - t0) * 1e-9;
+    timing_.trace_seconds = opencl::event_seconds(dispatches);
+    timing_.upload_seconds = opencl::event_seconds(uploads);
+    timing_.readback_seconds = opencl::event_seconds(readbacks);
+    timing_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
  private:

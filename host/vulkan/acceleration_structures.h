@@ -1,12 +1,19 @@
 // The driver's own acceleration structures (VK_KHR_acceleration_structure): bottom
-// levels of opaque triangles or procedural AABBs, and a top level over instances. Each
-// build runs on the device and is waited for; inputs may be freed afterwards.
+// levels of opaque triangles or procedural AABBs, and a top level over instances.
+// build_accels builds many per command buffer and compacts them (host/vulkan/
+// accel_batch.cpp); inputs may be freed afterwards.
 #pragma once
 #include "host/vulkan/vk_buffer.h"
+#include <cstddef>
+#include <functional>
+#include <memory>
 #include <span>
+#include <vector>
 
 namespace masq::vk {
 
+// A built, compacted structure in a slice of a storage block it shares with the other
+// structures of its build_accels call; the block lives while any of them does.
 class AccelStructure {
  public:
   AccelStructure() = default;
@@ -18,25 +25,50 @@ class AccelStructure {
 
   VkAccelerationStructureKHR handle() const { return handle_; }
   VkDeviceAddress address() const { return address_; }
-  std::size_t bytes() const { return static_cast<std::size_t>(storage_.size()); }
+  std::size_t bytes() const { return bytes_; } // its compacted size on the device
 
  private:
-  friend AccelStructure build_accel(Context&, VkAccelerationStructureTypeKHR,
-                                    const VkAccelerationStructureGeometryKHR&, std::uint32_t);
+  friend class AccelBatch;
   void release() noexcept;
   Context* ctx_ = nullptr;
-  Buffer storage_;
+  std::shared_ptr<Buffer> block_;
   VkAccelerationStructureKHR handle_ = VK_NULL_HANDLE;
   VkDeviceAddress address_ = 0;
+  std::size_t bytes_ = 0;
 };
 
-// One geometry, `count` primitives (triangles or AABBs) or instances.
-AccelStructure build_accel(Context& ctx, VkAccelerationStructureTypeKHR type,
-                           const VkAccelerationStructureGeometryKHR& geometry, std::uint32_t count);
-
+// What the driver builds one structure from: one geometry of `count` primitives (or
+// instances), its data as the driver reads it.
+struct AccelInput {
+  VkAccelerationStructureTypeKHR type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+  VkGeometryTypeKHR geometry = VK_GEOMETRY_TYPE_AABBS_KHR;
+  std::vector<std::byte> data;
+  std::uint32_t count = 0;
+};
 // Non-indexed triangles: 9 floats (3 vertices) per triangle, in submission order.
-AccelStructure build_triangle_blas(Context& ctx, std::span<const float> vertices);
-AccelStructure build_aabb_blas(Context& ctx, std::span<const VkAabbPositionsKHR> boxes);
-AccelStructure build_tlas(Context& ctx, std::span<const VkAccelerationStructureInstanceKHR> instances);
+AccelInput triangle_input(std::span<const float> vertices);
+AccelInput aabb_input(std::span<const VkAabbPositionsKHR> boxes);
+AccelInput instance_input(std::span<const VkAccelerationStructureInstanceKHR> instances);
+
+// How large a batch of builds may grow: bytes of its one scratch buffer, of its one
+// buffer of uncompacted structures and of its one input buffer (each), builds in it,
+// and the size of the blocks the compacted structures are sub-allocated from. Each is
+// also bounded by the largest allocation (Context::max_allocation_bytes); a single
+// structure larger than a batch or a block gets a batch or a block of its own.
+struct AccelBatchLimits {
+  VkDeviceSize batch_bytes = VkDeviceSize{64} << 20;
+  std::size_t batch_builds = 1024;
+  VkDeviceSize block_bytes = VkDeviceSize{64} << 20;
+};
+
+// Builds `count` structures, input(i) giving the i-th (asked for once, in order), and
+// returns them compacted, in that order. Per batch: one input, one scratch and one
+// storage buffer, one command buffer holding every build (disjoint scratch regions, so
+// no barrier between them), a compacted-size query per structure, then one command
+// buffer of compacting copies into the shared blocks. Throws masq::Error naming
+// `backend`, the structure and the limit when one needs more than one allocation holds.
+std::vector<AccelStructure> build_accels(Context& ctx, const char* backend, std::size_t count,
+                                         const std::function<AccelInput(std::size_t)>& input,
+                                         const AccelBatchLimits& limits = {});
 
 } // namespace masq::vk

@@ -19,6 +19,9 @@
 // TLAS ("parts", traced in turn by kernels/rayquery.comp). The instance records are
 // uploaded one per TLAS entry in submission order, so the 24-bit custom index is the
 // entry's rank within its part and any instance count maps back exactly.
+// Every BLAS, then the TLAS parts, is built in batches and compacted into shared
+// storage blocks (vk::build_accels, host/vulkan/accel_batch.cpp); device_bytes counts
+// the compacted sizes.
 // lavapipe builds its BVH in submission order without sorting, so primitives and
 // instances are submitted in the order of masq's own BVH leaves (PackedScene's
 // geometry_leaf_order and tlas_leaf_order), and each part is a contiguous run of it.
@@ -28,7 +31,9 @@
 #include "bvh/bounds/prim_bounds.h"
 #include "host/vulkan/acceleration_structures.h"
 #include "host/vulkan/rayquery_plan.h"
+#include "host/device_fill.h"
 #include "host/vulkan/trace_dispatch.h"
+#include "host/vulkan/vk_lanes.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "kernels/kernel_data.h"
 #include "host/limit_knob.h"
@@ -131,7 +136,6 @@ class RayQueryBackend final : public Backend {
     tlas_.clear();
     parts_buffer_ = vk::Buffer();
     blas_.clear();
-    cluster_blas_.clear();
     unit_box_ = vk::AccelStructure();
     scene_ = vk::SceneBuffers{};
     check_inputs(scene);
@@ -147,7 +151,7 @@ class RayQueryBackend final : public Backend {
     upload_prim_map(scene);
     scene_.finish(*ctx_, kName);
     reach_ = origin_reach(scene);
-    build_tlas(scene);
+    build_structures(scene);
     if (scene.features.mode == Mode::Robust && scene.method != Method::Ref) kept_ = scene; // for TLAS rebuilds
     scene_.bind(layout_);
     features_ = scene.features;
@@ -160,17 +164,18 @@ class RayQueryBackend final : public Backend {
     if (!have_scene_) throw Error("rayquery: trace called before set_scene");
     widen_for(rays);
     VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
-    timing_.trace_seconds =
-        batch_.run(kName, layout_, p, kLocalSize, static_cast<std::int32_t>(tlas_.size()), rays, hits, stats);
+    batch_.run(kName, layout_, p, kLocalSize, static_cast<std::int32_t>(tlas_.size()), rays, hits, stats)
+        .into(timing_);
   }
 
   TraceTiming timing() const override { return timing_; }
+  std::size_t fill_rays() const override { return fill_rays_for(vk::resident_threads(*ctx_)); }
 
+  // The driver's structures count with their compacted sizes (vk::build_accels).
   std::size_t device_bytes() const override {
     std::size_t b = scene_.bytes + parts_buffer_.size() + unit_box_.bytes();
     for (const auto& as : tlas_) b += as.bytes();
-    for (const auto& [g, as] : blas_) b += as.bytes();
-    for (const auto& [r, as] : cluster_blas_) b += as.bytes();
+    for (const auto& as : blas_) b += as.bytes();
     return b;
   }
 
@@ -227,9 +232,7 @@ class RayQueryBackend final : public Backend {
   // instance's stored maps (bvh/twolevel/cluster_blas.h), padded per local axis by twice the
   // driver's fp32 transform error for any origin within reach_ and any point it can
   // hit (|t d| <= 3 reach_): 2 (gamma_4 (|S_k|_1 reach + |s_k|) + gamma_3 |S_k|_1 3 reach).
-  const vk::AccelStructure& cluster_blas(const PackedScene& s, int root) {
-    auto it = cluster_blas_.find(root);
-    if (it != cluster_blas_.end()) return it->second;
+  vk::AccelInput cluster_input(const PackedScene& s, int root) const {
     constexpr double kGamma4 = 4.0 * 5.9604645e-8 / (1.0 - 4.0 * 5.9604645e-8);
     constexpr double kGamma3 = 3.0 * 5.9604645e-8 / (1.0 - 3.0 * 5.9604645e-8);
     std::vector<std::int32_t> members = vk::cluster_members(s, root);
@@ -258,18 +261,14 @@ class RayQueryBackend final : public Backend {
     for (const Aabb& b : local)
       boxes.push_back({round_down(b.lo.x - pad.x), round_down(b.lo.y - pad.y), round_down(b.lo.z - pad.z),
                        round_up(b.hi.x + pad.x), round_up(b.hi.y + pad.y), round_up(b.hi.z + pad.z)});
-    return cluster_blas_.emplace(root, vk::build_aabb_blas(*ctx_, boxes)).first->second;
+    return vk::aabb_input(boxes);
   }
 
-  // BLAS `b`: a run of its geometry's leaf order.
-  const vk::AccelStructure& geometry_blas(const PackedScene& s, std::int32_t b) {
-    auto it = blas_.find(b);
-    if (it != blas_.end()) return it->second;
-    const vk::RayQueryPlan::Blas& spec = plan_.blas.at(static_cast<std::size_t>(b));
+  // The BLAS of `spec`: a run of its geometry's leaf order.
+  vk::AccelInput geometry_input(const PackedScene& s, const vk::RayQueryPlan::Blas& spec) const {
     const kernel::Geometry& geo = s.geoms.at(static_cast<std::size_t>(spec.geom));
     auto all = vk::geometry_leaf_order(s, static_cast<std::size_t>(spec.geom));
     std::span<const std::int32_t> order(all.data() + spec.first, spec.count);
-    vk::AccelStructure as;
     if (geo.type == MASQ_PRIM_TRIANGLE) {
       std::vector<float> v;
       v.reserve(order.size() * 9);
@@ -277,14 +276,33 @@ class RayQueryBackend final : public Backend {
         const kernel::Triangle& t = s.triangles.at(static_cast<std::size_t>(geo.first + p));
         v.insert(v.end(), {t.v0[0], t.v0[1], t.v0[2], t.v1[0], t.v1[1], t.v1[2], t.v2[0], t.v2[1], t.v2[2]});
       }
-      as = vk::build_triangle_blas(*ctx_, v);
-    } else {
-      std::vector<VkAabbPositionsKHR> boxes;
-      boxes.reserve(order.size());
-      for (std::int32_t p : order) boxes.push_back(procedural_box(s, spec.geom, p));
-      as = vk::build_aabb_blas(*ctx_, boxes);
+      return vk::triangle_input(v);
     }
-    return blas_.emplace(b, std::move(as)).first->second;
+    std::vector<VkAabbPositionsKHR> boxes;
+    boxes.reserve(order.size());
+    for (std::int32_t p : order) boxes.push_back(procedural_box(s, spec.geom, p));
+    return vk::aabb_input(boxes);
+  }
+
+  // Every BLAS of the plan and the unit box when an entry needs it, in batches
+  // (vk::build_accels), then the TLAS parts over them.
+  void build_structures(const PackedScene& s) {
+    tlas_.clear();
+    const std::size_t n = plan_.blas.size();
+    std::vector<vk::AccelStructure> built =
+        vk::build_accels(*ctx_, kName, n + (plan_.unit_box ? 1 : 0), [&](std::size_t b) {
+          if (b == n) {
+            const float m = 1.0f + kUnitBoxMargin;
+            const VkAabbPositionsKHR box{-m, -m, -m, m, m, m};
+            return vk::aabb_input(std::span<const VkAabbPositionsKHR>(&box, 1));
+          }
+          const vk::RayQueryPlan::Blas& spec = plan_.blas[b];
+          return spec.geom >= 0 ? geometry_input(s, spec) : cluster_input(s, spec.root);
+        });
+    unit_box_ = plan_.unit_box ? std::move(built.back()) : vk::AccelStructure();
+    built.resize(n);
+    blas_ = std::move(built);
+    build_tlas(s);
   }
 
   // Robust masquerade: make sure the instance OBBs are widened for every origin of
@@ -298,8 +316,7 @@ class RayQueryBackend final : public Backend {
         if (std::isfinite(c)) far = std::max(far, double(std::fabs(c)));
     if (far <= reach_) return;
     reach_ = std::max(2.0 * reach_, far);
-    cluster_blas_.clear(); // their padding depends on the reach
-    build_tlas(*kept_);
+    build_structures(*kept_); // the cluster BLAS's padding depends on the reach too
   }
 
   // The TLAS parts: runs of at most maxInstanceCount entries of plan_.entries, each built in
@@ -307,17 +324,19 @@ class RayQueryBackend final : public Backend {
   void build_tlas(const PackedScene& s) {
     tlas_.clear();
     const std::uint64_t max_inst = std::min<std::uint64_t>(max_instances(), (1u << 24) - 1); // custom index
-    std::vector<TlasPartRecord> records;
-    std::vector<VkAccelerationStructureInstanceKHR> part;
-    for (std::size_t first = 0; first < plan_.entries.size(); first += max_inst) {
-      std::size_t n = std::min<std::size_t>(max_inst, plan_.entries.size() - first);
-      part.clear();
+    if (plan_.entries.size() > std::size_t(INT32_MAX)) throw Error("rayquery: more than 2^31-1 TLAS entries");
+    const std::size_t parts = (plan_.entries.size() + max_inst - 1) / max_inst;
+    tlas_ = vk::build_accels(*ctx_, kName, parts, [&](std::size_t p) {
+      const std::size_t first = p * max_inst;
+      const std::size_t n = std::min<std::size_t>(max_inst, plan_.entries.size() - first);
+      std::vector<VkAccelerationStructureInstanceKHR> part;
       part.reserve(n);
       for (std::size_t k = 0; k < n; ++k) part.push_back(tlas_entry(s, plan_.entries[first + k], std::uint32_t(k)));
-      tlas_.push_back(vk::build_tlas(*ctx_, part));
-      if (first > std::size_t(INT32_MAX)) throw Error("rayquery: more than 2^31-1 TLAS entries");
-      records.push_back({tlas_.back().address(), static_cast<std::int32_t>(first), 0});
-    }
+      return vk::instance_input(part);
+    });
+    std::vector<TlasPartRecord> records;
+    for (std::size_t p = 0; p < parts; ++p)
+      records.push_back({tlas_[p].address(), static_cast<std::int32_t>(p * max_inst), 0});
     parts_buffer_ = vk::Buffer(*ctx_, std::max<std::size_t>(records.size(), 1) * sizeof(TlasPartRecord),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     parts_buffer_.upload(records.data(), records.size() * sizeof(TlasPartRecord));
@@ -338,16 +357,11 @@ class RayQueryBackend final : public Backend {
       if (i >= s.instance_object_to_world.size())
         throw Error(fmt::format("rayquery: instance {} has no instance_object_to_world transform", i));
       e.transform = to_vk(s.instance_object_to_world[i]);
-      e.accelerationStructureReference = cluster_blas(s, inst.blas_root).address();
+      e.accelerationStructureReference = blas_.at(static_cast<std::size_t>(en.blas)).address();
     } else if (inst.blas_root >= 0) {
       e.transform = to_vk(s.frame_object_to_world.at(static_cast<std::size_t>(inst.scene_inst)));
-      e.accelerationStructureReference = geometry_blas(s, en.blas).address();
+      e.accelerationStructureReference = blas_.at(static_cast<std::size_t>(en.blas)).address();
     } else {
-      if (!unit_box_.handle()) {
-        const float m = 1.0f + kUnitBoxMargin;
-        const VkAabbPositionsKHR box{-m, -m, -m, m, m, m};
-        unit_box_ = vk::build_aabb_blas(*ctx_, std::span<const VkAabbPositionsKHR>(&box, 1));
-      }
       if (i >= s.instance_object_to_world.size())
         throw Error(fmt::format("rayquery: instance {} has no instance_object_to_world transform", i));
       const Mat3x4f& u2w = s.instance_object_to_world[i];
@@ -377,8 +391,7 @@ class RayQueryBackend final : public Backend {
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
   vk::RayQueryPlan plan_;
-  std::map<std::int32_t, vk::AccelStructure> blas_;  // geometry parts, by BLAS id
-  std::map<int, vk::AccelStructure> cluster_blas_;   // by the cluster's masq BLAS root
+  std::vector<vk::AccelStructure> blas_; // by BLAS id: geometry parts, then clusters
   vk::AccelStructure unit_box_;
   std::vector<vk::AccelStructure> tlas_; // the parts
   vk::Buffer parts_buffer_;

@@ -32,7 +32,10 @@ RayQueryPlan plan_ray_query(const PackedScene& s, std::uint64_t max_primitives) 
     if (inst.prim == MASQ_INST_CLUSTER) plan.entries.push_back({i, plan.clusters.at(inst.blas_root)});
     else if (inst.blas_root >= 0)
       for (std::int32_t b : geom_blas[static_cast<std::size_t>(inst.geom)]) plan.entries.push_back({i, b});
-    else plan.entries.push_back({i, 0});
+    else {
+      plan.entries.push_back({i, 0});
+      plan.unit_box = true;
+    }
   }
   return plan;
 }

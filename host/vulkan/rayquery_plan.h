@@ -32,6 +32,7 @@ struct RayQueryPlan {
   std::vector<Blas> blas;               // by BLAS id
   std::vector<Entry> entries;           // TLAS entries in submission order
   std::map<int, std::int32_t> clusters; // cluster's masq BLAS root -> BLAS id
+  bool unit_box = false;                // some entry is a masquerade instance (the unit-box BLAS)
 };
 
 // Throws masq::Error "rayquery: ..." for more than 2^24-1 BLAS (SBT offsets hold 24 bits)

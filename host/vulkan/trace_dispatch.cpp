@@ -1,7 +1,9 @@
 #include "host/vulkan/trace_dispatch.h"
+#include "host/limit_knob.h"
 #include "kernels/kernel_data.h"
 #include <fmt/format.h>
 #include <algorithm>
+#include <chrono>
 
 namespace masq::vk {
 
@@ -101,35 +103,44 @@ void RayBatch::ensure(std::size_t capacity, KernelLayout& layout) {
 
 void RayBatch::bind_minimal(KernelLayout& layout) { ensure(std::max<std::size_t>(capacity_, 1), layout); }
 
-double RayBatch::run(const char* backend, KernelLayout& layout, VkPipeline pipeline, std::uint32_t local_size,
-                     std::int32_t param, std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
-                     std::span<kernel::RayStats> stats) {
+RayBatch::Times RayBatch::run(const char* backend, KernelLayout& layout, VkPipeline pipeline,
+                              std::uint32_t local_size, std::int32_t param, std::span<const kernel::Ray> rays,
+                              std::span<kernel::Hit> hits, std::span<kernel::RayStats> stats) {
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  const Clock::time_point start = Clock::now();
   if (hits.size() != rays.size())
     throw Error(fmt::format("{}: trace: {} rays but {} hits", backend, rays.size(), hits.size()));
   if (!stats.empty() && stats.size() != rays.size())
     throw Error(fmt::format("{}: trace: {} rays but {} stats", backend, rays.size(), stats.size()));
-  if (rays.empty()) return 0.0;
+  Times times;
+  if (rays.empty()) return times;
   // Chunk: every per-ray buffer within one binding, the group count within the limit,
-  // and the count within a push-constant int.
+  // the count within a push-constant int, and one dispatch short (the watchdog bound).
   std::uint64_t limit = ctx_.max_storage_buffer_range();
   std::uint64_t chunk = limit / sizeof(kernel::Hit);
   chunk = std::min<std::uint64_t>(chunk, limit / sizeof(kernel::Ray));
   chunk = std::min<std::uint64_t>(chunk, std::uint64_t(ctx_.props.limits.maxComputeWorkGroupCount[0]) * local_size);
   chunk = std::min<std::uint64_t>(chunk, 1u << 30);
+  chunk = std::min<std::uint64_t>(chunk, max_rays_per_dispatch(backend));
   chunk = std::min<std::uint64_t>(chunk, rays.size());
   if (chunk == 0) throw Error(fmt::format("{}: maxStorageBufferRange {} cannot hold one ray", backend, limit));
   ensure(static_cast<std::size_t>(chunk), layout);
-  double seconds = 0.0;
   for (std::size_t first = 0; first < rays.size(); first += chunk) {
     std::size_t n = std::min<std::size_t>(chunk, rays.size() - first);
+    Clock::time_point t0 = Clock::now();
     rays_.upload(rays.data() + first, n * sizeof(kernel::Ray));
+    times.upload += since(t0);
     kernel::TraceParams pc{static_cast<int>(n), param, 0, 0};
     auto groups = static_cast<std::uint32_t>((n + local_size - 1) / local_size);
-    seconds += layout.dispatch(pipeline, &pc, groups);
+    times.device += layout.dispatch(pipeline, &pc, groups);
+    t0 = Clock::now();
     hits_.download(hits.data() + first, n * sizeof(kernel::Hit));
     if (!stats.empty()) stats_.download(stats.data() + first, n * sizeof(kernel::RayStats));
+    times.readback += since(t0);
   }
-  return seconds;
+  times.wall = since(start);
+  return times;
 }
 
 } // namespace masq::vk

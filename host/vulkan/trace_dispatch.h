@@ -1,8 +1,10 @@
 // What the compute, bv and ray-query kernels share: the scene arrays (bound as storage
 // buffers, or read through buffer device addresses when one exceeds
 // maxStorageBufferRange) and tracing a batch of rays in chunks small enough that the
-// ray, hit and stats buffers fit one binding and one dispatch.
+// ray, hit and stats buffers fit one binding and one dispatch, and that one dispatch
+// stays short (max_rays_per_dispatch, host/limit_knob.h).
 #pragma once
+#include "host/backend.h"
 #include "host/kernel_variant.h"
 #include "host/scene_arrays.h"
 #include "kernels/kernel_data.h"
@@ -75,12 +77,26 @@ void add_scene_arrays(SceneBuffers& out, Context& ctx, const char* backend, cons
 class RayBatch {
  public:
   explicit RayBatch(Context& ctx) : ctx_(ctx) {}
+  // Where one run's time went, summed over chunks: device (timestamps around each
+  // dispatch), upload (host time writing rays), readback (host time reading hits and
+  // counters), wall (the whole run on the host clock).
+  struct Times {
+    double device = 0, upload = 0, readback = 0, wall = 0;
+    void into(TraceTiming& t) const {
+      t.trace_seconds = device;
+      t.upload_seconds = upload;
+      t.readback_seconds = readback;
+      t.wall_seconds = wall;
+    }
+  };
   // Traces rays in chunks: binds rays/hits/stats (MASQ_BINDING_RAYS, _HITS, _STATS), dispatches
   // `pipeline` with push constants {count, param, 0, 0} (kernel::TraceParams layout),
-  // copies hits and stats back. Returns the device seconds summed over chunks.
-  double run(const char* backend, KernelLayout& layout, VkPipeline pipeline, std::uint32_t local_size,
-             std::int32_t param, std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
-             std::span<kernel::RayStats> stats);
+  // copies hits and stats back. A chunk holds at most max_rays_per_dispatch rays
+  // (host/limit_knob.h: the watchdog bound), besides what one binding and the group
+  // count allow.
+  Times run(const char* backend, KernelLayout& layout, VkPipeline pipeline, std::uint32_t local_size,
+            std::int32_t param, std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
+            std::span<kernel::RayStats> stats);
   // Binds (dummy-sized if needed) ray buffers, e.g. before a warm-up dispatch.
   void bind_minimal(KernelLayout& layout);
 

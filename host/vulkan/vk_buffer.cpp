@@ -37,7 +37,12 @@ Buffer::Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage) : ctx_
     mai.pNext = (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) ? &flags : nullptr;
     mai.allocationSize = req.size;
     mai.memoryTypeIndex = static_cast<std::uint32_t>(type);
-    MASQ_VK_CHECK(vkAllocateMemory(ctx.device, &mai, nullptr, &memory_));
+    ctx.acquire_allocation(); // maxMemoryAllocationCount (vk_context.h)
+    if (VkResult r = vkAllocateMemory(ctx.device, &mai, nullptr, &memory_); r != VK_SUCCESS) {
+      memory_ = VK_NULL_HANDLE;
+      ctx.release_allocation();
+      throw_vk_error("vkAllocateMemory", r, __FILE__, __LINE__);
+    }
     MASQ_VK_CHECK(vkBindBufferMemory(ctx.device, buffer_, memory_, 0));
     if (host_visible) MASQ_VK_CHECK(vkMapMemory(ctx.device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
   } catch (...) {
@@ -66,7 +71,10 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
 void Buffer::release() noexcept {
   if (!ctx_) return;
   if (buffer_) vkDestroyBuffer(ctx_->device, buffer_, nullptr);
-  if (memory_) vkFreeMemory(ctx_->device, memory_, nullptr); // unmaps implicitly
+  if (memory_) {
+    vkFreeMemory(ctx_->device, memory_, nullptr); // unmaps implicitly
+    ctx_->release_allocation();
+  }
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;

@@ -257,6 +257,9 @@ void Context::create(const char* backend, bool want_ray_query) {
         load("vkCmdBuildAccelerationStructuresKHR"));
     accel.device_address = reinterpret_cast<PFN_vkGetAccelerationStructureDeviceAddressKHR>(
         load("vkGetAccelerationStructureDeviceAddressKHR"));
+    accel.cmd_write_properties = reinterpret_cast<PFN_vkCmdWriteAccelerationStructuresPropertiesKHR>(
+        load("vkCmdWriteAccelerationStructuresPropertiesKHR"));
+    accel.cmd_copy = reinterpret_cast<PFN_vkCmdCopyAccelerationStructureKHR>(load("vkCmdCopyAccelerationStructureKHR"));
   }
 }
 
@@ -299,6 +302,20 @@ std::uint64_t Context::max_storage_buffer_range() const {
 std::uint64_t Context::max_allocation_bytes() const {
   return lowered_limit("vulkan", max_allocation, "MASQ_VK_MAX_ALLOCATION_BYTES",
                        limit_overrides_for_testing().max_allocation_bytes);
+}
+
+std::uint64_t Context::max_allocation_count() const {
+  return lowered_limit("vulkan", props.limits.maxMemoryAllocationCount, "MASQ_VK_MAX_ALLOCATIONS");
+}
+
+void Context::acquire_allocation() {
+  const std::uint64_t limit = max_allocation_count();
+  if (const std::uint64_t live = live_allocations_.fetch_add(1); live >= limit) {
+    live_allocations_.fetch_sub(1);
+    throw Error(fmt::format("vulkan: device '{}' holds {} memory allocations, and one more would exceed the limit {} "
+                            "(maxMemoryAllocationCount {}, lowered by MASQ_VK_MAX_ALLOCATIONS)",
+                            props.deviceName, live, limit, props.limits.maxMemoryAllocationCount));
+  }
 }
 
 VkCommandBuffer Context::begin_commands() {

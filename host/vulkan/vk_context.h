@@ -19,6 +19,8 @@ struct AccelFunctions {
   PFN_vkGetAccelerationStructureBuildSizesKHR build_sizes = nullptr;
   PFN_vkCmdBuildAccelerationStructuresKHR cmd_build = nullptr;
   PFN_vkGetAccelerationStructureDeviceAddressKHR device_address = nullptr;
+  PFN_vkCmdWriteAccelerationStructuresPropertiesKHR cmd_write_properties = nullptr; // compacted sizes
+  PFN_vkCmdCopyAccelerationStructureKHR cmd_copy = nullptr;                         // compaction
 };
 
 class Context {
@@ -57,6 +59,14 @@ class Context {
   std::uint64_t max_storage_buffer_range() const;
   // Largest single array buffer, after MASQ_VK_MAX_ALLOCATION_BYTES and the override.
   std::uint64_t max_allocation_bytes() const;
+  // maxMemoryAllocationCount (4096 on many drivers) after MASQ_VK_MAX_ALLOCATIONS: the
+  // device memory allocations this context may hold at once. vk::Buffer takes one per
+  // buffer: acquire_allocation before vkAllocateMemory (throws masq::Error naming the
+  // limit when all are live), release_allocation after vkFreeMemory.
+  std::uint64_t max_allocation_count() const;
+  void acquire_allocation();
+  void release_allocation() noexcept { live_allocations_.fetch_sub(1); }
+  std::uint64_t live_allocations() const { return live_allocations_.load(); }
 
   // One-shot command buffer: begin, record, then submit_and_wait (blocks, frees it).
   // Backends on several threads share this context's command pool and queue, which
@@ -82,6 +92,7 @@ class Context {
   std::mutex submit_mutex_;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   std::uint64_t validation_errors_seen_ = 0;
+  std::atomic<std::uint64_t> live_allocations_{0};
 };
 
 } // namespace masq::vk

@@ -48,7 +48,7 @@ class VulkanBvTracer final : public BvTracer {
              std::span<kernel::RayStats> stats) override {
     if (!have_scene_) throw Error("vulkan bv: trace called before set_scene");
     VkPipeline p = pipeline(!stats.empty());
-    timing_.trace_seconds = batch_.run(kName, layout_, p, kLocalSize, node_count_, rays, hits, stats);
+    batch_.run(kName, layout_, p, kLocalSize, node_count_, rays, hits, stats).into(timing_);
   }
 
   TraceTiming timing() const override { return timing_; }

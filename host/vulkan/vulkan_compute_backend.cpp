@@ -4,7 +4,9 @@
 // JIT-compiles there. Where the device has bufferDeviceAddress the addressed module
 // (trace_comp_addr_spv; see SceneBuffers) runs; otherwise the bound one, and scenes with
 // an array over one storage binding are refused.
+#include "host/device_fill.h"
 #include "host/vulkan/trace_dispatch.h"
+#include "host/vulkan/vk_lanes.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "host/scene_variant.h"
 #include "kernels/kernel_data.h"
@@ -77,10 +79,11 @@ class VulkanComputeBackend final : public Backend {
              Query query) override {
     if (!have_scene_) throw Error("vulkan: trace called before set_scene");
     VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
-    timing_.trace_seconds = batch_.run(kName, layout_, p, local_size(), tlas_root_, rays, hits, stats);
+    batch_.run(kName, layout_, p, local_size(), tlas_root_, rays, hits, stats).into(timing_);
   }
 
   TraceTiming timing() const override { return timing_; }
+  std::size_t fill_rays() const override { return fill_rays_for(vk::resident_threads(*ctx_)); }
   std::size_t device_bytes() const override { return scene_.bytes; }
 
  private:

@@ -1,0 +1,256 @@
+// build_accels (acceleration_structures.h): many structures per command buffer, one
+// scratch buffer per batch, compacted into a few large storage blocks. A driver limits
+// the live memory allocations of a device (maxMemoryAllocationCount, 4096 on many), so
+// one allocation and one submit-and-wait per structure cannot hold a cluster scene's
+// thousands of BLAS; compaction also gives the bytes the structures really need (the
+// build sizes are the driver's worst case).
+#include "host/vulkan/acceleration_structures.h"
+#include <fmt/format.h>
+#include <algorithm>
+
+namespace masq::vk {
+namespace {
+
+constexpr VkDeviceSize kStorageAlign = 256; // VkAccelerationStructureCreateInfoKHR::offset
+constexpr VkDeviceSize kInputAlign = 16;    // instances need 16, AABBs 8, vertices 4
+constexpr VkBufferUsageFlags kStorageUsage =
+    VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+
+VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+
+VkAccelerationStructureGeometryKHR geometry_of(const AccelInput& in, VkDeviceAddress data) {
+  VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+  g.geometryType = in.geometry;
+  if (in.geometry == VK_GEOMETRY_TYPE_TRIANGLES_KHR) {
+    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+    auto& t = g.geometry.triangles;
+    t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+    t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+    t.vertexData.deviceAddress = data;
+    t.vertexStride = 3 * sizeof(float);
+    t.maxVertex = in.count == 0 ? 0 : 3 * in.count - 1;
+    t.indexType = VK_INDEX_TYPE_NONE_KHR;
+  } else if (in.geometry == VK_GEOMETRY_TYPE_AABBS_KHR) {
+    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR; // candidates still reach the shader, which decides
+    g.geometry.aabbs.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR;
+    g.geometry.aabbs.data.deviceAddress = data;
+    g.geometry.aabbs.stride = sizeof(VkAabbPositionsKHR);
+  } else {
+    g.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
+    g.geometry.instances.arrayOfPointers = VK_FALSE;
+    g.geometry.instances.data.deviceAddress = data;
+  }
+  return g;
+}
+
+VkAccelerationStructureBuildGeometryInfoKHR build_info(const AccelInput& in,
+                                                       const VkAccelerationStructureGeometryKHR* g) {
+  VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+  info.type = in.type;
+  info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR |
+               VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR;
+  info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+  info.geometryCount = 1;
+  info.pGeometries = g;
+  return info;
+}
+
+// The builds' writes made visible to what reads the structures next: a compacted-size
+// query or copy (acceleration-structure build stage), a TLAS build over a BLAS, and ray
+// queries in compute shaders.
+void build_barrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+  mb.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                       VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
+                       1, &mb, 0, nullptr, 0, nullptr);
+}
+
+} // namespace
+
+// One call of build_accels: the batch being gathered and the block compacted
+// structures are placed in.
+class AccelBatch {
+ public:
+  AccelBatch(Context& ctx, const char* backend, const AccelBatchLimits& limits)
+      : ctx_(ctx), backend_(backend), max_alloc_(ctx.max_allocation_bytes()),
+        batch_bytes_(std::min(limits.batch_bytes, max_alloc_)), batch_builds_(std::max<std::size_t>(limits.batch_builds, 1)),
+        block_bytes_(std::min(limits.block_bytes, max_alloc_)) {}
+
+  void add(std::size_t id, AccelInput in) {
+    Pending p;
+    p.id = id;
+    p.in = std::move(in);
+    VkAccelerationStructureGeometryKHR g = geometry_of(p.in, 0);
+    VkAccelerationStructureBuildGeometryInfoKHR info = build_info(p.in, &g);
+    ctx_.accel.build_sizes(ctx_.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &p.in.count, &p.sizes);
+    check(id, "build storage", p.sizes.accelerationStructureSize + kStorageAlign);
+    check(id, "build scratch", p.sizes.buildScratchSize + scratch_align());
+    check(id, "input", p.in.data.size() + kInputAlign);
+    const VkDeviceSize storage = align_up(p.sizes.accelerationStructureSize, kStorageAlign);
+    const VkDeviceSize scratch = align_up(p.sizes.buildScratchSize, scratch_align());
+    const VkDeviceSize data = align_up(p.in.data.size(), kInputAlign);
+    if (!pending_.empty() && (pending_.size() >= batch_builds_ || storage_ + storage > batch_bytes_ ||
+                              scratch_ + scratch + scratch_align() > batch_bytes_ || input_ + data > batch_bytes_))
+      flush();
+    p.storage_offset = storage_;
+    p.scratch_offset = scratch_;
+    p.input_offset = input_;
+    storage_ += storage;
+    scratch_ += scratch;
+    input_ += data;
+    pending_.push_back(std::move(p));
+  }
+
+  // Builds, queries, compacts and frees the gathered batch.
+  void flush() {
+    if (pending_.empty()) return;
+    const std::size_t n = pending_.size();
+    Buffer input(ctx_, input_,
+                 VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
+                     VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+    Buffer storage(ctx_, storage_, kStorageUsage);
+    // The base address rounded up to the scratch alignment, each region's offset a multiple of it.
+    Buffer scratch(ctx_, scratch_ + scratch_align(),
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+    const VkDeviceAddress scratch_base = align_up(scratch.address(), scratch_align());
+    const VkDeviceAddress input_base = input.address();
+    std::vector<VkAccelerationStructureKHR> built(n, VK_NULL_HANDLE);
+    VkQueryPool pool = VK_NULL_HANDLE;
+    auto cleanup = [&] {
+      for (VkAccelerationStructureKHR h : built)
+        if (h) ctx_.accel.destroy(ctx_.device, h, nullptr);
+      if (pool) vkDestroyQueryPool(ctx_.device, pool, nullptr);
+    };
+    try {
+      std::vector<VkAccelerationStructureGeometryKHR> geoms(n);
+      std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n);
+      std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges(n);
+      std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> range_ptrs(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        Pending& p = pending_[i];
+        input.upload(p.in.data.data(), p.in.data.size(), p.input_offset);
+        VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+        ci.buffer = storage.handle();
+        ci.offset = p.storage_offset;
+        ci.size = p.sizes.accelerationStructureSize;
+        ci.type = p.in.type;
+        MASQ_VK_CHECK(ctx_.accel.create(ctx_.device, &ci, nullptr, &built[i]));
+        geoms[i] = geometry_of(p.in, input_base + p.input_offset);
+        infos[i] = build_info(p.in, &geoms[i]);
+        infos[i].dstAccelerationStructure = built[i];
+        infos[i].scratchData.deviceAddress = scratch_base + p.scratch_offset;
+        ranges[i] = {p.in.count, 0, 0, 0};
+        range_ptrs[i] = &ranges[i];
+      }
+      VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+      qci.queryType = VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR;
+      qci.queryCount = static_cast<std::uint32_t>(n);
+      MASQ_VK_CHECK(vkCreateQueryPool(ctx_.device, &qci, nullptr, &pool));
+
+      VkCommandBuffer cmd = ctx_.begin_commands(); // nothing below throws until the submit
+      vkCmdResetQueryPool(cmd, pool, 0, static_cast<std::uint32_t>(n));
+      ctx_.accel.cmd_build(cmd, static_cast<std::uint32_t>(n), infos.data(), range_ptrs.data());
+      build_barrier(cmd);
+      ctx_.accel.cmd_write_properties(cmd, static_cast<std::uint32_t>(n), built.data(),
+                                      VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR, pool, 0);
+      ctx_.submit_and_wait(cmd);
+      std::vector<std::uint64_t> compact(n, 0);
+      MASQ_VK_CHECK(vkGetQueryPoolResults(ctx_.device, pool, 0, static_cast<std::uint32_t>(n),
+                                          n * sizeof(std::uint64_t), compact.data(), sizeof(std::uint64_t),
+                                          VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+
+      std::vector<AccelStructure> out(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint64_t bytes = std::max<std::uint64_t>(compact[i], 1);
+        place(out[i], pending_[i].id, bytes, pending_[i].in.type);
+      }
+      cmd = ctx_.begin_commands();
+      for (std::size_t i = 0; i < n; ++i) {
+        VkCopyAccelerationStructureInfoKHR copy{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_INFO_KHR};
+        copy.src = built[i];
+        copy.dst = out[i].handle_;
+        copy.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
+        ctx_.accel.cmd_copy(cmd, &copy);
+      }
+      build_barrier(cmd);
+      ctx_.submit_and_wait(cmd);
+      for (std::size_t i = 0; i < n; ++i) {
+        VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
+        ai.accelerationStructure = out[i].handle_;
+        out[i].address_ = ctx_.accel.device_address(ctx_.device, &ai);
+        done_.push_back(std::move(out[i]));
+      }
+    } catch (...) {
+      cleanup();
+      throw;
+    }
+    cleanup();
+    pending_.clear();
+    storage_ = scratch_ = input_ = 0;
+  }
+
+  std::vector<AccelStructure> take() { return std::move(done_); }
+
+ private:
+  struct Pending {
+    std::size_t id = 0;
+    AccelInput in;
+    VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+    VkDeviceSize storage_offset = 0, scratch_offset = 0, input_offset = 0;
+  };
+
+  VkDeviceSize scratch_align() const {
+    return std::max<VkDeviceSize>(ctx_.accel_props.minAccelerationStructureScratchOffsetAlignment, 1);
+  }
+
+  void check(std::size_t id, const char* what, VkDeviceSize bytes) const {
+    if (bytes > max_alloc_)
+      throw Error(fmt::format("{}: acceleration structure {} needs {} bytes of {} in one buffer; the device allows {} "
+                              "({})",
+                              backend_, id, bytes, what, max_alloc_, ctx_.max_allocation_name));
+  }
+
+  // A compacted structure of `bytes` at the next 256-aligned offset of the current
+  // block, or of a new one (its own when larger than a block).
+  void place(AccelStructure& as, std::size_t id, std::uint64_t bytes, VkAccelerationStructureTypeKHR type) {
+    if (!block_ || block_used_ + bytes > block_->size()) {
+      check(id, "compacted storage", bytes);
+      block_ = std::make_shared<Buffer>(ctx_, std::max<VkDeviceSize>(block_bytes_, bytes), kStorageUsage);
+      block_used_ = 0;
+    }
+    VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+    ci.buffer = block_->handle();
+    ci.offset = block_used_;
+    ci.size = bytes;
+    ci.type = type;
+    as.ctx_ = &ctx_;
+    as.block_ = block_;
+    as.bytes_ = static_cast<std::size_t>(bytes);
+    MASQ_VK_CHECK(ctx_.accel.create(ctx_.device, &ci, nullptr, &as.handle_));
+    block_used_ = align_up(block_used_ + bytes, kStorageAlign);
+  }
+
+  Context& ctx_;
+  const char* backend_;
+  VkDeviceSize max_alloc_, batch_bytes_;
+  std::size_t batch_builds_;
+  VkDeviceSize block_bytes_;
+  std::vector<Pending> pending_;
+  VkDeviceSize storage_ = 0, scratch_ = 0, input_ = 0; // the batch's buffers, so far
+  std::shared_ptr<Buffer> block_;
+  VkDeviceSize block_used_ = 0;
+  std::vector<AccelStructure> done_;
+};
+
+std::vector<AccelStructure> build_accels(Context& ctx, const char* backend, std::size_t count,
+                                         const std::function<AccelInput(std::size_t)>& input,
+                                         const AccelBatchLimits& limits) {
+  AccelBatch batch(ctx, backend, limits);
+  for (std::size_t i = 0; i < count; ++i) batch.add(i, input(i));
+  batch.flush();
+  return batch.take();
+}
+
+} // namespace masq::vk
