@@ -128,9 +128,14 @@ class AccelBatch {
       std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n);
       std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges(n);
       std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> range_ptrs(n);
+      // One upload for the batch: where buffers are device-local each upload is a copy
+      // through staging, so per-structure uploads would cost a submission each.
+      std::vector<std::byte> inputs(input_);
+      for (const Pending& p : pending_)
+        std::copy(p.in.data.begin(), p.in.data.end(), inputs.begin() + std::ptrdiff_t(p.input_offset));
+      input.upload(inputs.data(), inputs.size());
       for (std::size_t i = 0; i < n; ++i) {
         Pending& p = pending_[i];
-        input.upload(p.in.data.data(), p.in.data.size(), p.input_offset);
         VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
         ci.buffer = storage.handle();
         ci.offset = p.storage_offset;
