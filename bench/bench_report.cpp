@@ -155,7 +155,7 @@ Table bench_table(const std::vector<BenchRow>& rows) {
              "driver's traversal is not observable, n/a); hit% for shadow rays is the occluded fraction",
              "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, compact masquerade entries and "
              "their owners, frames); dev MiB: what the backend "
-             "holds on the device (rayquery: the driver's acceleration structures, compacted, plus primitives); build "
+             "holds on the device (rayquery: the driver's acceleration structures, BLAS compacted, plus primitives); build "
              "ms: host build + upload/driver build; compile ms: kernel/pipeline compile on first use of the variant (0: "
              "cached)"};
   for (const std::string& n : unfilled) t.notes.push_back(n);

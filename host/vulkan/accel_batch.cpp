@@ -43,12 +43,18 @@ VkAccelerationStructureGeometryKHR geometry_of(const AccelInput& in, VkDeviceAdd
   return g;
 }
 
+// Bottom levels are compacted; a top level is built in place: its instances leave
+// the driver little to compact, it is rebuilt whole when robust masquerade widens its
+// boxes, and on lavapipe the copy of a 144K-instance TLAS cost more than the build
+// gained (docs/kernels.md).
+bool compacts(const AccelInput& in) { return in.type == VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR; }
+
 VkAccelerationStructureBuildGeometryInfoKHR build_info(const AccelInput& in,
                                                        const VkAccelerationStructureGeometryKHR* g) {
   VkAccelerationStructureBuildGeometryInfoKHR info{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
   info.type = in.type;
-  info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR |
-               VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR;
+  info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
+  if (compacts(in)) info.flags |= VK_BUILD_ACCELERATION_STRUCTURE_ALLOW_COMPACTION_BIT_KHR;
   info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
   info.geometryCount = 1;
   info.pGeometries = g;
@@ -69,7 +75,7 @@ void build_barrier(VkCommandBuffer cmd) {
 
 } // namespace
 
-// One call of build_accels: the batch being gathered and the block compacted
+// One call of build_accels: the batch being gathered and the block the finished
 // structures are placed in.
 class AccelBatch {
  public:
@@ -88,7 +94,8 @@ class AccelBatch {
     check(id, "build storage", p.sizes.accelerationStructureSize + kStorageAlign);
     check(id, "build scratch", p.sizes.buildScratchSize + scratch_align());
     check(id, "input", p.in.data.size() + kInputAlign);
-    const VkDeviceSize storage = align_up(p.sizes.accelerationStructureSize, kStorageAlign);
+    // Only structures to compact take room in the batch's temporary storage.
+    const VkDeviceSize storage = compacts(p.in) ? align_up(p.sizes.accelerationStructureSize, kStorageAlign) : 0;
     const VkDeviceSize scratch = align_up(p.sizes.buildScratchSize, scratch_align());
     const VkDeviceSize data = align_up(p.in.data.size(), kInputAlign);
     if (!pending_.empty() && (pending_.size() >= batch_builds_ || storage_ + storage > batch_bytes_ ||
@@ -110,38 +117,46 @@ class AccelBatch {
     Buffer input(ctx_, input_,
                  VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
                      VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
-    Buffer storage(ctx_, storage_, kStorageUsage);
+    Buffer storage = storage_ > 0 ? Buffer(ctx_, storage_, kStorageUsage) : Buffer(); // top levels alone: none
     // The base address rounded up to the scratch alignment, each region's offset a multiple of it.
     Buffer scratch(ctx_, scratch_ + scratch_align(),
                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
     const VkDeviceAddress scratch_base = align_up(scratch.address(), scratch_align());
     const VkDeviceAddress input_base = input.address();
+    std::vector<AccelStructure> out(n);
     std::vector<VkAccelerationStructureKHR> built(n, VK_NULL_HANDLE);
+    std::vector<std::size_t> compacted; // indices of the structures built to be compacted
     VkQueryPool pool = VK_NULL_HANDLE;
     auto cleanup = [&] {
-      for (VkAccelerationStructureKHR h : built)
-        if (h) ctx_.accel.destroy(ctx_.device, h, nullptr);
+      for (std::size_t i : compacted)
+        if (built[i]) ctx_.accel.destroy(ctx_.device, built[i], nullptr);
       if (pool) vkDestroyQueryPool(ctx_.device, pool, nullptr);
     };
     try {
-      std::vector<VkAccelerationStructureGeometryKHR> geoms(n);
-      std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n);
-      std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges(n);
-      std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> range_ptrs(n);
       // One upload for the batch: where buffers are device-local each upload is a copy
       // through staging, so per-structure uploads would cost a submission each.
       std::vector<std::byte> inputs(input_);
       for (const Pending& p : pending_)
         std::copy(p.in.data.begin(), p.in.data.end(), inputs.begin() + std::ptrdiff_t(p.input_offset));
       input.upload(inputs.data(), inputs.size());
+      std::vector<VkAccelerationStructureGeometryKHR> geoms(n);
+      std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n);
+      std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges(n);
+      std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> range_ptrs(n);
       for (std::size_t i = 0; i < n; ++i) {
         Pending& p = pending_[i];
-        VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
-        ci.buffer = storage.handle();
-        ci.offset = p.storage_offset;
-        ci.size = p.sizes.accelerationStructureSize;
-        ci.type = p.in.type;
-        MASQ_VK_CHECK(ctx_.accel.create(ctx_.device, &ci, nullptr, &built[i]));
+        if (compacts(p.in)) {
+          VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+          ci.buffer = storage.handle();
+          ci.offset = p.storage_offset;
+          ci.size = p.sizes.accelerationStructureSize;
+          ci.type = p.in.type;
+          compacted.push_back(i);
+          MASQ_VK_CHECK(ctx_.accel.create(ctx_.device, &ci, nullptr, &built[i]));
+        } else {
+          place(out[i], p.id, p.sizes.accelerationStructureSize, p.in.type); // its final place
+          built[i] = out[i].handle_;
+        }
         geoms[i] = geometry_of(p.in, input_base + p.input_offset);
         infos[i] = build_info(p.in, &geoms[i]);
         infos[i].dstAccelerationStructure = built[i];
@@ -149,38 +164,45 @@ class AccelBatch {
         ranges[i] = {p.in.count, 0, 0, 0};
         range_ptrs[i] = &ranges[i];
       }
-      VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-      qci.queryType = VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR;
-      qci.queryCount = static_cast<std::uint32_t>(n);
-      MASQ_VK_CHECK(vkCreateQueryPool(ctx_.device, &qci, nullptr, &pool));
+      std::vector<VkAccelerationStructureKHR> to_query;
+      for (std::size_t i : compacted) to_query.push_back(built[i]);
+      const auto queries = static_cast<std::uint32_t>(to_query.size());
+      if (queries > 0) {
+        VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        qci.queryType = VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR;
+        qci.queryCount = queries;
+        MASQ_VK_CHECK(vkCreateQueryPool(ctx_.device, &qci, nullptr, &pool));
+      }
 
       VkCommandBuffer cmd = ctx_.begin_commands(); // nothing below throws until the submit
-      vkCmdResetQueryPool(cmd, pool, 0, static_cast<std::uint32_t>(n));
+      if (queries > 0) vkCmdResetQueryPool(cmd, pool, 0, queries);
       ctx_.accel.cmd_build(cmd, static_cast<std::uint32_t>(n), infos.data(), range_ptrs.data());
       build_barrier(cmd);
-      ctx_.accel.cmd_write_properties(cmd, static_cast<std::uint32_t>(n), built.data(),
-                                      VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR, pool, 0);
+      if (queries > 0)
+        ctx_.accel.cmd_write_properties(cmd, queries, to_query.data(),
+                                        VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR, pool, 0);
       ctx_.submit_and_wait(cmd);
-      std::vector<std::uint64_t> compact(n, 0);
-      MASQ_VK_CHECK(vkGetQueryPoolResults(ctx_.device, pool, 0, static_cast<std::uint32_t>(n),
-                                          n * sizeof(std::uint64_t), compact.data(), sizeof(std::uint64_t),
-                                          VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
 
-      std::vector<AccelStructure> out(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        const std::uint64_t bytes = std::max<std::uint64_t>(compact[i], 1);
-        place(out[i], pending_[i].id, bytes, pending_[i].in.type);
+      if (queries > 0) {
+        std::vector<std::uint64_t> sizes(queries, 0);
+        MASQ_VK_CHECK(vkGetQueryPoolResults(ctx_.device, pool, 0, queries, queries * sizeof(std::uint64_t),
+                                            sizes.data(), sizeof(std::uint64_t),
+                                            VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+        for (std::size_t k = 0; k < compacted.size(); ++k) {
+          const Pending& p = pending_[compacted[k]];
+          place(out[compacted[k]], p.id, std::max<std::uint64_t>(sizes[k], 1), p.in.type);
+        }
+        cmd = ctx_.begin_commands();
+        for (std::size_t i : compacted) {
+          VkCopyAccelerationStructureInfoKHR copy{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_INFO_KHR};
+          copy.src = built[i];
+          copy.dst = out[i].handle_;
+          copy.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
+          ctx_.accel.cmd_copy(cmd, &copy);
+        }
+        build_barrier(cmd);
+        ctx_.submit_and_wait(cmd);
       }
-      cmd = ctx_.begin_commands();
-      for (std::size_t i = 0; i < n; ++i) {
-        VkCopyAccelerationStructureInfoKHR copy{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_INFO_KHR};
-        copy.src = built[i];
-        copy.dst = out[i].handle_;
-        copy.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
-        ctx_.accel.cmd_copy(cmd, &copy);
-      }
-      build_barrier(cmd);
-      ctx_.submit_and_wait(cmd);
       for (std::size_t i = 0; i < n; ++i) {
         VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
         ai.accelerationStructure = out[i].handle_;
@@ -217,8 +239,9 @@ class AccelBatch {
                               backend_, id, bytes, what, max_alloc_, ctx_.max_allocation_name));
   }
 
-  // A compacted structure of `bytes` at the next 256-aligned offset of the current
-  // block, or of a new one (its own when larger than a block).
+  // A structure of `bytes` (compacted, or a top level's build size) at the next
+  // 256-aligned offset of the current block, or of a new one (its own when larger
+  // than a block).
   void place(AccelStructure& as, std::size_t id, std::uint64_t bytes, VkAccelerationStructureTypeKHR type) {
     if (!block_ || block_used_ + bytes > block_->size()) {
       check(id, "compacted storage", bytes);

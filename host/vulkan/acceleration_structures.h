@@ -1,7 +1,7 @@
 // The driver's own acceleration structures (VK_KHR_acceleration_structure): bottom
 // levels of opaque triangles or procedural AABBs, and a top level over instances.
-// build_accels builds many per command buffer and compacts them (host/vulkan/
-// accel_batch.cpp); inputs may be freed afterwards.
+// build_accels builds many per command buffer and compacts the bottom levels
+// (host/vulkan/accel_batch.cpp); inputs may be freed afterwards.
 #pragma once
 #include "host/vulkan/vk_buffer.h"
 #include <cstddef>
@@ -12,7 +12,7 @@
 
 namespace masq::vk {
 
-// A built, compacted structure in a slice of a storage block it shares with the other
+// A built structure (compacted when a bottom level) in a slice of a storage block it shares with the other
 // structures of its build_accels call; the block lives while any of them does.
 class AccelStructure {
  public:
@@ -25,7 +25,7 @@ class AccelStructure {
 
   VkAccelerationStructureKHR handle() const { return handle_; }
   VkDeviceAddress address() const { return address_; }
-  std::size_t bytes() const { return bytes_; } // its compacted size on the device
+  std::size_t bytes() const { return bytes_; } // its size on the device (a bottom level's compacted)
 
  private:
   friend class AccelBatch;
@@ -62,10 +62,11 @@ struct AccelBatchLimits {
 };
 
 // Builds `count` structures, input(i) giving the i-th (asked for once, in order), and
-// returns them compacted, in that order. Per batch: one input, one scratch and one
-// storage buffer, one command buffer holding every build (disjoint scratch regions, so
-// no barrier between them), a compacted-size query per structure, then one command
-// buffer of compacting copies into the shared blocks. Throws masq::Error naming
+// returns them in that order. Per batch: one input, one scratch and one storage buffer,
+// one command buffer holding every build (disjoint scratch regions, so no barrier
+// between them) and a compacted-size query per bottom level, then one command buffer
+// of compacting copies into the shared blocks. Top levels are built in place in the
+// blocks, not compacted (accel_batch.cpp says why). Throws masq::Error naming
 // `backend`, the structure and the limit when one needs more than one allocation holds.
 std::vector<AccelStructure> build_accels(Context& ctx, const char* backend, std::size_t count,
                                          const std::function<AccelInput(std::size_t)>& input,

@@ -19,9 +19,9 @@
 // TLAS ("parts", traced in turn by kernels/rayquery.comp). The instance records are
 // uploaded one per TLAS entry in submission order, so the 24-bit custom index is the
 // entry's rank within its part and any instance count maps back exactly.
-// Every BLAS, then the TLAS parts, is built in batches and compacted into shared
-// storage blocks (vk::build_accels, host/vulkan/accel_batch.cpp); device_bytes counts
-// the compacted sizes.
+// Every BLAS, then the TLAS parts, is built in batches into shared storage blocks, the
+// BLAS compacted (vk::build_accels, host/vulkan/accel_batch.cpp); device_bytes counts
+// the BLAS at their compacted sizes.
 // lavapipe builds its BVH in submission order without sorting, so primitives and
 // instances are submitted in the order of masq's own BVH leaves (PackedScene's
 // geometry_leaf_order and tlas_leaf_order), and each part is a contiguous run of it.
@@ -171,7 +171,7 @@ class RayQueryBackend final : public Backend {
   TraceTiming timing() const override { return timing_; }
   std::size_t fill_rays() const override { return fill_rays_for(vk::resident_threads(*ctx_)); }
 
-  // The driver's structures count with their compacted sizes (vk::build_accels).
+  // The driver's structures count with their sizes on the device (BLAS compacted, vk::build_accels).
   std::size_t device_bytes() const override {
     std::size_t b = scene_.bytes + parts_buffer_.size() + unit_box_.bytes();
     for (const auto& as : tlas_) b += as.bytes();
