@@ -341,3 +341,36 @@ TEST(Suites, BenchRunFindsEachRowsStructures) {
     EXPECT_NE(std::string(e.what()).find("sbvh"), std::string::npos) << e.what();
   }
 }
+
+// The bench keeps the same rays on every backend; a row with fewer rays than its device
+// needs to be busy (Backend::fill_rays) gets a note naming the backend, device and need,
+// and the JSON carries the timing parts beside the device time.
+TEST(Bench, NotesRaySetsTooSmallToFillTheDevice) {
+  BenchRow r;
+  r.backend = "vulkan";
+  r.device = "big gpu";
+  r.rays = 1000;
+  r.median_s = r.min_s = r.max_s = 0.001;
+  r.wall_s = 0.003;
+  r.upload_s = 0.0005;
+  r.readback_s = 0.0007;
+  r.fill_rays = 1000000;
+  auto has_note = [](const Table& t) {
+    for (const std::string& n : t.notes)
+      if (n.find("too small to fill the device: vulkan on big gpu") != std::string::npos &&
+          n.find("1000000") != std::string::npos)
+        return true;
+    return false;
+  };
+  EXPECT_TRUE(has_note(bench_table({r})));
+  const nlohmann::json j = bench_row_json(r);
+  EXPECT_EQ(j["wall_seconds"], 0.003);
+  EXPECT_EQ(j["upload_seconds"], 0.0005);
+  EXPECT_EQ(j["readback_seconds"], 0.0007);
+  EXPECT_EQ(j["fill_rays"], 1000000);
+  r.rays = 2e6;
+  EXPECT_FALSE(has_note(bench_table({r})));
+  r.fill_rays = 0; // the device does not say: no note
+  r.rays = 10;
+  EXPECT_FALSE(has_note(bench_table({r})));
+}
