@@ -124,8 +124,8 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
   res.isect_calls = 0;
   Geometry g = KD(geoms)[geom_id];
   vec3 inv_d = safe_rcp3(d);
-  int stack_node[MASQ_STACK_SIZE];
-  float stack_t[MASQ_STACK_SIZE];
+  int stack_node[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
+  float stack_t[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
   int sp = 0;
   // The node visited next is held here, not pushed and popped: the nearest inner child
   // of the node just visited (the one the stack would pop next), else the stack's top.
@@ -160,7 +160,7 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
       }
       n = simd::sorted_slots(wh.tnear, hit.inner, slot);
       for (int k = n - 1; k >= 0; --k) {
-        if (held && sp < MASQ_STACK_SIZE) {
+        if (held && sp < MASQ_BLAS_STACK) {
           stack_node[sp] = node;
           stack_t[sp] = node_t;
           sp = sp + 1;
@@ -185,7 +185,7 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
       if (wh.count[i] != 0) continue;
-      if (held && sp < MASQ_STACK_SIZE) {
+      if (held && sp < MASQ_BLAS_STACK) {
         stack_node[sp] = node;
         stack_t[sp] = node_t;
         sp = sp + 1;
@@ -253,8 +253,8 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
     return res;
   }
   vec3 inv_d = safe_rcp3(wd);
-  int stack_node[MASQ_STACK_SIZE];
-  float stack_t[MASQ_STACK_SIZE];
+  int stack_node[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
+  float stack_t[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
   int sp = 0;
   int node = tlas_root; // held, as in traverse_blas
   float node_t = tmin;
@@ -345,7 +345,7 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
       if (wh.count[i] != 0) continue;
-      if (held && sp < MASQ_STACK_SIZE) {
+      if (held && sp < MASQ_TLAS_STACK) {
         stack_node[sp] = node;
         stack_t[sp] = node_t;
         sp = sp + 1;

@@ -151,6 +151,7 @@ class RayQueryBackend final : public Backend {
     if (scene.features.mode == Mode::Robust && scene.method != Method::Ref) kept_ = scene; // for TLAS rebuilds
     scene_.bind(layout_);
     features_ = scene.features;
+    features_.tlas_stack = features_.blas_stack = StackNeed{}; // the driver traverses: no kernel stacks
     have_scene_ = true;
     timing_.scene_seconds = seconds_since(t0);
   }
