@@ -221,9 +221,16 @@ FN Hit hit_from_nearest(KD_PARAM Nearest n) {
   return h;
 }
 
+// Validity is read from the float bits with integer masks, not isnan/isinf: a driver
+// that compiles with fast-math assumptions (no NaN, no Inf) may fold those to false,
+// and an invalid ray would then be traversed (docs/robustness.md, "Float semantics").
+// Finite: the exponent is not all ones; NaN: all-ones exponent, nonzero mantissa.
+FN bool bits_finite(float x) { return (f2u_(x) & 0x7f800000u) != 0x7f800000u; }
+FN bool bits_nan(float x) { return (f2u_(x) & 0x7fffffffu) > 0x7f800000u; }
+
 FN bool ray_is_valid(vec3 o, vec3 d, float tmin, float tmax) {
-  return isfinite_(o.x) && isfinite_(o.y) && isfinite_(o.z) && isfinite_(d.x) && isfinite_(d.y) &&
-         isfinite_(d.z) && dot(d, d) > 0.0f && !isnan_(tmin) && !isnan_(tmax) && tmin <= tmax;
+  return bits_finite(o.x) && bits_finite(o.y) && bits_finite(o.z) && bits_finite(d.x) && bits_finite(d.y) &&
+         bits_finite(d.z) && dot(d, d) > 0.0f && !bits_nan(tmin) && !bits_nan(tmax) && tmin <= tmax;
 }
 
 FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
