@@ -6,6 +6,7 @@
 #include "host/opencl/cl_scene_buffers.h"
 #include "host/opencl/kernel_sources.h"
 #include "host/scene_variant.h"
+#include "host/opencl/cl_local_size.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <chrono>
@@ -15,7 +16,6 @@ namespace masq {
 namespace {
 
 using opencl::check;
-constexpr std::size_t kGlobalMultiple = 64;
 constexpr std::size_t kDummyBytes = 16; // OpenCL rejects zero-sized buffers
 
 class OpenClBvTracer final : public BvTracer {
@@ -59,9 +59,11 @@ class OpenClBvTracer final : public BvTracer {
     check(k.setArg(arg++, stat_buf), "clSetKernelArg(stats)");
     const kernel::TraceParams params{int(n), node_count_, 0, 0}; // tlas_root: the node count
     check(k.setArg(arg++, params), "clSetKernelArg(params)");
-    const std::size_t global = (n + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
+    const opencl::WorkGroup group = opencl::kernel_work_group(rt_, k); // host/opencl/cl_local_size.h
+    const std::size_t global = opencl::padded_global(group, n);
+    const cl::NDRange local = group.local > 0 ? cl::NDRange(group.local) : cl::NullRange;
     cl::Event ev;
-    check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr, &ev),
+    check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), local, nullptr, &ev),
           "clEnqueueNDRangeKernel(trace_bv)");
     check(rt_.queue.enqueueReadBuffer(hit_buf, CL_FALSE, 0, n * sizeof(kernel::Hit), hits.data()),
           "clEnqueueReadBuffer(hits)");
