@@ -1,4 +1,5 @@
 #include "bench/bench_report.h"
+#include "host/stack_size.h"
 #include <algorithm>
 #include <fmt/format.h>
 
@@ -193,6 +194,8 @@ nlohmann::json bench_row_json(const BenchRow& r) {
                       {"device", r.device}};
   e["bytes"] = {{"acceleration", r.accel_bytes}, {"primitives", r.prim_bytes}, {"device", r.device_bytes}};
   e["primitives"] = r.primitives;
+  e["kernel_stacks"] = {{"tlas", r.tlas_stack}, {"blas", r.blas_stack},
+                        {"bytes_per_thread", stack_bytes(r.tlas_stack, r.blas_stack)}};
   e["build"] = {{"tlas_sah", r.build.sah_cost}, {"blas_sah", r.build.blas_sah_cost},
                 {"tlas_nodes", r.build.tlas_nodes}, {"blas_nodes", r.build.blas_nodes}, {"node_bytes", r.build.node_bytes},
                 {"instances", r.build.instances}, {"max_depth", r.build.max_depth},

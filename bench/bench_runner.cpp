@@ -1,5 +1,6 @@
 #include "bench/bench_runner.h"
 #include "bvh/twolevel/build_accel.h"
+#include "host/stack_size.h"
 #include "scenes/camera.h"
 #include "masq/error.h"
 #include <algorithm>
@@ -81,6 +82,8 @@ void describe_structure(BenchRow& row, const PackedScene& ps) {
   row.build_s = ps.stats.build_seconds;
   row.accel_bytes = ps.acceleration_bytes();
   row.prim_bytes = ps.primitive_bytes();
+  row.tlas_stack = kernel_stack_size(ps.features.tlas_stack.entries, ps.features.tlas_stack.tree);
+  row.blas_stack = kernel_stack_size(ps.features.blas_stack.entries, ps.features.blas_stack.tree);
 }
 
 // The row of a lane and batch, describing the method's own structure (auto by pilot:

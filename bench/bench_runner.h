@@ -80,6 +80,9 @@ struct BenchRow {
   std::size_t accel_bytes = 0, prim_bytes = 0, device_bytes = 0;
   std::size_t primitives = 0;
   BuildStats build;
+  // The GPU kernels' (vulkan, opencl) traversal stacks for this structure, in entries
+  // (host/stack_size.h); the cpu keeps 64, rayquery has none.
+  std::int32_t tlas_stack = 0, blas_stack = 0;
   // auto by pilot: each candidate's fastest pilot trace (s), indexed by Method like
   // build.auto_candidates (0: not a candidate); the sample's size; the pilot's wall time.
   std::array<double, 4> pilot_seconds{};

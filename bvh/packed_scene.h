@@ -5,6 +5,7 @@
 #include "bvh/mat3x4f.h"
 #include "bvh/options.h"
 #include "kernels/layout.h"
+#include "kernels/variant_table.h"
 #include <array>
 #include <cstdint>
 #include <string>
@@ -17,9 +18,20 @@ namespace masq {
 int node_format_id(NodeFormat f);            // MASQ_NODES_* of kernels/layout.h
 std::size_t node_format_bytes(NodeFormat f); // one node
 
+// The worst-case number of entries one traversal stack holds over a scene's trees, as
+// the kernels push them (bvh/nodes/wide_bvh.h, WideBvhInfo::kernel_stack); the kernels'
+// stack is sized from it (host/stack_size.h). Unknown (a scene not from the builders):
+// the largest stack.
+struct StackNeed {
+  int entries = MASQ_STACK_MAX;
+  const char* tree = "traversal"; // which walk, for errors
+  bool operator==(const StackNeed& o) const { return entries == o.entries; }
+};
+
 // The kernel variant a scene needs: the primitive types present (the others are
-// compiled out), the intersector mode and the phantom-curve iteration limit. Every
-// backend maps this onto its variant mechanism (spec constants, -D, C++ TUs).
+// compiled out), the intersector mode, the phantom-curve iteration limit and the
+// traversal stacks' sizes. Every backend maps this onto its variant mechanism (spec
+// constants, -D, C++ TUs).
 struct KernelFeatures {
   bool triangles = false;
   bool capsules = false;
@@ -30,6 +42,8 @@ struct KernelFeatures {
   int curve_iters = 24;
   bool single_blas = false; // one BLAS instance, identity transform: no TLAS stage
   NodeFormat nodes = NodeFormat::W4;
+  StackNeed tlas_stack{MASQ_STACK_MAX, "TLAS"}; // the TLAS walk (trace_closest)
+  StackNeed blas_stack{MASQ_STACK_MAX, "BLAS"}; // every BLAS walk (traverse_blas; the bv kernels' one tree)
   bool operator==(const KernelFeatures&) const = default;
 };
 

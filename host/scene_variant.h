@@ -4,6 +4,7 @@
 #pragma once
 #include "bvh/packed_scene.h"
 #include "host/kernel_variant.h"
+#include "host/stack_size.h"
 #include <cstdint>
 
 namespace masq {
@@ -19,6 +20,7 @@ inline std::int32_t switch_value(bool b) { return b ? 1 : 0; }
 inline std::int32_t switch_value(int i) { return i; }
 inline std::int32_t switch_value(Mode m) { return m == Mode::Robust ? 1 : 0; }
 inline std::int32_t switch_value(NodeFormat f) { return node_format_id(f); }
+inline std::int32_t switch_value(const StackNeed& n) { return kernel_stack_size(n.entries, n.tree); }
 
 KernelVariant kernel_variant(const KernelFeatures& features, const TraceSwitches& trace);
 

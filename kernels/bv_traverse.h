@@ -52,8 +52,8 @@ FN TraceOut trace_bv_closest(KD_PARAM Ray ray, int node_count) {
     return res;
   }
   BvRay bray = bv_ray(o, d);
-  int stack_node[MASQ_STACK_SIZE];
-  float stack_t[MASQ_STACK_SIZE];
+  int stack_node[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
+  float stack_t[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
   int sp = 0;
   float troot = BV_HIT(KD(BV_NODES)[0], best.t);
   if (MASQ_STATS) res.stats.blas_nodes = 1;
@@ -81,19 +81,19 @@ FN TraceOut trace_bv_closest(KD_PARAM Ray ray, int node_count) {
     float tl = BV_HIT(KD(BV_NODES)[nd.child], best.t);
     float tr = BV_HIT(KD(BV_NODES)[nd.child + 1], best.t);
     if (MASQ_STATS) res.stats.blas_nodes = res.stats.blas_nodes + 2;
-    // Farther first, so the nearer child is popped next. The builder bounds the depth
-    // below the stack size (bvh/bv/bv_scene.cpp), so the checks never drop a child.
+    // Farther first, so the nearer child is popped next. The stack holds the tree's
+    // depth (bvh/bv/bv_scene.cpp sets the need), so the checks never drop a child.
     bool left_first = tl <= tr;
     int near_i = left_first ? nd.child : nd.child + 1;
     int far_i = left_first ? nd.child + 1 : nd.child;
     float near_t = left_first ? tl : tr;
     float far_t = left_first ? tr : tl;
-    if (far_t != inf_() && sp < MASQ_STACK_SIZE) {
+    if (far_t != inf_() && sp < MASQ_BLAS_STACK) {
       stack_node[sp] = far_i;
       stack_t[sp] = far_t;
       sp = sp + 1;
     }
-    if (near_t != inf_() && sp < MASQ_STACK_SIZE) {
+    if (near_t != inf_() && sp < MASQ_BLAS_STACK) {
       stack_node[sp] = near_i;
       stack_t[sp] = near_t;
       sp = sp + 1;

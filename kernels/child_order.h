@@ -20,55 +20,65 @@ STRUCT_END(ChildOrder)
 // the network is the same compare-exchanges at fixed slots for every lane, in registers.
 // On lavapipe it traced 1.2-1.7x faster (docs/kernels.md, "Child order on Vulkan");
 // PoCL, which vectorises the same way, ran it 0.86x, so OpenCL and C++ keep the
-// insertion sort.
-FN ChildOrder order_cswap(ChildOrder co, float tnear[MASQ_WIDTH8], int a, int b) {
-  int sa = co.slot[a];
-  int sb = co.slot[b];
-  float ta = tnear[sa];
-  float tb = tnear[sb];
+// insertion sort. The keys travel with the slots (key[a] is always tnear[slot[a]]), so
+// every array access of the network is at a fixed index: a GPU keeps them in registers
+// where reading tnear[slot[a]] would index a per-thread array by a run-time value.
+STRUCT_BEGIN(OrderKeys)
+  float key[MASQ_WIDTH8];
+  int slot[MASQ_WIDTH8];
+STRUCT_END(OrderKeys)
+
+FN OrderKeys order_cswap(OrderKeys o, int a, int b) {
+  float ta = o.key[a];
+  float tb = o.key[b];
+  int sa = o.slot[a];
+  int sb = o.slot[b];
   bool swap = ta > tb || (ta == tb && sa > sb);
-  co.slot[a] = swap ? sb : sa;
-  co.slot[b] = swap ? sa : sb;
-  return co;
+  o.key[a] = swap ? tb : ta;
+  o.key[b] = swap ? ta : tb;
+  o.slot[a] = swap ? sb : sa;
+  o.slot[b] = swap ? sa : sb;
+  return o;
 }
 
 FN ChildOrder order_children(WideHits wh, int width) {
+  OrderKeys o;
   ChildOrder co;
-  float t[MASQ_WIDTH8];
   co.n = 0;
   for (int i = 0; i < MASQ_WIDTH8; ++i) {
-    t[i] = i < width ? wh.tnear[i] : inf_(); // slots beyond the width are not set
-    co.slot[i] = i;
-    co.n = co.n + (t[i] == inf_() ? 0 : 1);
+    o.key[i] = i < width ? wh.tnear[i] : inf_(); // slots beyond the width are not set
+    o.slot[i] = i;
+    co.n = co.n + (o.key[i] == inf_() ? 0 : 1);
   }
   if (width == MASQ_WIDTH) {
-    co = order_cswap(co, t, 0, 1);
-    co = order_cswap(co, t, 2, 3);
-    co = order_cswap(co, t, 0, 2);
-    co = order_cswap(co, t, 1, 3);
-    co = order_cswap(co, t, 1, 2);
-    return co;
+    o = order_cswap(o, 0, 1);
+    o = order_cswap(o, 2, 3);
+    o = order_cswap(o, 0, 2);
+    o = order_cswap(o, 1, 3);
+    o = order_cswap(o, 1, 2);
+  } else {
+    // Knuth's 19 comparators for eight keys (TAOCP vol. 3, 5.3.4).
+    o = order_cswap(o, 0, 2);
+    o = order_cswap(o, 1, 3);
+    o = order_cswap(o, 4, 6);
+    o = order_cswap(o, 5, 7);
+    o = order_cswap(o, 0, 4);
+    o = order_cswap(o, 1, 5);
+    o = order_cswap(o, 2, 6);
+    o = order_cswap(o, 3, 7);
+    o = order_cswap(o, 0, 1);
+    o = order_cswap(o, 2, 3);
+    o = order_cswap(o, 4, 5);
+    o = order_cswap(o, 6, 7);
+    o = order_cswap(o, 2, 4);
+    o = order_cswap(o, 3, 5);
+    o = order_cswap(o, 1, 4);
+    o = order_cswap(o, 3, 6);
+    o = order_cswap(o, 1, 2);
+    o = order_cswap(o, 3, 4);
+    o = order_cswap(o, 5, 6);
   }
-  // Knuth's 19 comparators for eight keys (TAOCP vol. 3, 5.3.4).
-  co = order_cswap(co, t, 0, 2);
-  co = order_cswap(co, t, 1, 3);
-  co = order_cswap(co, t, 4, 6);
-  co = order_cswap(co, t, 5, 7);
-  co = order_cswap(co, t, 0, 4);
-  co = order_cswap(co, t, 1, 5);
-  co = order_cswap(co, t, 2, 6);
-  co = order_cswap(co, t, 3, 7);
-  co = order_cswap(co, t, 0, 1);
-  co = order_cswap(co, t, 2, 3);
-  co = order_cswap(co, t, 4, 5);
-  co = order_cswap(co, t, 6, 7);
-  co = order_cswap(co, t, 2, 4);
-  co = order_cswap(co, t, 3, 5);
-  co = order_cswap(co, t, 1, 4);
-  co = order_cswap(co, t, 3, 6);
-  co = order_cswap(co, t, 1, 2);
-  co = order_cswap(co, t, 3, 4);
-  co = order_cswap(co, t, 5, 6);
+  for (int i = 0; i < MASQ_WIDTH8; ++i) co.slot[i] = o.slot[i];
   return co;
 }
 #else

@@ -49,7 +49,7 @@
 #include "prim_hit.h"
 #include "variants.h" // MASQ_CURVE_ITERS
 
-// A fused multiply-add (error-free products) and a guard that keeps GLSL compilers
+// A fused multiply-add (error-free products); MASQ_PRECISE (shim.h) keeps GLSL compilers
 // from contracting or reordering the error-free transforms. (OpenCL C and C++ neither
 // reassociate nor contract without fast-math flags; an unfused fma would only lose
 // the extra digits, never give a wrong result.)
@@ -57,11 +57,6 @@
 #define MASQ_CURVE_FMA(a, b, c) std::fma((a), (b), (c))
 #else
 #define MASQ_CURVE_FMA(a, b, c) fma((a), (b), (c))
-#endif
-#if defined(MASQ_LANG_GLSL)
-#define MASQ_CURVE_EXACT precise
-#else
-#define MASQ_CURVE_EXACT
 #endif
 
 // Robust: closest approach converged when its step is below this times r along the
@@ -438,26 +433,26 @@ FN CurveSeeds curve_seeds(CurveFrame f) {
 
 // a*b - c*e to within 1.5 ulp (Kahan's algorithm with fma).
 FN float curve_dop(float a, float b, float c, float e) {
-  MASQ_CURVE_EXACT float w = c * e;
-  MASQ_CURVE_EXACT float err = MASQ_CURVE_FMA(-c, e, w);
-  MASQ_CURVE_EXACT float fa = MASQ_CURVE_FMA(a, b, -w);
+  MASQ_PRECISE float w = c * e;
+  MASQ_PRECISE float err = MASQ_CURVE_FMA(-c, e, w);
+  MASQ_PRECISE float fa = MASQ_CURVE_FMA(a, b, -w);
   return fa + err;
 }
 
 // dot(a, b) computed as if in twice the precision, then rounded (Ogita, Rump and
 // Oishi's Dot2: error-free products by fma, sums by TwoSum).
 FN float curve_dot_acc(vec3 a, vec3 b) {
-  MASQ_CURVE_EXACT float p = a.x * b.x;
-  MASQ_CURVE_EXACT float cmp = MASQ_CURVE_FMA(a.x, b.x, -p);
-  MASQ_CURVE_EXACT float h = a.y * b.y;
-  MASQ_CURVE_EXACT float hq = MASQ_CURVE_FMA(a.y, b.y, -h);
-  MASQ_CURVE_EXACT float x = p + h;
-  MASQ_CURVE_EXACT float zz = x - p;
+  MASQ_PRECISE float p = a.x * b.x;
+  MASQ_PRECISE float cmp = MASQ_CURVE_FMA(a.x, b.x, -p);
+  MASQ_PRECISE float h = a.y * b.y;
+  MASQ_PRECISE float hq = MASQ_CURVE_FMA(a.y, b.y, -h);
+  MASQ_PRECISE float x = p + h;
+  MASQ_PRECISE float zz = x - p;
   cmp += ((p - (x - zz)) + (h - zz)) + hq;
-  MASQ_CURVE_EXACT float g = a.z * b.z;
-  MASQ_CURVE_EXACT float gq = MASQ_CURVE_FMA(a.z, b.z, -g);
-  MASQ_CURVE_EXACT float y = x + g;
-  MASQ_CURVE_EXACT float zy = y - x;
+  MASQ_PRECISE float g = a.z * b.z;
+  MASQ_PRECISE float gq = MASQ_CURVE_FMA(a.z, b.z, -g);
+  MASQ_PRECISE float y = x + g;
+  MASQ_PRECISE float zy = y - x;
   cmp += ((x - (y - zy)) + (g - zy)) + gq;
   return y + cmp;
 }
@@ -486,15 +481,15 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
   float rb = sqrt(max(max(dot(q0, q0), dot(q1, q1)), max(dot(q2, q2), dot(q3, q3)))) + r;
   float rb2 = 1.001f * rb * rb;
   // Origin shift to the ray point nearest cen: pp (relative to cen), at t = ts.
-  MASQ_CURVE_EXACT vec3 oc = o - cen;
+  MASQ_PRECISE vec3 oc = o - cen;
   vec3 pp;
   float ts;
   if (robust != 0) {
     // o - cen = oc + ol exactly (TwoSum); moment (o - cen) x d to ~1 ulp; then
     // pp = d x ((o - cen) x d) / dd has an error of the size of u |pp|, not u |o - cen|.
-    MASQ_CURVE_EXACT vec3 bv = oc - o;
-    MASQ_CURVE_EXACT vec3 av = oc - bv;
-    MASQ_CURVE_EXACT vec3 ol = (o - av) - (cen + bv);
+    MASQ_PRECISE vec3 bv = oc - o;
+    MASQ_PRECISE vec3 av = oc - bv;
+    MASQ_PRECISE vec3 ol = (o - av) - (cen + bv);
     vec3 mom = curve_cross_acc(oc, d) + cross(ol, d);
     pp = cross(d, mom) / dd;
     ts = -(curve_dot_acc(oc, d) + dot(ol, d)) / dd; // t of the shifted origin, to ~1 ulp

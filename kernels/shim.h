@@ -42,10 +42,9 @@ using glm::sqrt;
 inline float fabs_(float x) { return std::fabs(x); }
 inline vec3 vabs_(vec3 v) { return glm::abs(v); }
 inline float inf_() { return std::numeric_limits<float>::infinity(); }
-inline bool isnan_(float x) { return std::isnan(x); }
-inline bool isfinite_(float x) { return std::isfinite(x); }
 // Bit and value conversions of 32-bit words (node formats read raw words).
 inline float as_float_(uint u) { return std::bit_cast<float>(u); }
+inline uint f2u_(float x) { return std::bit_cast<uint>(x); }
 inline int u2i_(uint u) { return std::bit_cast<int>(u); }
 inline float u2f_(uint u) { return float(u); }
 inline float i2f_(int i) { return float(i); }
@@ -68,9 +67,8 @@ typedef float3 vec3;
 #define fabs_(x) fabs(x)
 #define vabs_(v) fabs(v)
 #define inf_() INFINITY
-#define isnan_(x) isnan(x)
-#define isfinite_(x) isfinite(x)
 #define as_float_(u) as_float(u)
+#define f2u_(x) as_uint(x)
 #define u2i_(u) as_int(u)
 #define u2f_(u) convert_float(u)
 #define i2f_(i) convert_float(i)
@@ -90,12 +88,22 @@ typedef float3 vec3;
 #define fabs_(x) abs(x)
 #define vabs_(v) abs(v)
 #define inf_() uintBitsToFloat(0x7f800000u)
-#define isnan_(x) isnan(x)
-#define isfinite_(x) (!isnan(x) && !isinf(x))
 #define as_float_(u) uintBitsToFloat(u)
+#define f2u_(x) floatBitsToUint(x)
 #define u2i_(u) int(u)
 #define u2f_(u) float(u)
 #define i2f_(i) float(i)
+#endif
+
+// MASQ_PRECISE: evaluate as written, never contracted into fused multiply-adds (GLSL
+// `precise`, SPIR-V NoContraction), where the kernels need the same rounding on every
+// backend or an error-free transform (docs/robustness.md, "Float semantics"). C++ is
+// compiled with -ffp-contract=off and needs nothing; OpenCL C contracts within an
+// expression by default (FP_CONTRACT ON) unless the program says otherwise.
+#if defined(MASQ_LANG_GLSL)
+#define MASQ_PRECISE precise
+#else
+#define MASQ_PRECISE
 #endif
 
 // Buffer access. GLSL binds each array as a global SSBO (or reads it by device address); OpenCL and C++ pass one struct

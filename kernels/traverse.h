@@ -124,8 +124,8 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
   res.isect_calls = 0;
   Geometry g = KD(geoms)[geom_id];
   vec3 inv_d = safe_rcp3(d);
-  int stack_node[MASQ_STACK_SIZE];
-  float stack_t[MASQ_STACK_SIZE];
+  int stack_node[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
+  float stack_t[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
   int sp = 0;
   // The node visited next is held here, not pushed and popped: the nearest inner child
   // of the node just visited (the one the stack would pop next), else the stack's top.
@@ -160,7 +160,7 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
       }
       n = simd::sorted_slots(wh.tnear, hit.inner, slot);
       for (int k = n - 1; k >= 0; --k) {
-        if (held && sp < MASQ_STACK_SIZE) {
+        if (held && sp < MASQ_BLAS_STACK) {
           stack_node[sp] = node;
           stack_t[sp] = node_t;
           sp = sp + 1;
@@ -185,7 +185,7 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
       if (wh.count[i] != 0) continue;
-      if (held && sp < MASQ_STACK_SIZE) {
+      if (held && sp < MASQ_BLAS_STACK) {
         stack_node[sp] = node;
         stack_t[sp] = node_t;
         sp = sp + 1;
@@ -221,9 +221,16 @@ FN Hit hit_from_nearest(KD_PARAM Nearest n) {
   return h;
 }
 
+// Validity is read from the float bits with integer masks, not isnan/isinf: a driver
+// that compiles with fast-math assumptions (no NaN, no Inf) may fold those to false,
+// and an invalid ray would then be traversed (docs/robustness.md, "Float semantics").
+// Finite: the exponent is not all ones; NaN: all-ones exponent, nonzero mantissa.
+FN bool bits_finite(float x) { return (f2u_(x) & 0x7f800000u) != 0x7f800000u; }
+FN bool bits_nan(float x) { return (f2u_(x) & 0x7fffffffu) > 0x7f800000u; }
+
 FN bool ray_is_valid(vec3 o, vec3 d, float tmin, float tmax) {
-  return isfinite_(o.x) && isfinite_(o.y) && isfinite_(o.z) && isfinite_(d.x) && isfinite_(d.y) &&
-         isfinite_(d.z) && dot(d, d) > 0.0f && !isnan_(tmin) && !isnan_(tmax) && tmin <= tmax;
+  return bits_finite(o.x) && bits_finite(o.y) && bits_finite(o.z) && bits_finite(d.x) && bits_finite(d.y) &&
+         bits_finite(d.z) && dot(d, d) > 0.0f && !bits_nan(tmin) && !bits_nan(tmax) && tmin <= tmax;
 }
 
 FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
@@ -253,8 +260,8 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
     return res;
   }
   vec3 inv_d = safe_rcp3(wd);
-  int stack_node[MASQ_STACK_SIZE];
-  float stack_t[MASQ_STACK_SIZE];
+  int stack_node[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
+  float stack_t[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
   int sp = 0;
   int node = tlas_root; // held, as in traverse_blas
   float node_t = tmin;
@@ -345,7 +352,7 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
       if (wh.count[i] != 0) continue;
-      if (held && sp < MASQ_STACK_SIZE) {
+      if (held && sp < MASQ_TLAS_STACK) {
         stack_node[sp] = node;
         stack_t[sp] = node_t;
         sp = sp + 1;

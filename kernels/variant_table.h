@@ -30,6 +30,13 @@
 
 #define MASQ_SPEC_LOCAL_SIZE 3 // the entry points' local_size_x_id
 
+// The largest traversal stack, in entries (a node index and its entry distance each).
+// MASQ_TLAS_STACK and MASQ_BLAS_STACK size the two stacks of a dispatch from its
+// scene's trees (host/stack_size.h rounds the builders' worst case up to one of a few
+// sizes); their default, the size of a kernel compiled without the host's choice and
+// of the cpu's stacks (cpu units 1), is this one (host/stack_size.cpp checks it).
+#define MASQ_STACK_MAX 64
+
 #define MASQ_VARIANTS(X)                                                                             \
   X(MASQ_STATS,          stats,       bool, false, 0,  2, TRACE(stats))       /* per-ray counters */ \
   X(MASQ_HAVE_TRIANGLES, triangles,   bool, true,  1,  1, FEATURES(triangles))                       \
@@ -41,6 +48,8 @@
   X(MASQ_CURVE_ITERS,    curve_iters, int,  24,    8,  0, FEATURES(curve_iters)) /* phantom limit */ \
   X(MASQ_ANY_HIT,        any_hit,     bool, false, 9,  0, TRACE(any_hit))     /* occlusion query */  \
   X(MASQ_SINGLE_BLAS,    single_blas, bool, false, 10, 0, FEATURES(single_blas)) /* no TLAS stage */ \
-  X(MASQ_NODE_FORMAT,    node_format, int,  0,     11, 3, FEATURES(nodes))    /* MASQ_NODES_* */
+  X(MASQ_NODE_FORMAT,    node_format, int,  0,     11, 3, FEATURES(nodes))    /* MASQ_NODES_* */ \
+  X(MASQ_TLAS_STACK,     tlas_stack,  int,  64,    12, 1, FEATURES(tlas_stack)) /* entries */      \
+  X(MASQ_BLAS_STACK,     blas_stack,  int,  64,    13, 1, FEATURES(blas_stack)) /* entries */
 
 #endif

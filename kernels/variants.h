@@ -38,6 +38,15 @@ MASQ_VARIANTS(MASQ_CPU_SWITCH)
 KERNEL_NS_END
 #endif
 
-#define MASQ_STACK_SIZE 64
+// The dimension of a traversal stack whose switch is NAME (MASQ_TLAS_STACK,
+// MASQ_BLAS_STACK): GLSL sizes the array by the specialization constant and OpenCL C
+// by the -D, so a GPU thread carries only what its scene's trees need; C++ keeps the
+// largest size, since its switches need not be compile-time constants. The pushes are
+// bounded by NAME itself on every backend.
+#if defined(MASQ_LANG_CPP)
+#define MASQ_STACK_DIM(NAME) MASQ_STACK_MAX
+#else
+#define MASQ_STACK_DIM(NAME) NAME
+#endif
 
 #endif

@@ -88,7 +88,7 @@ TEST(Bvh, CoincidentPrimitivesStillSplitIntoSmallLeaves) {
   for (int i = 0; i < 1000; ++i) ids[i] = i;
   WideBvhInfo info = append_wide_bvh(bvh, ids, nodes, refs);
   EXPECT_EQ(refs.size(), 1000u);
-  EXPECT_LE(info.stack_need, MASQ_STACK_SIZE);
+  EXPECT_LE(info.stack_need, MASQ_STACK_MAX);
 }
 
 TEST(Bvh, MasqueradeMakesOneInstancePerCapsule) {

@@ -276,6 +276,42 @@ int simulated_stack(const PackedScene& ps, int root) {
   return worst;
 }
 
+// The deepest stack the kernels reach (kernels/traverse.h: the nearest inner child is
+// held for the next visit, the others pushed; children that are leaves never pushed),
+// with the neediest child taken as the nearest: an explicit walk over the decoded slots.
+int simulated_kernel_stack(const PackedScene& ps, int root) {
+  std::function<int(int)> need = [&](int node) {
+    int inner = 0, deepest = 0;
+    for (const NodeSlot& s : node_slots(ps, node))
+      if (s.count == 0) {
+        ++inner;
+        deepest = std::max(deepest, need(s.child));
+      }
+    return inner == 0 ? 0 : inner - 1 + deepest;
+  };
+  std::vector<int> stack;
+  int node = root, worst = 0;
+  bool held = true;
+  while (held || !stack.empty()) {
+    if (!held) {
+      node = stack.back();
+      stack.pop_back();
+    }
+    held = false;
+    std::vector<std::pair<int, int>> kids; // (need, child), the neediest last: held
+    for (const NodeSlot& s : node_slots(ps, node))
+      if (s.count == 0) kids.push_back({need(s.child), s.child});
+    std::sort(kids.begin(), kids.end());
+    for (const auto& k : kids) {
+      if (held) stack.push_back(node);
+      node = k.second;
+      held = true;
+    }
+    worst = std::max(worst, int(stack.size()));
+  }
+  return worst;
+}
+
 BinaryBvh random_tree(int n, double octaves, std::uint64_t seed, std::vector<std::int32_t>& ids) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -303,7 +339,11 @@ TEST_P(EveryFormat, StackBoundHoldsAndIsReached) {
     // The bound counts the root's entry, which is popped before anything is pushed.
     EXPECT_LE(simulated, info.stack_need) << octaves;
     EXPECT_GE(simulated, info.stack_need - 1) << octaves;
-    EXPECT_LE(info.stack_need, MASQ_STACK_SIZE);
+    EXPECT_LE(info.stack_need, MASQ_STACK_MAX);
+    // What the kernels' stacks are sized from (KernelFeatures::tlas_stack, blas_stack)
+    // is exactly what their walk reaches.
+    EXPECT_EQ(simulated_kernel_stack(ps, info.root), info.kernel_stack) << octaves;
+    EXPECT_LT(info.kernel_stack, info.stack_need) << octaves;
     EXPECT_EQ(ps.refs.size(), ids.size());
   }
 }
@@ -318,7 +358,8 @@ TEST_P(EveryFormat, DeepTreesGetFewerInnerChildrenPerNode) {
   WideBvhInfo info = append_bvh_nodes(bvh, ids, GetParam(), ps);
   EXPECT_LT(info.max_inner, GetParam() == NodeFormat::W4 ? 4 : 8);
   EXPECT_LE(simulated_stack(ps, info.root), info.stack_need);
-  EXPECT_LE(info.stack_need, MASQ_STACK_SIZE);
+  EXPECT_LE(info.stack_need, MASQ_STACK_MAX);
+  EXPECT_EQ(simulated_kernel_stack(ps, info.root), info.kernel_stack);
   EXPECT_EQ(ps.refs.size(), ids.size());
   std::vector<Aabb> boxes(ids.size());
   for (const BinaryNode& n : bvh.nodes)

@@ -4,6 +4,7 @@
 // (that is the oracle tests' job).
 #include "bvh/twolevel/build_accel.h"
 #include "host/cpu/cpu_backend.h"
+#include "host/opencl/cl_local_size.h"
 #include "host/opencl/cl_runtime.h"
 #include "host/opencl/opencl_backend.h"
 #include "scenes/camera.h"
@@ -255,6 +256,23 @@ TEST(OpenClBackend, MisuseIsAnError) {
   EXPECT_THROW(ocl->trace(rays, hits, short_stats), Error);
   ocl->trace({}, {}, {}); // empty batch is fine
   EXPECT_EQ(ocl->timing().trace_seconds, 0.0);
+}
+
+// Work-group shapes for the kernel limits of real devices (host/opencl/cl_local_size.h):
+// GPUs get 64 in whole warps or wavefronts within the kernel's limit; a CPU device keeps
+// the runtime's choice over a global size padded to 64.
+TEST(OpenclWorkGroup, FitsThePreferredMultipleAndTheLimits) {
+  using opencl::fit_work_group;
+  EXPECT_EQ(fit_work_group(false, 64, 32, 1024, 1024).local, 64u);  // NVIDIA
+  EXPECT_EQ(fit_work_group(false, 64, 64, 256, 1024).local, 64u);   // AMD
+  EXPECT_EQ(fit_work_group(false, 64, 48, 1024, 1024).local, 96u);  // whole multiples
+  EXPECT_EQ(fit_work_group(false, 64, 32, 40, 1024).local, 32u);    // a kernel limited by its registers
+  EXPECT_EQ(fit_work_group(false, 64, 32, 1024, 16).local, 16u);    // below one warp: the limit
+  const opencl::WorkGroup cpu = fit_work_group(true, 64, 8, 4096, 4096);
+  EXPECT_EQ(cpu.local, 0u);
+  EXPECT_EQ(opencl::padded_global(cpu, 65), 128u);
+  const opencl::WorkGroup gpu = fit_work_group(false, 64, 32, 1024, 1024);
+  EXPECT_EQ(opencl::padded_global(gpu, 1), 64u);
 }
 
 } // namespace

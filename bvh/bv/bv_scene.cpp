@@ -107,10 +107,13 @@ BvTopologyPtr build_bv_topology(const Scene& scene, const BvOptions& opt) {
     bin = build_binned_sah(boxes, opt.sah);
   }
   topo->tree = flatten(bin);
-  // The traversal stack holds at most one entry per level (the sibling not taken).
-  if (topo->tree.depth >= MASQ_STACK_SIZE)
-    throw Error("bv: tree depth " + std::to_string(topo->tree.depth) + " exceeds the kernels' stack of " +
-                std::to_string(MASQ_STACK_SIZE));
+  // The traversal stack (kernels/bv_traverse.h) holds, below a node of level l (the root
+  // is level 1), one waiting sibling per level above and the node's two children: at most
+  // l + 1 entries for an inner node, which is at most the number of levels.
+  topo->prims.features.blas_stack = {topo->tree.depth, "bounding-volume tree"};
+  if (topo->tree.depth > MASQ_STACK_MAX)
+    throw Error("bv: tree depth " + std::to_string(topo->tree.depth) + " exceeds the kernels' largest stack of " +
+                std::to_string(MASQ_STACK_MAX) + " entries");
   topo->ordered.reserve(topo->tree.order.size());
   for (int id : topo->tree.order) {
     topo->ordered.push_back(wp.hulls[std::size_t(id)]);

@@ -33,10 +33,22 @@ std::vector<int> gather(const BinaryBvh& bvh, int binary, int width, int max_inn
   return kids;
 }
 
-// Stack entries a node needs (its own entry not counted): popping it pushes `inner`
-// entries; the nearest is popped next while the other inner-1 wait below it. The same
-// bound holds for any width, since a node's children are all pushed at once.
-int stack_need(int inner, int deepest) { return inner == 0 ? 0 : inner - 1 + std::max(1, deepest); }
+// Stack entries below a node. bound: as if popping it pushed all `inner` children (its
+// own entry not counted); the nearest is popped next while the other inner-1 wait below
+// it. The same bound holds for any width, since a node's children are all pushed at
+// once; the collapse keeps it within MASQ_STACK_MAX. kernel: what the kernels push
+// (kernels/traverse.h): they hold the nearest inner child instead of pushing it, so only
+// the other inner-1 wait, and a node whose children are leaves pushes nothing. Both take
+// the neediest child as the nearest (the worst case some ray meets).
+struct StackNeedOf {
+  int bound = 0;
+  int kernel = 0;
+};
+StackNeedOf stack_need(int inner, StackNeedOf deepest) {
+  if (inner == 0) return {};
+  return {inner - 1 + std::max(1, deepest.bound), inner - 1 + deepest.kernel};
+}
+StackNeedOf deeper(StackNeedOf a, StackNeedOf b) { return {std::max(a.bound, b.bound), std::max(a.kernel, b.kernel)}; }
 
 struct Common {
   const BinaryBvh& bvh;
@@ -75,13 +87,14 @@ struct FloatCollapser : Common {
   }
 
   // Emits the wide node for a list of binary children; returns {index, stack need}.
-  std::pair<int, int> emit(const std::vector<int>& kids, const Aabb& box, int depth) {
+  std::pair<int, StackNeedOf> emit(const std::vector<int>& kids, const Aabb& box, int depth) {
     int index = int(nodes.size());
     nodes.push_back({});
     count_node(box, depth);
     Node w{};
     for (int s = 0; s < Width; ++s) w.count[s] = -1;
-    int inner = 0, deepest = 0;
+    int inner = 0;
+    StackNeedOf deepest;
     for (int s = 0; s < int(kids.size()); ++s) {
       const BinaryNode& c = bvh.nodes[kids[s]];
       set_box(w, s, c.box);
@@ -93,7 +106,7 @@ struct FloatCollapser : Common {
         w.child[s] = child;
         w.count[s] = 0;
         ++inner;
-        deepest = std::max(deepest, need);
+        deepest = deeper(deepest, need);
       }
     }
     nodes[index] = w;
@@ -107,7 +120,7 @@ struct QuantCollapser : Common {
   std::vector<kernel::QuantNode8>& nodes;
 
   // Fills node `index` (already allocated); returns its stack need.
-  int fill(int index, const std::vector<int>& kids, int depth) {
+  StackNeedOf fill(int index, const std::vector<int>& kids, int depth) {
     Aabb box;
     for (int k : kids) box.grow(bvh.nodes[k].box);
     count_node(box, depth);
@@ -132,25 +145,26 @@ struct QuantCollapser : Common {
     }
     const int child_base = int(nodes.size());
     nodes.resize(nodes.size() + inner_kids.size());
-    int deepest = 0;
+    StackNeedOf deepest;
     for (std::size_t j = 0; j < inner_kids.size(); ++j)
-      deepest = std::max(deepest, fill(child_base + int(j), gather(bvh, inner_kids[j], 8, max_inner), depth + 1));
+      deepest = deeper(deepest, fill(child_base + int(j), gather(bvh, inner_kids[j], 8, max_inner), depth + 1));
     nodes[std::size_t(index)] = pack_quant_node(frame, qboxes, meta, child_base, ref_base);
     return stack_need(int(inner_kids.size()), deepest);
   }
 };
 
-void check_stack(WideBvhInfo& info, int need) {
-  info.stack_need = 1 + need;
-  if (info.stack_need > MASQ_STACK_SIZE)
+void check_stack(WideBvhInfo& info, StackNeedOf need) {
+  info.stack_need = 1 + need.bound;
+  info.kernel_stack = need.kernel;
+  if (info.stack_need > MASQ_STACK_MAX)
     throw Error("bvh: traversal would need a stack of " + std::to_string(info.stack_need) +
-                " entries; the kernels have " + std::to_string(MASQ_STACK_SIZE));
+                " entries; the kernels have at most " + std::to_string(MASQ_STACK_MAX));
 }
 
 // One collapse with at most max_inner inner children per node; {info, stack need}.
 template <class Node, int Width>
 WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
-                           std::vector<std::int32_t>& refs, int max_inner, int& need) {
+                           std::vector<std::int32_t>& refs, int max_inner, StackNeedOf& need) {
   FloatCollapser<Node, Width> c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
   const BinaryNode& root = bvh.nodes[0];
   c.root_area = std::max(root.box.area(), 1e-300);
@@ -164,7 +178,7 @@ WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>
 
 WideBvhInfo collapse_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
                            std::vector<kernel::QuantNode8>& nodes, std::vector<std::int32_t>& refs, int max_inner,
-                           int& need) {
+                           StackNeedOf& need) {
   QuantCollapser c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
   const BinaryNode& root = bvh.nodes[0];
   c.root_area = std::max(root.box.area(), 1e-300);
@@ -185,7 +199,7 @@ WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, std::vector<N
                                   std::vector<std::int32_t>& refs, Collapse collapse) {
   if (bvh.nodes.empty()) return {};
   const std::size_t nodes0 = nodes.size(), refs0 = refs.size();
-  int need = 0;
+  StackNeedOf need;
   WideBvhInfo info;
   for (int max_inner : {8, 6, 4, 3, 2}) {
     if (max_inner > width) continue;
@@ -193,7 +207,7 @@ WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, std::vector<N
     refs.resize(refs0);
     info = collapse(max_inner, need);
     info.max_inner = max_inner;
-    if (1 + need <= MASQ_STACK_SIZE) break;
+    if (1 + need.bound <= MASQ_STACK_MAX) break;
   }
   check_stack(info, need);
   return info;
@@ -202,14 +216,14 @@ WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, std::vector<N
 template <class Node, int Width>
 WideBvhInfo append_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
                          std::vector<std::int32_t>& refs) {
-  return collapse_within_stack(bvh, Width, nodes, refs, [&](int max_inner, int& need) {
+  return collapse_within_stack(bvh, Width, nodes, refs, [&](int max_inner, StackNeedOf& need) {
     return collapse_float<Node, Width>(bvh, ref_ids, nodes, refs, max_inner, need);
   });
 }
 
 WideBvhInfo append_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
                          std::vector<kernel::QuantNode8>& nodes, std::vector<std::int32_t>& refs) {
-  return collapse_within_stack(bvh, 8, nodes, refs, [&](int max_inner, int& need) {
+  return collapse_within_stack(bvh, 8, nodes, refs, [&](int max_inner, StackNeedOf& need) {
     return collapse_quant(bvh, ref_ids, nodes, refs, max_inner, need);
   });
 }

@@ -16,7 +16,8 @@ struct WideBvhInfo {
   std::size_t leaves = 0;
   double sah_cost = 0;     // traversal 1 per wide node visit, intersection 1 per reference
   int depth = 0;           // wide levels
-  int stack_need = 0;      // worst-case traversal stack entries (kernel has MASQ_STACK_SIZE)
+  int stack_need = 0;      // worst-case stack entries if every inner child were pushed (<= MASQ_STACK_MAX)
+  int kernel_stack = 0;    // worst-case entries the kernels push (they hold the nearest child): <= stack_need - 1
   int max_inner = 0;       // inner children per node the collapse allowed (< width: capped to fit the stack)
 };
 

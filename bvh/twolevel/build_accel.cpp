@@ -139,6 +139,8 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   ps.features.mode = opt.mode;
   ps.features.curve_iters = opt.curve_iters;
   ps.features.nodes = opt.nodes; // before any node is appended (cluster BLAS read it)
+  ps.features.tlas_stack.entries = 0; // the trees' needs, as they are appended
+  ps.features.blas_stack.entries = 0;
   ps.stats.cluster_size = opt.cluster.max_size;
   ps.stats.cluster_leaf_price = opt.cluster.leaf_price;
   for (const Instance& inst : scene.instances) {
@@ -202,6 +204,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     ps.stats.blas_leaves += info.leaves;
     ps.stats.blas_sah_cost += info.sah_cost;
     ps.stats.max_depth = std::max(ps.stats.max_depth, info.depth);
+    ps.features.blas_stack.entries = std::max(ps.features.blas_stack.entries, info.kernel_stack);
   }
 
   // TLAS entries: per scene instance its BLAS and masquerade instances, then per
@@ -273,6 +276,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     ps.stats.tlas_leaves = info.leaves;
     ps.stats.sah_cost = info.sah_cost;
     ps.stats.max_depth += info.depth;
+    ps.features.tlas_stack.entries = info.kernel_stack;
   }
   // A single BLAS under an identity instance: the kernels skip the TLAS stage and the
   // ray transform (the TLAS is still built, for the rayquery backend and the stats).

@@ -76,6 +76,7 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
     ps.stats.blas_nodes += info.nodes;
     ps.stats.blas_leaves += info.leaves;
     ps.stats.blas_sah_cost += info.sah_cost;
+    ps.features.blas_stack.entries = std::max(ps.features.blas_stack.entries, info.kernel_stack);
     const Aabb& cluster_local = bvh.nodes[0].box;
     for (std::size_t k = 0; k < scene_insts.size(); ++k) {
       int si = scene_insts[k];

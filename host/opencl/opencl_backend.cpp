@@ -5,6 +5,7 @@
 #include "host/opencl/kernel_sources.h"
 #include "host/device_fill.h"
 #include "host/scene_variant.h"
+#include "host/opencl/cl_local_size.h"
 #include "masq/error.h"
 
 #include <algorithm>
@@ -18,9 +19,6 @@ namespace {
 
 using opencl::check;
 
-// Global sizes are padded to this multiple so the runtime can choose a work-group size
-// (a prime ray count would otherwise force work-groups of one).
-constexpr std::size_t kGlobalMultiple = 64;
 constexpr std::size_t kMaxWindowRays = std::size_t{1} << 30;
 // OpenCL rejects zero-sized buffers; empty arrays get a dummy the kernel never reads.
 constexpr std::size_t kDummyBytes = 16;
@@ -98,6 +96,7 @@ class OpenClBackend final : public Backend {
     check(k.setArg(arg++, hit_buf_), "clSetKernelArg(hits)");
     check(k.setArg(arg++, stat_buf_), "clSetKernelArg(stats)");
     const cl_uint params_arg = arg; // kernel::TraceParams, set per chunk
+    const opencl::WorkGroup group = opencl::kernel_work_group(rt_, k); // host/opencl/cl_local_size.h
 
     std::vector<cl::Event> events, uploads, readbacks;
     for (std::size_t w0 = 0; w0 < n; w0 += window) {
@@ -109,9 +108,10 @@ class OpenClBackend final : public Backend {
         const std::size_t cn = std::min(chunk, wn - c0);
         const kernel::TraceParams params{int(cn), scene_->tlas_root, int(c0), 0};
         check(k.setArg(params_arg, params), "clSetKernelArg(params)");
-        const std::size_t global = (cn + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
+        const std::size_t global = opencl::padded_global(group, cn);
+        const cl::NDRange local = group.local > 0 ? cl::NDRange(group.local) : cl::NullRange;
         cl::Event ev;
-        check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr, &ev),
+        check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), local, nullptr, &ev),
               "clEnqueueNDRangeKernel(trace)");
         events.push_back(ev);
         // In-order queue: each read completes before the next chunk overwrites the buffer.

@@ -7,6 +7,7 @@
 #include "host/opencl/cl_scene_buffers.h"
 #include "host/opencl/kernel_sources.h"
 #include "host/scene_variant.h"
+#include "host/opencl/cl_local_size.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <chrono>
@@ -16,7 +17,6 @@ namespace masq {
 namespace {
 
 using opencl::check;
-constexpr std::size_t kGlobalMultiple = 64;
 constexpr std::size_t kDummyBytes = 16; // OpenCL rejects zero-sized buffers
 
 class OpenClBvTracer final : public BvTracer {
@@ -64,12 +64,14 @@ class OpenClBvTracer final : public BvTracer {
     check(k.setArg(arg++, hit_buf), "clSetKernelArg(hits)");
     check(k.setArg(arg++, stat_buf), "clSetKernelArg(stats)");
     const cl_uint params_arg = arg;
+    const opencl::WorkGroup group = opencl::kernel_work_group(rt_, k); // host/opencl/cl_local_size.h
+    const cl::NDRange local = group.local > 0 ? cl::NDRange(group.local) : cl::NullRange;
     for (std::size_t c0 = 0; c0 < n; c0 += chunk) {
       const std::size_t cn = std::min(chunk, n - c0);
       const kernel::TraceParams params{int(cn), node_count_, int(c0), 0}; // tlas_root: the node count
       check(k.setArg(params_arg, params), "clSetKernelArg(params)");
-      const std::size_t global = (cn + kGlobalMultiple - 1) / kGlobalMultiple * kGlobalMultiple;
-      check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NullRange, nullptr,
+      const std::size_t global = opencl::padded_global(group, cn);
+      check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), local, nullptr,
                                            &dispatches.emplace_back()),
             "clEnqueueNDRangeKernel(trace_bv)");
       // In-order queue: each read completes before the next chunk overwrites the buffer.

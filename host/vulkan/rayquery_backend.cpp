@@ -38,6 +38,7 @@
 #include "kernels/kernel_data.h"
 #include "host/limit_knob.h"
 #include "host/scene_variant.h"
+#include "host/vulkan/vk_shader_limits.h"
 #include "spirv/rayquery_comp_addr_spv.h"
 #include "spirv/rayquery_comp_spv.h"
 #include <fmt/format.h>
@@ -53,7 +54,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-constexpr std::uint32_t kLocalSize = 64;
 const char* const kName = "rayquery";
 // The driver tests the unit box in its own fp32 object space; the masquerade transform
 // scales a thin capsule's radius up to 1, so the object-space origin carries an error
@@ -155,6 +155,7 @@ class RayQueryBackend final : public Backend {
     if (scene.features.mode == Mode::Robust && scene.method != Method::Ref) kept_ = scene; // for TLAS rebuilds
     scene_.bind(layout_);
     features_ = scene.features;
+    features_.tlas_stack = features_.blas_stack = StackNeed{}; // the driver traverses: no kernel stacks
     have_scene_ = true;
     timing_.scene_seconds = seconds_since(t0);
   }
@@ -164,7 +165,8 @@ class RayQueryBackend final : public Backend {
     if (!have_scene_) throw Error("rayquery: trace called before set_scene");
     widen_for(rays);
     VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
-    batch_.run(kName, layout_, p, kLocalSize, static_cast<std::int32_t>(tlas_.size()), rays, hits, stats)
+    batch_.run(kName, layout_, p, vk::local_size(*ctx_), static_cast<std::int32_t>(tlas_.size()), rays, hits,
+               stats)
         .into(timing_);
   }
 
@@ -373,13 +375,14 @@ class RayQueryBackend final : public Backend {
 
   VkPipeline pipeline(bool stats, bool any_hit) {
     vk::PipelineVariants& variants = scene_.addressed() ? addressed_ : bound_;
-    const vk::PipelineVariants::Variant& v =
-        variants.get(vk::spec_constants(kernel_variant(features_, {stats, any_hit}), kLocalSize), [&](VkPipeline p) {
-          // An empty dispatch (ray_count 0) triggers the driver's JIT.
-          batch_.bind_minimal(layout_);
-          kernel::TraceParams pc{0, 0, 0, 0};
-          layout_.dispatch(p, &pc, 1);
-        });
+    const std::vector<std::uint32_t> spec =
+        vk::spec_constants(kernel_variant(features_, {stats, any_hit}), vk::local_size(*ctx_));
+    const vk::PipelineVariants::Variant& v = variants.get(spec, [&](VkPipeline p) {
+      // An empty dispatch (ray_count 0) triggers the driver's JIT.
+      batch_.bind_minimal(layout_);
+      kernel::TraceParams pc{0, 0, 0, 0};
+      layout_.dispatch(p, &pc, 1);
+    });
     timing_.compile_seconds = v.compile_seconds;
     return v.pipeline;
   }

@@ -1,4 +1,5 @@
 #include "host/vulkan/vk_pipeline.h"
+#include "host/vulkan/vk_shader_limits.h"
 #include <chrono>
 #include <map>
 
@@ -68,9 +69,10 @@ void KernelLayout::release() noexcept {
 
 VkPipeline KernelLayout::create_pipeline(std::span<const std::uint32_t> spirv,
                                          std::span<const std::uint32_t> values) {
+  const std::vector<std::uint32_t> code = device_spirv(ctx_, spirv); // float controls (vk_shader_limits.h)
   VkShaderModuleCreateInfo smi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  smi.codeSize = spirv.size_bytes();
-  smi.pCode = spirv.data();
+  smi.codeSize = code.size() * sizeof(std::uint32_t);
+  smi.pCode = code.data();
   VkShaderModule module = VK_NULL_HANDLE;
   MASQ_VK_CHECK(vkCreateShaderModule(ctx_.device, &smi, nullptr, &module));
   std::vector<VkSpecializationMapEntry> entries;

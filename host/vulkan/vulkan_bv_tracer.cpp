@@ -5,6 +5,7 @@
 #include "host/bv_tracer.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/scene_variant.h"
+#include "host/vulkan/vk_shader_limits.h"
 #include "kernels/kernel_data.h"
 #include "masq/error.h"
 #include "spirv/trace_bv_modules.h"
@@ -17,7 +18,6 @@ namespace masq {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr std::uint32_t kLocalSize = 64;
 const char* const kName = "vulkan";
 
 class VulkanBvTracer final : public BvTracer {
@@ -48,7 +48,7 @@ class VulkanBvTracer final : public BvTracer {
              std::span<kernel::RayStats> stats) override {
     if (!have_scene_) throw Error("vulkan bv: trace called before set_scene");
     VkPipeline p = pipeline(!stats.empty());
-    batch_.run(kName, layout_, p, kLocalSize, node_count_, rays, hits, stats).into(timing_);
+    batch_.run(kName, layout_, p, vk::local_size(*ctx_), node_count_, rays, hits, stats).into(timing_);
   }
 
   TraceTiming timing() const override { return timing_; }
@@ -67,12 +67,13 @@ class VulkanBvTracer final : public BvTracer {
   }
 
   VkPipeline pipeline(bool stats) {
-    const vk::PipelineVariants::Variant& v =
-        variants().get(vk::spec_constants(kernel_variant(features_, {stats, false}), kLocalSize), [&](VkPipeline p) {
-          batch_.bind_minimal(layout_); // an empty dispatch triggers the driver's JIT
-          kernel::TraceParams pc{0, node_count_, 0, 0};
-          layout_.dispatch(p, &pc, 1);
-        });
+    const std::vector<std::uint32_t> spec =
+        vk::spec_constants(kernel_variant(features_, {stats, false}), vk::local_size(*ctx_));
+    const vk::PipelineVariants::Variant& v = variants().get(spec, [&](VkPipeline p) {
+      batch_.bind_minimal(layout_); // an empty dispatch triggers the driver's JIT
+      kernel::TraceParams pc{0, node_count_, 0, 0};
+      layout_.dispatch(p, &pc, 1);
+    });
     timing_.compile_seconds = v.compile_seconds;
     return v.pipeline;
   }

@@ -9,6 +9,7 @@
 #include "host/vulkan/vk_lanes.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "host/scene_variant.h"
+#include "host/vulkan/vk_shader_limits.h"
 #include "kernels/kernel_data.h"
 #include "spirv/trace_comp_addr_spv.h"
 #include "spirv/trace_comp_spv.h"
@@ -24,20 +25,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Work-group size: 64 unless MASQ_VK_LOCAL_SIZE (1..1024) says otherwise, for tuning per
-// device (measured on lavapipe in docs/results.md).
-std::uint32_t local_size() {
-  static const std::uint32_t size = [] {
-    const char* v = std::getenv("MASQ_VK_LOCAL_SIZE");
-    if (v == nullptr || *v == '\0') return 64u;
-    char* end = nullptr;
-    long n = std::strtol(v, &end, 10);
-    if (*end != '\0' || n < 1 || n > 1024)
-      throw Error(std::string("vulkan: MASQ_VK_LOCAL_SIZE='") + v + "' is not a work-group size in 1..1024");
-    return std::uint32_t(n);
-  }();
-  return size;
-}
 const char* const kName = "vulkan";
 
 // How the kernel reads the scene arrays: "addressed" (buffer device address) whenever
@@ -79,7 +66,7 @@ class VulkanComputeBackend final : public Backend {
              Query query) override {
     if (!have_scene_) throw Error("vulkan: trace called before set_scene");
     VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
-    batch_.run(kName, layout_, p, local_size(), tlas_root_, rays, hits, stats).into(timing_);
+    batch_.run(kName, layout_, p, vk::local_size(*ctx_), tlas_root_, rays, hits, stats).into(timing_);
   }
 
   TraceTiming timing() const override { return timing_; }
@@ -89,13 +76,14 @@ class VulkanComputeBackend final : public Backend {
  private:
   VkPipeline pipeline(bool stats, bool any_hit) {
     vk::PipelineVariants& variants = scene_.addressed() ? addressed_ : bound_;
-    const vk::PipelineVariants::Variant& v =
-        variants.get(vk::spec_constants(kernel_variant(features_, {stats, any_hit}), local_size()), [&](VkPipeline p) {
-          // An empty dispatch (ray_count 0) triggers the driver's JIT.
-          batch_.bind_minimal(layout_);
-          kernel::TraceParams pc{0, tlas_root_, 0, 0};
-          layout_.dispatch(p, &pc, 1);
-        });
+    const std::vector<std::uint32_t> spec =
+        vk::spec_constants(kernel_variant(features_, {stats, any_hit}), vk::local_size(*ctx_));
+    const vk::PipelineVariants::Variant& v = variants.get(spec, [&](VkPipeline p) {
+      // An empty dispatch (ray_count 0) triggers the driver's JIT.
+      batch_.bind_minimal(layout_);
+      kernel::TraceParams pc{0, tlas_root_, 0, 0};
+      layout_.dispatch(p, &pc, 1);
+    });
     timing_.compile_seconds = v.compile_seconds;
     return v.pipeline;
   }
