@@ -61,7 +61,7 @@ AccelStructure build_accel(Context& ctx, VkAccelerationStructureTypeKHR type,
   VkDeviceSize align = ctx.accel_props.minAccelerationStructureScratchOffsetAlignment;
   if (align == 0) align = 1;
   Buffer scratch(ctx, sizes.buildScratchSize + align,
-                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, BufferRole::AccelScratch);
   VkDeviceAddress scratch_addr = (scratch.address() + align - 1) / align * align;
 
   info.dstAccelerationStructure = as.handle_;
