@@ -103,6 +103,16 @@ bool sync_validation_requested() {
   return v && std::strcmp(v, "sync") == 0;
 }
 
+bool layer_has_extension(const char* layer, const char* extension) {
+  std::uint32_t n = 0;
+  vkEnumerateInstanceExtensionProperties(layer, &n, nullptr);
+  std::vector<VkExtensionProperties> exts(n);
+  vkEnumerateInstanceExtensionProperties(layer, &n, exts.data());
+  for (const auto& e : exts)
+    if (std::strcmp(e.extensionName, extension) == 0) return true;
+  return false;
+}
+
 bool instance_has_layer(const char* name) {
   std::uint32_t n = 0;
   vkEnumerateInstanceLayerProperties(&n, nullptr);
@@ -151,6 +161,9 @@ void Context::create(const char* backend, bool want_ray_query) {
     if (!instance_has_layer(kValidationLayer))
       unavailable(fmt::format("MASQ_VK_VALIDATION is set but the layer {} is not installed "
                               "(Debian: vulkan-validationlayers)", kValidationLayer));
+    if (validate_sync && !layer_has_extension(kValidationLayer, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME))
+      unavailable(fmt::format("MASQ_VK_VALIDATION=sync: the layer {} lacks {}", kValidationLayer,
+                              VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME));
     ici.enabledLayerCount = 1;
     ici.ppEnabledLayerNames = layers;
     ici.enabledExtensionCount = validate_sync ? 2 : 1;

@@ -79,6 +79,7 @@ class Context {
   // MASQ_VK_VALIDATION=1: VK_LAYER_KHRONOS_validation is enabled with a debug messenger
   // that prints every error and counts it; submit_and_wait then throws masq::Error
   // naming the first new error, so a test cannot pass over a validation error.
+  // MASQ_VK_VALIDATION=sync also turns on synchronization validation.
   bool validation() const { return messenger_ != VK_NULL_HANDLE; }
   // Validation errors reported by any context of this process.
   static std::uint64_t validation_error_count();
