@@ -5,6 +5,7 @@
 // scenes takes effect at the next set_scene):
 //   MASQ_VK_MAX_BINDING_BYTES     vulkan, rayquery: maxStorageBufferRange (one binding)
 //   MASQ_VK_MAX_ALLOCATION_BYTES  vulkan, rayquery: maxMemoryAllocationSize / maxBufferSize
+//   MASQ_VK_STAGING_BYTES         vulkan, rayquery: the staging buffer's size (copies in pieces)
 //   MASQ_RQ_MAX_INSTANCES         rayquery: maxInstanceCount (instances per TLAS)
 //   MASQ_RQ_MAX_PRIMITIVES        rayquery: maxPrimitiveCount (primitives per BLAS)
 //   MASQ_CL_MAX_ALLOC_BYTES       opencl: CL_DEVICE_MAX_MEM_ALLOC_SIZE

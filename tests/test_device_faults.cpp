@@ -208,3 +208,31 @@ TEST(EnvFault, ValidationErrorMakesTheSubmissionThrow) {
   EXPECT_NE(msg.find("validation error"), std::string::npos) << msg;
   expect_traces("vulkan"); // later, valid work runs without error
 }
+
+// MASQ_VK_VALIDATION=sync really turns synchronization validation on: two copies into
+// the same bytes with no barrier between them (a write-after-write hazard, harmless on
+// lavapipe, a race on a GPU) make the submission throw, quoting the hazard.
+TEST(EnvFault, SyncValidationCatchesAMissingBarrier) {
+  ASSERT_EQ(env("MASQ_VK_VALIDATION"), "sync") << "run through ctest (vulkan_sync_validation_catches)";
+  std::shared_ptr<masq::vk::Context> vk;
+  try {
+    vk = masq::vk::Context::get("vulkan", false);
+  } catch (const masq::BackendUnavailable& e) {
+    if (allow_missing()) GTEST_SKIP() << e.what();
+    FAIL() << e.what();
+  }
+  masq::vk::Buffer from(*vk, 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  masq::vk::Buffer to(*vk, 256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  VkCommandBuffer cmd = vk->begin_commands();
+  const VkBufferCopy region{0, 0, 256};
+  vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
+  vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
+  std::string msg;
+  try {
+    vk->submit_and_wait(cmd);
+  } catch (const masq::Error& e) {
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("SYNC-HAZARD-WRITE-AFTER-WRITE"), std::string::npos) << msg;
+  expect_traces("vulkan");
+}

@@ -120,7 +120,8 @@ class AccelBatch {
     Buffer storage = storage_ > 0 ? Buffer(ctx_, storage_, kStorageUsage) : Buffer(); // top levels alone: none
     // The base address rounded up to the scratch alignment, each region's offset a multiple of it.
     Buffer scratch(ctx_, scratch_ + scratch_align(),
-                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT);
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                   BufferRole::AccelScratch);
     const VkDeviceAddress scratch_base = align_up(scratch.address(), scratch_align());
     const VkDeviceAddress input_base = input.address();
     std::vector<AccelStructure> out(n);

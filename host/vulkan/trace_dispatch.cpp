@@ -91,9 +91,10 @@ std::vector<std::uint32_t> spec_constants(const KernelVariant& v, std::uint32_t 
 
 void RayBatch::ensure(std::size_t capacity, KernelLayout& layout) {
   if (capacity > capacity_ || !rays_.valid()) {
-    rays_ = Buffer(ctx_, capacity * sizeof(kernel::Ray), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    hits_ = Buffer(ctx_, capacity * sizeof(kernel::Hit), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    stats_ = Buffer(ctx_, capacity * sizeof(kernel::RayStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    rays_ = Buffer(ctx_, capacity * sizeof(kernel::Ray), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, BufferRole::RayInput);
+    hits_ = Buffer(ctx_, capacity * sizeof(kernel::Hit), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, BufferRole::Results);
+    stats_ =
+        Buffer(ctx_, capacity * sizeof(kernel::RayStats), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, BufferRole::Results);
     capacity_ = capacity;
   }
   layout.bind_buffer(MASQ_BINDING_RAYS, rays_);

@@ -1,21 +1,26 @@
 #include "host/vulkan/vk_buffer.h"
+#include "host/vulkan/vk_staging.h"
+#include <cstdlib>
 #include <cstring>
 #include <utility>
 
 namespace masq::vk {
 namespace {
 
-int find_memory_type(const VkPhysicalDeviceMemoryProperties& mp, std::uint32_t allowed,
-                     VkMemoryPropertyFlags want) {
-  for (std::uint32_t i = 0; i < mp.memoryTypeCount; ++i)
-    if ((allowed & (1u << i)) && (mp.memoryTypes[i].propertyFlags & want) == want)
-      return static_cast<int>(i);
-  return -1;
+// MASQ_VK_FORCE_STAGING=1: the discrete-GPU path on any device (only staging is mapped),
+// so lavapipe runs the copies and barriers a GPU needs. Read per buffer, like the limit
+// knobs, so that a test can set it before a context exists.
+bool staging_forced() {
+  const char* v = std::getenv("MASQ_VK_FORCE_STAGING");
+  return v && *v && std::strcmp(v, "0") != 0;
 }
 
 } // namespace
 
-Buffer::Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage) : ctx_(&ctx), usage_(usage) {
+Buffer::Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage)
+    : Buffer(ctx, size, usage, default_role(usage)) {}
+
+Buffer::Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, BufferRole role) : ctx_(&ctx), role_(role) {
   size_ = size < 16 ? 16 : size;
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bci.size = size_;
@@ -25,26 +30,23 @@ Buffer::Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage) : ctx_
   try {
     VkMemoryRequirements req{};
     vkGetBufferMemoryRequirements(ctx.device, buffer_, &req);
-    int type = find_memory_type(ctx.memory, req.memoryTypeBits,
-                                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-    bool host_visible = type >= 0;
-    if (!host_visible) type = find_memory_type(ctx.memory, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    if (type < 0) type = find_memory_type(ctx.memory, req.memoryTypeBits, 0);
-    if (type < 0) throw Error("vulkan: no memory type can hold a buffer");
+    placement_ = place_buffer(role, ctx.memory, req.memoryTypeBits, staging_forced());
     VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
     flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     mai.pNext = (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) ? &flags : nullptr;
     mai.allocationSize = req.size;
-    mai.memoryTypeIndex = static_cast<std::uint32_t>(type);
+    mai.memoryTypeIndex = placement_.type_index;
     ctx.acquire_allocation(); // maxMemoryAllocationCount (vk_context.h)
     if (VkResult r = vkAllocateMemory(ctx.device, &mai, nullptr, &memory_); r != VK_SUCCESS) {
       memory_ = VK_NULL_HANDLE;
       ctx.release_allocation();
       throw_vk_error("vkAllocateMemory", r, __FILE__, __LINE__);
     }
+    allocation_size_ = req.size;
     MASQ_VK_CHECK(vkBindBufferMemory(ctx.device, buffer_, memory_, 0));
-    if (host_visible) MASQ_VK_CHECK(vkMapMemory(ctx.device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+    if (placement_.host == HostAccess::Mapped)
+      MASQ_VK_CHECK(vkMapMemory(ctx.device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
   } catch (...) {
     release();
     throw;
@@ -62,8 +64,10 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     buffer_ = std::exchange(o.buffer_, VK_NULL_HANDLE);
     memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
     size_ = std::exchange(o.size_, 0);
+    allocation_size_ = std::exchange(o.allocation_size_, 0);
     mapped_ = std::exchange(o.mapped_, nullptr);
-    usage_ = std::exchange(o.usage_, 0);
+    role_ = o.role_;
+    placement_ = o.placement_;
   }
   return *this;
 }
@@ -80,30 +84,40 @@ void Buffer::release() noexcept {
   mapped_ = nullptr;
 }
 
+void Buffer::flush(std::size_t offset, std::size_t bytes) const {
+  if (!placement_.needs_flush_invalidate || bytes == 0) return;
+  AtomRange r = atom_aligned_range(offset, bytes, ctx_->props.limits.nonCoherentAtomSize, allocation_size_);
+  VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, memory_, r.offset, r.size};
+  MASQ_VK_CHECK(vkFlushMappedMemoryRanges(ctx_->device, 1, &range));
+}
+
+void Buffer::invalidate(std::size_t offset, std::size_t bytes) const {
+  if (!placement_.needs_flush_invalidate || bytes == 0) return;
+  AtomRange r = atom_aligned_range(offset, bytes, ctx_->props.limits.nonCoherentAtomSize, allocation_size_);
+  VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, memory_, r.offset, r.size};
+  MASQ_VK_CHECK(vkInvalidateMappedMemoryRanges(ctx_->device, 1, &range));
+}
+
 void Buffer::upload(const void* src, std::size_t bytes, std::size_t offset) {
   if (bytes == 0) return;
   if (offset + bytes > size_) throw Error("vulkan: buffer upload out of range");
-  if (mapped_) std::memcpy(static_cast<char*>(mapped_) + offset, src, bytes);
-  else staged_copy(true, const_cast<void*>(src), bytes, offset);
+  if (mapped_) {
+    std::memcpy(static_cast<char*>(mapped_) + offset, src, bytes);
+    flush(offset, bytes); // vkQueueSubmit then makes the host writes visible to the device
+  } else {
+    ctx_->staging().upload(*this, src, bytes, offset);
+  }
 }
 
 void Buffer::download(void* dst, std::size_t bytes, std::size_t offset) const {
   if (bytes == 0) return;
   if (offset + bytes > size_) throw Error("vulkan: buffer download out of range");
-  if (mapped_) std::memcpy(dst, static_cast<const char*>(mapped_) + offset, bytes);
-  else staged_copy(false, dst, bytes, offset);
-}
-
-void Buffer::staged_copy(bool to_device, void* host, std::size_t bytes, std::size_t offset) const {
-  Buffer staging(*ctx_, bytes, 0);
-  if (!staging.mapped_) throw Error("vulkan: device has no host-visible memory for staging");
-  if (to_device) std::memcpy(staging.mapped_, host, bytes);
-  VkCommandBuffer cmd = ctx_->begin_commands();
-  VkBufferCopy region{to_device ? 0 : offset, to_device ? offset : 0, bytes};
-  if (to_device) vkCmdCopyBuffer(cmd, staging.buffer_, buffer_, 1, &region);
-  else vkCmdCopyBuffer(cmd, buffer_, staging.buffer_, 1, &region);
-  ctx_->submit_and_wait(cmd);
-  if (!to_device) std::memcpy(host, staging.mapped_, bytes);
+  if (mapped_) {
+    invalidate(offset, bytes); // device writes were made available to the host by a barrier
+    std::memcpy(dst, static_cast<const char*>(mapped_) + offset, bytes);
+  } else {
+    ctx_->staging().download(*this, dst, bytes, offset);
+  }
 }
 
 VkDeviceAddress Buffer::address() const {

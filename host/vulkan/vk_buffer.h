@@ -1,8 +1,11 @@
-// A buffer and its memory. Host-visible coherent memory when the device has a type
-// that allows the buffer (lavapipe and most GPUs: always); otherwise device-local
-// memory reached through a temporary staging buffer.
+// A buffer and its memory, placed by its role (host/vulkan/vk_memory_placement.h):
+// device data in DEVICE_LOCAL memory, written in place only where a device-local heap
+// is host-visible and large (resizable BAR, UMA, lavapipe), otherwise through the
+// context's persistent staging buffer (host/vulkan/vk_staging.h); results in host-cached
+// memory. Non-coherent mapped memory is flushed / invalidated on nonCoherentAtomSize.
 #pragma once
 #include "host/vulkan/vk_context.h"
+#include "host/vulkan/vk_memory_placement.h"
 #include <cstddef>
 
 namespace masq::vk {
@@ -12,13 +15,16 @@ class Buffer {
   Buffer() = default;
   // size 0 is raised to 16 bytes (a valid dummy binding). With
   // VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT the memory is allocated with device address.
+  // Without a role, default_role(usage) places it (storage buffers as scene data).
   Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage);
+  Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, BufferRole role);
   ~Buffer();
   Buffer(Buffer&& o) noexcept;
   Buffer& operator=(Buffer&& o) noexcept;
   Buffer(const Buffer&) = delete;
   Buffer& operator=(const Buffer&) = delete;
 
+  // Both wait for the device: the data is in place (or back) when they return.
   void upload(const void* src, std::size_t bytes, std::size_t offset = 0);
   void download(void* dst, std::size_t bytes, std::size_t offset = 0) const;
 
@@ -26,16 +32,24 @@ class Buffer {
   VkDeviceSize size() const { return size_; }
   VkDeviceAddress address() const; // requires the device-address usage
   bool valid() const { return buffer_ != VK_NULL_HANDLE; }
+  BufferRole role() const { return role_; }
+  const MemoryPlacement& placement() const { return placement_; }
+  bool mapped() const { return mapped_ != nullptr; }
 
  private:
+  friend class Staging; // writes and reads the staging buffer's mapping
   void release() noexcept;
-  void staged_copy(bool to_device, void* host, std::size_t bytes, std::size_t offset) const;
+  // Host writes to / device writes for a non-coherent mapping: flush / invalidate.
+  void flush(std::size_t offset, std::size_t bytes) const;
+  void invalidate(std::size_t offset, std::size_t bytes) const;
   Context* ctx_ = nullptr;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
-  void* mapped_ = nullptr; // null: device-local, use staging
-  VkBufferUsageFlags usage_ = 0;
+  VkDeviceSize allocation_size_ = 0;
+  void* mapped_ = nullptr; // null: reached through the staging buffer
+  BufferRole role_ = BufferRole::SceneData;
+  MemoryPlacement placement_;
 };
 
 } // namespace masq::vk

@@ -1,6 +1,8 @@
 #include "host/vulkan/vk_context.h"
 #include "host/backend.h"
 #include "host/limit_knob.h"
+#include "host/vulkan/vk_pipeline_cache.h"
+#include "host/vulkan/vk_staging.h"
 #include "host/vulkan/vulkan_backends.h"
 #include <fmt/format.h>
 #include <cstdio>
@@ -93,6 +95,24 @@ bool validation_requested() {
   return v && *v && std::strcmp(v, "0") != 0;
 }
 
+// MASQ_VK_VALIDATION=sync adds the layer's synchronization validation (hazards between
+// transfers, shaders and acceleration-structure builds inside a command buffer), asked
+// for through VK_EXT_validation_features, which the layer itself provides.
+bool sync_validation_requested() {
+  const char* v = std::getenv("MASQ_VK_VALIDATION");
+  return v && std::strcmp(v, "sync") == 0;
+}
+
+bool layer_has_extension(const char* layer, const char* extension) {
+  std::uint32_t n = 0;
+  vkEnumerateInstanceExtensionProperties(layer, &n, nullptr);
+  std::vector<VkExtensionProperties> exts(n);
+  vkEnumerateInstanceExtensionProperties(layer, &n, exts.data());
+  for (const auto& e : exts)
+    if (std::strcmp(e.extensionName, extension) == 0) return true;
+  return false;
+}
+
 bool instance_has_layer(const char* name) {
   std::uint32_t n = 0;
   vkEnumerateInstanceLayerProperties(&n, nullptr);
@@ -129,18 +149,30 @@ void Context::create(const char* backend, bool want_ray_query) {
   mci.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
   mci.pfnUserCallback = on_validation_message;
   const char* const layers[] = {kValidationLayer};
-  const char* const extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  const char* const extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
   const bool validate = validation_requested();
+  const bool validate_sync = sync_validation_requested();
+  const VkValidationFeatureEnableEXT sync_feature = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = &sync_feature;
   if (validate) {
     // A missing layer is an error, not a silent run without checks.
     if (!instance_has_layer(kValidationLayer))
       unavailable(fmt::format("MASQ_VK_VALIDATION is set but the layer {} is not installed "
                               "(Debian: vulkan-validationlayers)", kValidationLayer));
+    if (validate_sync && !layer_has_extension(kValidationLayer, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME))
+      unavailable(fmt::format("MASQ_VK_VALIDATION=sync: the layer {} lacks {}", kValidationLayer,
+                              VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME));
     ici.enabledLayerCount = 1;
     ici.ppEnabledLayerNames = layers;
-    ici.enabledExtensionCount = 1;
+    ici.enabledExtensionCount = validate_sync ? 2 : 1;
     ici.ppEnabledExtensionNames = extensions;
     ici.pNext = &mci; // also reports errors of vkCreateInstance/vkDestroyInstance
+    if (validate_sync) { // ahead of mci, which vkCreateDebugUtilsMessengerEXT takes alone
+      features.pNext = &mci;
+      ici.pNext = &features;
+    }
   }
   VkResult r = vkCreateInstance(&ici, nullptr, &instance);
   if (r != VK_SUCCESS) {
@@ -241,6 +273,7 @@ void Context::create(const char* backend, bool want_ray_query) {
   pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pci.queueFamilyIndex = queue_family;
   MASQ_VK_CHECK(vkCreateCommandPool(device, &pci, nullptr, &command_pool));
+  pipeline_cache_ = std::make_unique<PipelineCache>(physical, device);
 
   ray_query = want_ray_query;
   if (ray_query) {
@@ -266,6 +299,8 @@ void Context::create(const char* backend, bool want_ray_query) {
 Context::~Context() {
   if (device) {
     vkDeviceWaitIdle(device);
+    staging_.reset();
+    pipeline_cache_.reset();
     if (command_pool) vkDestroyCommandPool(device, command_pool, nullptr);
     vkDestroyDevice(device, nullptr);
   }
@@ -276,6 +311,14 @@ Context::~Context() {
   }
   if (instance) vkDestroyInstance(instance, nullptr);
 }
+
+Staging& Context::staging() {
+  std::lock_guard<std::mutex> lock(staging_mutex_);
+  if (!staging_) staging_ = std::make_unique<Staging>(*this);
+  return *staging_;
+}
+
+VkPipelineCache Context::pipeline_cache() const { return pipeline_cache_ ? pipeline_cache_->handle() : VK_NULL_HANDLE; }
 
 std::uint64_t Context::validation_error_count() { return g_validation_errors.load(); }
 

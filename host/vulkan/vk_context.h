@@ -12,6 +12,9 @@
 
 namespace masq::vk {
 
+class Staging;       // host/vulkan/vk_staging.h
+class PipelineCache; // host/vulkan/vk_pipeline_cache.h
+
 // Entry points of VK_KHR_acceleration_structure (not exported by the loader).
 struct AccelFunctions {
   PFN_vkCreateAccelerationStructureKHR create = nullptr;
@@ -76,9 +79,17 @@ class Context {
   VkCommandBuffer begin_commands();
   void submit_and_wait(VkCommandBuffer cmd);
 
+  // The persistent staging buffer every copy to or from unmapped device memory goes
+  // through (created on first use), and the pipeline cache every vkCreateComputePipelines
+  // uses (loaded from and saved to masq's cache directory).
+  Staging& staging();
+  VkPipelineCache pipeline_cache() const;
+  const PipelineCache& pipeline_cache_file() const { return *pipeline_cache_; }
+
   // MASQ_VK_VALIDATION=1: VK_LAYER_KHRONOS_validation is enabled with a debug messenger
   // that prints every error and counts it; submit_and_wait then throws masq::Error
   // naming the first new error, so a test cannot pass over a validation error.
+  // MASQ_VK_VALIDATION=sync also turns on synchronization validation.
   bool validation() const { return messenger_ != VK_NULL_HANDLE; }
   // Validation errors reported by any context of this process.
   static std::uint64_t validation_error_count();
@@ -93,6 +104,9 @@ class Context {
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   std::uint64_t validation_errors_seen_ = 0;
   std::atomic<std::uint64_t> live_allocations_{0};
+  std::mutex staging_mutex_;
+  std::unique_ptr<Staging> staging_;              // destroyed before the device
+  std::unique_ptr<PipelineCache> pipeline_cache_; // saved and destroyed before the device
 };
 
 } // namespace masq::vk

@@ -1,5 +1,6 @@
 #include "host/vulkan/vk_pipeline.h"
 #include "host/vulkan/vk_shader_limits.h"
+#include "host/vulkan/vk_barriers.h"
 #include <chrono>
 #include <map>
 
@@ -91,7 +92,7 @@ VkPipeline KernelLayout::create_pipeline(std::span<const std::uint32_t> spirv,
   cpi.stage.pSpecializationInfo = values.empty() ? nullptr : &spec;
   cpi.layout = pipeline_layout_;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VkResult r = vkCreateComputePipelines(ctx_.device, VK_NULL_HANDLE, 1, &cpi, nullptr, &pipeline);
+  VkResult r = vkCreateComputePipelines(ctx_.device, ctx_.pipeline_cache(), 1, &cpi, nullptr, &pipeline);
   vkDestroyShaderModule(ctx_.device, module, nullptr);
   if (r != VK_SUCCESS) throw_vk_error("vkCreateComputePipelines", r, __FILE__, __LINE__);
   return pipeline;
@@ -135,13 +136,7 @@ double KernelLayout::dispatch(VkPipeline pipeline, const void* push_constants, s
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &set_, 0, nullptr);
   if (push_bytes_) vkCmdPushConstants(cmd, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_, push_constants);
   if (groups > 0) vkCmdDispatch(cmd, groups, 1, 1);
-  // Shader writes must be made visible to the host (mapped reads) and to copies (staging).
-  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, nullptr, 0,
-                       nullptr);
+  barrier_after_dispatch(cmd); // host/vulkan/vk_barriers.h
   if (queries_) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
   ctx_.submit_and_wait(cmd);
   if (!queries_) return 0.0;
