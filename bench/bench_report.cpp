@@ -145,6 +145,16 @@ Table bench_table(const std::vector<BenchRow>& rows) {
              "holds on the device (rayquery: the driver's acceleration structures plus primitives); build ms: host "
              "build + upload/driver build; compile ms: kernel/pipeline compile on first use of the variant (0: cached)"};
   for (std::size_t k = 0; k < why.size(); ++k) t.notes.push_back(fmt::format("[{}] {}", k + 1, why[k]));
+  // Each row's device, once per backend (docs/devices.md: the chosen device, never assumed).
+  std::string devices;
+  std::vector<std::string> named;
+  for (const BenchRow& r : rows) {
+    if (!r.unavailable.empty() || r.device.empty() || std::find(named.begin(), named.end(), r.backend) != named.end())
+      continue;
+    named.push_back(r.backend);
+    devices += fmt::format("{}{} on {}", devices.empty() ? "devices: " : "; ", r.backend, r.device);
+  }
+  if (!devices.empty()) t.notes.push_back(devices);
   return t;
 }
 
