@@ -9,8 +9,8 @@
 #   bash scripts/gpu_check.sh --device vulkan=1,opencl=0   each API its own (rayquery= too)
 #   bash scripts/gpu_check.sh --no-setup           skip scripts/setup.sh (no package manager)
 #   bash scripts/gpu_check.sh --smoke --build-dir DIR --out DIR
-#                                                  the test suite's run: no setup, no build, a
-#                                                  few cross-backend tests, one tiny suite
+#                                                  the test suite's run: no setup, no build, two
+#                                                  test cases, quick fig3 on vulkan alone
 #
 # Drivers: the Vulkan loader honours VK_DRIVER_FILES / VK_ICD_FILENAMES (only those ICDs)
 # and VK_ADD_DRIVER_FILES (more ICDs); the OpenCL ICD loader honours OCL_ICD_VENDORS.
@@ -129,8 +129,9 @@ fi
 
 echo "== quick suites -> $out"
 if [ $smoke -eq 1 ]; then
-  # A tiny run of one suite: it proves the path (devices, tables, RESULTS.md), not the numbers.
-  "$masq" bench --suite fig3 --quick --quiet --out "$out"
+  # The smallest run of a suite: quick fig3 on the vulkan backend, auto kept by the cost
+  # model (no pilot traces). It proves the path (devices, tables, RESULTS.md), not numbers.
+  "$masq" bench --suite fig3 --quick --quiet --auto-by model --backend vulkan --out "$out"
 else
   "$masq" bench --suite all --quick --quiet --out "$out"
   /usr/bin/python3 scripts/plot_results.py "$out" || echo "gpu_check: plots skipped (matplotlib missing?)"
