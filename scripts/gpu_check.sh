@@ -107,6 +107,7 @@ device_name=$(awk '$1 == "vulkan" && $2 == "available" { $1 = $2 = ""; print; ex
 [ -n "$device_name" ] || device_name=$(awk '$1 == "opencl" && $2 == "available" { $1 = $2 = ""; print; exit }' <<<"$info")
 [ -n "$device_name" ] || device_name=cpu
 device_name=${device_name%% \[*} # without the driver
+device_name=$(sed 's/^ *//; s/ *$//' <<<"$device_name")
 slug=$(tr 'A-Z' 'a-z' <<<"$device_name" | sed 's/[^a-z0-9]\{1,\}/-/g; s/^-//; s/-$//' | cut -c1-48 | sed 's/-$//')
 [ -n "$out" ] || out="bench/results-$slug"
 
@@ -123,7 +124,9 @@ if [ $smoke -eq 1 ]; then
   "$build_dir/tests/test_cross_backend" --gtest_brief=1 --gtest_filter='CrossBackend.DefaultSceneCamera'
   "$build_dir/tests/test_device_choice" --gtest_brief=1 --gtest_filter='RealDevices.*'
 else
-  ctest --test-dir "$build_dir" -R 'CrossBackend|EveryPrimitive|NodeFormatsAgree|Occlusion|DeviceChoice|RealDevices' \
+  # Every backend against the oracle and each other, and the device choice itself.
+  ctest --test-dir "$build_dir" \
+    -R '^(CrossBackend|Types/EveryPrimitive|Backends/NodeFormatsAgree|EveryBackend/Occlusion|DeviceChoice|RealDevices)\.' \
     --output-on-failure -j"$(nproc)"
 fi
 
