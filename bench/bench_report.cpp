@@ -161,6 +161,16 @@ Table bench_table(const std::vector<BenchRow>& rows) {
              "cached)"};
   for (const std::string& n : unfilled) t.notes.push_back(n);
   for (std::size_t k = 0; k < why.size(); ++k) t.notes.push_back(fmt::format("[{}] {}", k + 1, why[k]));
+  // Each row's device, once per backend (docs/devices.md: the chosen device, never assumed).
+  std::string devices;
+  std::vector<std::string> named;
+  for (const BenchRow& r : rows) {
+    if (!r.unavailable.empty() || r.device.empty() || std::find(named.begin(), named.end(), r.backend) != named.end())
+      continue;
+    named.push_back(r.backend);
+    devices += fmt::format("{}{} on {}", devices.empty() ? "devices: " : "; ", r.backend, r.device);
+  }
+  if (!devices.empty()) t.notes.push_back(devices);
   return t;
 }
 

@@ -5,6 +5,7 @@
 #include "bench/results_doc.h"
 #include "bench/suite.h"
 #include "cli/commands.h"
+#include "cli/device_option.h"
 #include "cli/scene_options.h"
 #include "masq/error.h"
 #include <fmt/format.h>
@@ -24,6 +25,7 @@ namespace {
 struct BenchCli {
   SceneOptions scene;
   std::vector<std::string> backends;
+  std::string device; // --device (cli/device_option.h)
   std::vector<std::string> methods;
   bool fit_prices = false;
   BenchOptions bench;
@@ -230,6 +232,7 @@ Action add_bench(CLI::App& app) {
   cmd->add_option("--backend", c->backends, "Backends to run (default: all): " + backend_table.help())
       ->delimiter(',')
       ->check(CLI::IsMember(backend_table.names()));
+  add_device_option(*cmd, c->device);
   cmd->add_option("--method", c->methods, "Methods to run (default: all): " + method_table.help())
       ->delimiter(',')
       ->check(CLI::IsMember(method_table.names()));
@@ -268,11 +271,13 @@ Action add_bench(CLI::App& app) {
               "  masq bench --builder sah,sbvh,sah+reinsert,sbvh+reinsert --method ref,masq --backend cpu,opencl\n"
               "                                               the BVH builders side by side (SAH cost, refs/prim, speed)\n"
               "  masq bench --suite all --quick               the papers' tables in < 5 minutes -> bench/results-quick/\n"
+              "  masq bench --device vulkan=1,opencl=nvidia   choose the devices (indices and names: masq info)\n"
               "  bash scripts/results.sh                      the full results document with plots");
   return [c] {
     c->command_line = "masq bench";
     for (const std::string& s : c->suites) c->command_line += " --suite " + s;
     if (c->quick) c->command_line += " --quick";
+    apply_device_option(c->device, c->backends.empty() ? backend_names() : c->backends);
     return bench(*c);
   };
 }

@@ -1,15 +1,58 @@
-// masq info: which backends run here, on what device and driver, and why not.
+// masq info: which backends run here, on what device and driver, and why not; then
+// every device of every GPU API and which one each backend takes.
 #include "cli/commands.h"
 #include "host/backend.h"
+#include "host/device_list.h"
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <set>
 
 namespace masq::cli {
 
+namespace {
+
+std::string gib(std::uint64_t bytes) { return fmt::format("{:.1f} GiB", double(bytes) / (1024.0 * 1024.0 * 1024.0)); }
+
+void print_api(const ApiDevices& a) {
+  fmt::print("\n{} devices (choose with {} or --device: an index or a name substring)\n", a.api, a.selectors);
+  if (!a.unavailable.empty()) {
+    fmt::print("  none: {}\n", a.unavailable);
+    return;
+  }
+  const bool vulkan = a.api == "Vulkan";
+  fmt::print("  {:<4}{:<16}{:<12}{:<10}{:<11}{:<13}{:<18}{}\n", "idx", "type", "memory", "subgroup", "ray query",
+             "rt pipeline", "masq picks for", "name [driver]");
+  std::set<std::string> sources;
+  for (std::size_t i = 0; i < a.devices.size(); ++i) {
+    const DeviceInfo& d = a.devices[i];
+    std::string picked;
+    for (const auto& [backend, choice] : a.picks)
+      if (choice.position == static_cast<int>(i)) picked += (picked.empty() ? "" : ",") + backend;
+    sources.insert(d.subgroup_source);
+    fmt::print("  {:<4}{:<16}{:<12}{:<10}{:<11}{:<13}{:<18}{}{}\n", d.index, device_type_table.name(d.type),
+               gib(d.memory_bytes), d.subgroup_size ? std::to_string(d.subgroup_size) : "-",
+               vulkan ? (d.no_ray_query.empty() ? "yes" : "no") : "-",
+               vulkan ? (d.ray_tracing_pipeline ? "yes" : "no") : "-", picked.empty() ? "-" : picked, d.name,
+               d.driver.empty() ? "" : " [" + d.driver + "]");
+    if (!d.unusable.empty()) fmt::print("      unusable: {}\n", d.unusable);
+  }
+  fmt::print("  memory: {}; subgroup: {}\n",
+             vulkan ? "the largest DEVICE_LOCAL heap" : "CL_DEVICE_GLOBAL_MEM_SIZE",
+             fmt::join(sources, "; "));
+  for (const auto& [backend, choice] : a.picks)
+    if (choice.position < 0) fmt::print("  {}: no device: {}\n", backend, choice.why);
+}
+
+} // namespace
+
 Action add_info(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("info", "List backends, devices and driver versions (and why any is unavailable)");
-  cmd->footer("Backends: " + backend_table.help() + ".\n\nExamples:\n"
+  cmd->footer("Backends: " + backend_table.help() +
+              ".\nDevices: best first discrete GPU > integrated > virtual > accelerator > cpu (ties: the driver's "
+              "order); MASQ_VK_DEVICE, MASQ_RQ_DEVICE, MASQ_CL_DEVICE or --device choose another.\n\nExamples:\n"
               "  masq info                                    exit 0 when at least one backend runs here, else 1\n"
-              "  VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json masq info   pick the Vulkan driver");
+              "  VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json masq info   pick the Vulkan driver\n"
+              "  MASQ_VK_DEVICE=1 masq info                   which device each backend takes with that selector");
   return [] {
     int available = 0;
     for (const BackendRow& r : backend_table.rows()) {
@@ -21,6 +64,7 @@ Action add_info(CLI::App& app) {
         fmt::print("{:<9} unavailable  {}\n", r.name, e.what());
       }
     }
+    for (const ApiDevices& a : list_devices()) print_api(a);
     return available > 0 ? 0 : 1;
   };
 }

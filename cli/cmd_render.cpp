@@ -1,6 +1,7 @@
 // masq render: a shaded image and a heatmap of intersector calls per pixel.
 #include "bvh/twolevel/build_accel.h"
 #include "cli/commands.h"
+#include "cli/device_option.h"
 #include "cli/scene_options.h"
 #include "host/backend.h"
 #include "image/heat_color.h"
@@ -19,6 +20,7 @@ namespace {
 struct RenderOptions {
   SceneOptions scene;
   std::string backend = "cpu";
+  std::string device; // --device (cli/device_option.h)
   std::string method = "masq";
   int width = 640, height = 480;
   std::string out = "masq";
@@ -72,6 +74,7 @@ Action add_render(CLI::App& app) {
   cmd->add_option("--backend", o->backend, "Backend: " + backend_table.help())
       ->capture_default_str()
       ->check(CLI::IsMember(backend_table.names()));
+  add_device_option(*cmd, o->device);
   cmd->add_option("--method", o->method, "Method: " + method_table.help())
       ->capture_default_str()
       ->check(CLI::IsMember(method_table.names()));
@@ -82,9 +85,13 @@ Action add_render(CLI::App& app) {
   cmd->footer("Examples:\n"
               "  masq render                                  default bundle on cpu -> masq_shaded.png, masq_heat.png\n"
               "  masq render --backend vulkan --method ref --out bundle\n"
+              "  masq render --backend vulkan --device llvmpipe   on the Vulkan device whose name holds llvmpipe\n"
               "  masq render --method ref --builder sbvh+reinsert\n"
               "  masq render --file scene.json --width 1024 --height 768 --format exr");
-  return [o] { return render(*o); };
+  return [o] {
+    apply_device_option(o->device, std::vector<std::string>{o->backend});
+    return render(*o);
+  };
 }
 
 } // namespace masq::cli

@@ -1,5 +1,6 @@
 // `masq stress`: the numerical stress suite (docs/robustness.md).
 #include "cli/commands.h"
+#include "cli/device_option.h"
 #include "host/backend.h"
 #include "masq/error.h"
 #include "stress/stress_report.h"
@@ -14,6 +15,7 @@ struct StressCli {
   std::vector<std::string> types;
   std::vector<std::string> modes;
   std::string json_path;
+  std::string device; // --device (cli/device_option.h)
   bool quiet = false;
   bool check = false;
 };
@@ -71,6 +73,7 @@ Action add_stress(CLI::App& app) {
       ->check(CLI::IsMember(prim_type_table.names()));
   cmd->add_option("--backend", c->opt.backends, "Backends (default: all): " + backend_table.help())
       ->check(CLI::IsMember(backend_table.names()));
+  add_device_option(*cmd, c->device);
   cmd->add_option("--mode", c->modes, "Modes (default: all): " + mode_table.help())
       ->check(CLI::IsMember(mode_table.names()));
   cmd->add_option("--seed", c->opt.sweep.seed, "Random seed")->capture_default_str();
@@ -78,8 +81,12 @@ Action add_stress(CLI::App& app) {
   cmd->add_flag("--check", c->check, "Exit 1 unless robust mode meets the acceptance bounds on every cell");
   cmd->add_flag("-q,--quiet", c->quiet, "No progress line");
   cmd->footer("Examples:\n  masq stress --quick\n  masq stress --prim curve --backend cpu --rays 4096\n"
-              "  masq stress --json stress.json --check");
-  return [c] { return stress_run(*c); };
+              "  masq stress --json stress.json --check\n"
+              "  masq stress --quick --backend vulkan --device 0");
+  return [c] {
+    apply_device_option(c->device, c->opt.backends.empty() ? backend_names() : c->opt.backends);
+    return stress_run(*c);
+  };
 }
 
 } // namespace masq::cli

@@ -70,6 +70,8 @@ struct BackendRow {
   std::unique_ptr<Backend> (*make)();     // throws BackendUnavailable (one line naming the cause)
   std::unique_ptr<BvTracer> (*make_bv)(); // nullptr: no bv kernels for this backend
   int best_rank;                          // "best" tries rank 1 first, then 2...; 0: never
+  const char* device_api;                 // the device_api_table row whose selector picks its device
+                                          // (host/device_choice.h); nullptr: runs on the host
 };
 // Every backend compiled in, in the order lists, defaults and reports use.
 extern const NameTable<BackendRow> backend_table;

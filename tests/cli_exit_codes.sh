@@ -34,6 +34,14 @@ expect 2 stress --rays 1
 expect 2 render --width 0
 expect 1 render --backend cpu --file /nonexistent/scene.obj --out /tmp/masq_cli_exit
 expect 1 render --backend cpu --file "$0" --out /tmp/masq_cli_exit   # unknown extension .sh
+# An explicit device selector that names nothing: exit 1, one line naming it (docs/devices.md).
+MASQ_VK_DEVICE=no-such-gpu expect 1 bench --backend vulkan --width 8 --height 8
+if [ "$(wc -l </tmp/masq_cli_out.$$)" -ne 1 ] || ! grep -q "MASQ_VK_DEVICE='no-such-gpu' matches no Vulkan device" /tmp/masq_cli_out.$$; then
+  echo "FAIL: MASQ_VK_DEVICE=no-such-gpu: not one line naming it"; sed 's/^/  | /' /tmp/masq_cli_out.$$ | tail -5; fail=1
+fi
+MASQ_CL_DEVICE=no-such-gpu expect 1 stress --quick --backend opencl
+expect 1 render --backend vulkan --device no-such-gpu --out /tmp/masq_cli_exit
+expect 2 bench --device metal=0
 rm -f /tmp/masq_cli_out.$$
 [ $fail -eq 0 ] && echo "cli exit codes: ok"
 exit $fail

@@ -6,6 +6,7 @@
 #include "bvh/bv/bv_scene.h"
 #include "bvh/options.h"
 #include "host/backend.h"
+#include "host/device_choice.h"
 #include "host/bv_tracer.h"
 #include "scenes/scene.h"
 #include "stress/stress_cases.h"
@@ -63,6 +64,8 @@ TEST(Names, EveryTableRoundTripsInEnumOrder) {
   expect_table_of_enum(auto_by_table);
   expect_table_of_enum(query_table);
   expect_table_of_enum(stress::ray_kind_table);
+  expect_table_of_enum(device_type_table);
+  expect_table_of_enum(device_api_table);
 }
 
 TEST(Names, UnknownNameNamesTheChoices) {
@@ -114,4 +117,13 @@ TEST(BackendRegistry, OneTableForEveryList) {
             "unknown bv backend 'rayquery' (expected cpu, vulkan or opencl)");
   EXPECT_EQ(make_backend("cpu")->name(), "cpu");
   EXPECT_EQ(make_bv_tracer("cpu")->name(), "cpu");
+  // Each device selector picks the device of exactly one backend; cpu has none.
+  std::map<std::string, std::string> api_of;
+  for (const BackendRow& r : backend_table.rows())
+    if (r.device_api) {
+      EXPECT_NE(device_api_table.find(r.device_api), nullptr) << r.name;
+      EXPECT_TRUE(api_of.emplace(r.device_api, r.name).second) << r.device_api << " twice";
+    }
+  EXPECT_EQ(api_of.size(), device_api_table.size());
+  EXPECT_EQ(backend_table.at("cpu").device_api, nullptr);
 }

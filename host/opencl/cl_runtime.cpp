@@ -1,6 +1,7 @@
 #include "host/opencl/cl_runtime.h"
 
 #include "host/backend.h"
+#include "host/opencl/cl_devices.h"
 #include "masq/error.h"
 
 #include <chrono>
@@ -118,32 +119,14 @@ std::string summarize_log(const std::string& log) {
 } // namespace
 
 Runtime open_runtime() {
-  std::vector<cl::Platform> platforms;
-  cl_int err = cl::Platform::get(&platforms);
-  if (err != CL_SUCCESS || platforms.empty())
-    throw BackendUnavailable("opencl: no OpenCL platform (clGetPlatformIDs: " +
-                             cl_error_name(err == CL_SUCCESS ? CL_PLATFORM_NOT_FOUND_KHR : err) + ")");
+  // The best-ranked device of every platform (GPU > accelerator > CPU), or the one
+  // MASQ_CL_DEVICE / --device names (host/opencl/cl_devices.h).
+  const std::vector<ClDevice> devices = cl_devices();
+  const ClDevice& chosen = choose_cl_device(devices);
   Runtime rt;
-  bool found = false;
-  cl_int last = CL_DEVICE_NOT_FOUND;
-  for (cl_device_type type : {cl_device_type(CL_DEVICE_TYPE_GPU), cl_device_type(CL_DEVICE_TYPE_ALL)}) {
-    for (const auto& p : platforms) {
-      std::vector<cl::Device> devices;
-      cl_int e = p.getDevices(type, &devices);
-      if (e != CL_SUCCESS || devices.empty()) {
-        if (e != CL_SUCCESS) last = e;
-        continue;
-      }
-      rt.platform = p;
-      rt.device = devices.front();
-      found = true;
-      break;
-    }
-    if (found) break;
-  }
-  if (!found)
-    throw BackendUnavailable("opencl: no OpenCL device on " + std::to_string(platforms.size()) +
-                             " platform(s) (clGetDeviceIDs: " + cl_error_name(last) + ")");
+  rt.platform = chosen.platform;
+  rt.device = chosen.device;
+  cl_int err = CL_SUCCESS;
   rt.context = cl::Context(rt.device, nullptr, nullptr, nullptr, &err);
   if (err != CL_SUCCESS) throw BackendUnavailable("opencl: clCreateContext failed (" + cl_error_name(err) + ")");
   rt.queue = cl::CommandQueue(rt.context, rt.device, CL_QUEUE_PROFILING_ENABLE, &err);

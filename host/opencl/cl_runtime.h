@@ -37,8 +37,8 @@ struct Runtime {
   }
 };
 
-// The first GPU of any platform, else the first device of any type. Throws
-// BackendUnavailable (one line, naming the failing call) when there is none.
+// Opens the device host/opencl/cl_devices.h chooses. Throws BackendUnavailable (one line,
+// naming the failing call) when there is none, masq::Error for a selector naming none.
 Runtime open_runtime();
 
 // The work-items the runtime's device keeps in flight, for Backend::fill_rays

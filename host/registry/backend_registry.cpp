@@ -13,10 +13,10 @@ namespace masq {
 namespace {
 
 constexpr BackendRow backend_rows[] = {
-    {"cpu", "the kernel source compiled as C++, multi-threaded", make_cpu_backend, make_cpu_bv_tracer, 3},
-    {"vulkan", "the kernel source as GLSL compute shaders", make_vulkan_backend, make_vulkan_bv_tracer, 1},
-    {"opencl", "the kernel source as OpenCL C", [] { return make_opencl_backend(); }, make_opencl_bv_tracer, 2},
-    {"rayquery", "Vulkan ray query on the driver's own acceleration structures", make_rayquery_backend, nullptr, 0},
+    {"cpu", "the kernel source compiled as C++, multi-threaded", make_cpu_backend, make_cpu_bv_tracer, 3, nullptr},
+    {"vulkan", "the kernel source as GLSL compute shaders", make_vulkan_backend, make_vulkan_bv_tracer, 1, "vulkan"},
+    {"opencl", "the kernel source as OpenCL C", [] { return make_opencl_backend(); }, make_opencl_bv_tracer, 2, "opencl"},
+    {"rayquery", "Vulkan ray query on the driver's own acceleration structures", make_rayquery_backend, nullptr, 0, "rayquery"},
 };
 
 bool has_bv(const BackendRow& r) { return r.make_bv != nullptr; }

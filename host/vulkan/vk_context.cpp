@@ -1,6 +1,7 @@
 #include "host/vulkan/vk_context.h"
 #include "host/backend.h"
 #include "host/limit_knob.h"
+#include "host/vulkan/vk_devices.h"
 #include "host/vulkan/vk_pipeline_cache.h"
 #include "host/vulkan/vk_staging.h"
 #include "host/vulkan/vulkan_backends.h"
@@ -13,59 +14,6 @@
 
 namespace masq::vk {
 namespace {
-
-const char* const kRayQueryExtensions[] = {
-    VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
-    VK_KHR_RAY_QUERY_EXTENSION_NAME,
-    VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
-};
-
-// Fault injection for tests: MASQ_VK_HIDE_EXTENSIONS="VK_KHR_ray_query,..." makes the
-// named device extensions look absent, so the missing-extension path runs on a driver
-// that has them (tests/test_device_faults.cpp).
-bool hidden_extension(const char* name) {
-  const char* hide = std::getenv("MASQ_VK_HIDE_EXTENSIONS");
-  if (!hide) return false;
-  std::string list = std::string(",") + hide + ",";
-  return list.find(std::string(",") + name + ",") != std::string::npos;
-}
-
-bool has_extension(VkPhysicalDevice pd, const char* name) {
-  if (hidden_extension(name)) return false;
-  std::uint32_t n = 0;
-  vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr);
-  std::vector<VkExtensionProperties> exts(n);
-  vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data());
-  for (const auto& e : exts)
-    if (std::strcmp(e.extensionName, name) == 0) return true;
-  return false;
-}
-
-int compute_queue_family(VkPhysicalDevice pd) {
-  std::uint32_t n = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
-  std::vector<VkQueueFamilyProperties> fams(n);
-  vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, fams.data());
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (fams[i].queueFlags & VK_QUEUE_COMPUTE_BIT) return static_cast<int>(i);
-  return -1;
-}
-
-// Why this device cannot serve ray query, or "" when it can.
-std::string ray_query_gap(VkPhysicalDevice pd) {
-  for (const char* e : kRayQueryExtensions)
-    if (!has_extension(pd, e)) return fmt::format("lacks {}", e);
-  VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR as{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rq};
-  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &as};
-  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
-  vkGetPhysicalDeviceFeatures2(pd, &f2);
-  if (!rq.rayQuery) return "lacks the rayQuery feature";
-  if (!as.accelerationStructure) return "lacks the accelerationStructure feature";
-  if (!v12.bufferDeviceAddress) return "lacks the bufferDeviceAddress feature";
-  return "";
-}
 
 std::mutex g_mutex;
 std::weak_ptr<Context> g_contexts[2];
@@ -187,30 +135,14 @@ void Context::create(const char* backend, bool want_ray_query) {
     validation_errors_seen_ = g_validation_errors.load();
   }
 
-  std::uint32_t n = 0;
-  vkEnumeratePhysicalDevices(instance, &n, nullptr);
-  std::vector<VkPhysicalDevice> devices(n);
-  vkEnumeratePhysicalDevices(instance, &n, devices.data());
-  std::string first_gap;
-  for (VkPhysicalDevice pd : devices) {
-    VkPhysicalDeviceProperties p{};
-    vkGetPhysicalDeviceProperties(pd, &p);
-    int family = compute_queue_family(pd);
-    std::string gap;
-    if (family < 0) gap = "has no compute queue";
-    else if (p.apiVersion < VK_API_VERSION_1_2) gap = "is older than Vulkan 1.2";
-    else if (want_ray_query) gap = ray_query_gap(pd);
-    if (!gap.empty()) {
-      if (first_gap.empty()) first_gap = fmt::format("device '{}' {}", p.deviceName, gap);
-      continue;
-    }
-    physical = pd;
-    props = p;
-    queue_family = static_cast<std::uint32_t>(family);
-    break;
-  }
-  if (physical == VK_NULL_HANDLE)
-    unavailable(devices.empty() ? std::string("no Vulkan device") : first_gap);
+  // The device: the best-ranked one, or the one MASQ_VK_DEVICE / MASQ_RQ_DEVICE / --device
+  // names; rayquery takes the vulkan backend's device unless told otherwise
+  // (host/vulkan/vk_devices.h, host/device_choice.h).
+  const std::vector<PhysicalDevice> devices = physical_devices(instance);
+  const PhysicalDevice& chosen = choose_physical_device(devices, backend, want_ray_query);
+  physical = chosen.handle;
+  vkGetPhysicalDeviceProperties(physical, &props);
+  queue_family = static_cast<std::uint32_t>(chosen.compute_family);
   vkGetPhysicalDeviceMemoryProperties(physical, &memory);
   {
     std::uint32_t nf = 0;

@@ -1,6 +1,7 @@
-// The Vulkan instance, device and queue every Vulkan-based backend shares: Vulkan 1.2,
-// the first physical device with a compute queue (and, for ray query, the extensions it
-// needs). The loader honours VK_DRIVER_FILES / VK_ICD_FILENAMES from the environment.
+// The Vulkan instance, device and queue every Vulkan-based backend shares: Vulkan 1.2, on
+// the device host/vulkan/vk_devices.h chooses (best-ranked, or the one MASQ_VK_DEVICE /
+// MASQ_RQ_DEVICE names; rayquery on the vulkan backend's device unless told otherwise).
+// The loader honours VK_DRIVER_FILES / VK_ICD_FILENAMES from the environment.
 #pragma once
 #include "host/vulkan/vk_check.h"
 #include <vulkan/vulkan.h>
