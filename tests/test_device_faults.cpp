@@ -1,5 +1,5 @@
 // Device faults: no Vulkan driver, no OpenCL platform, a missing device extension, a
-// scene over a device limit, device memory exhausted, a kernel that fails to compile.
+// scene over a device limit, device memory exhausted, a lost device, a kernel that fails to compile.
 // Each gives one clear error naming the cause, and the library stays usable: the other
 // backends (and the same one, after a recoverable fault) keep tracing.
 // EnvFault.* need the fault set up in the environment before the process starts; ctest
@@ -154,6 +154,44 @@ TEST(DeviceFaults, OutOfDeviceMemoryIsAnErrorAndDeviceStaysUsable) {
   small.download(out, sizeof out);
   EXPECT_EQ(out[3], 4u);
   expect_traces("vulkan");
+}
+
+// A lost device (the driver's watchdog reset it) is one error naming it and
+// VK_ERROR_DEVICE_LOST, never a hang; the lost context refuses further work at once, and
+// a backend opened afterwards gets a fresh device and traces. The loss is injected after
+// a real, finished wait (MASQ_VK_FAULT_DEVICE_LOST), as lavapipe cannot be made to lose it.
+TEST(DeviceFaults, DeviceLostIsOneErrorAndAFreshBackendTraces) {
+  std::unique_ptr<api::Context> ctx;
+  try {
+    ctx = std::make_unique<api::Context>("vulkan");
+  } catch (const masq::BackendUnavailable& e) {
+    if (allow_missing()) GTEST_SKIP() << e.what();
+    FAIL() << e.what();
+  }
+  api::Accel accel = capsules(4);
+  api::Ray r;
+  r.org = {-0.75f, 0, -5};
+  auto trace_error = [&](api::Context& c) {
+    try {
+      c.trace(accel, {&r, 1});
+    } catch (const masq::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  ::setenv("MASQ_VK_FAULT_DEVICE_LOST", "1", 1);
+  std::string lost = trace_error(*ctx);
+  ::unsetenv("MASQ_VK_FAULT_DEVICE_LOST");
+  EXPECT_NE(lost.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << lost;
+  EXPECT_NE(lost.find("MASQ_MAX_RAYS_PER_DISPATCH"), std::string::npos) << lost;
+  EXPECT_EQ(lost.find('\n'), std::string::npos) << lost;
+  std::printf("device lost: %s\n", lost.c_str());
+  std::string again = trace_error(*ctx); // the same backend: refused without a submission
+  EXPECT_NE(again.find("was lost"), std::string::npos) << again;
+  api::Context fresh("vulkan");
+  std::vector<api::Hit> hits = fresh.trace(accel, {&r, 1});
+  EXPECT_TRUE(hits[0].hit());
+  expect_traces("cpu");
 }
 
 // A kernel that does not compile names the program and the source line; the device

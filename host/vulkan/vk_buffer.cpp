@@ -1,5 +1,6 @@
 #include "host/vulkan/vk_buffer.h"
 #include "host/vulkan/vk_staging.h"
+#include <fmt/format.h>
 #include <cstdlib>
 #include <cstring>
 #include <utility>
@@ -41,7 +42,15 @@ Buffer::Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, Buffer
     if (VkResult r = vkAllocateMemory(ctx.device, &mai, nullptr, &memory_); r != VK_SUCCESS) {
       memory_ = VK_NULL_HANDLE;
       ctx.release_allocation();
-      throw_vk_error("vkAllocateMemory", r, __FILE__, __LINE__);
+      if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY)
+        throw_vk_error("vkAllocateMemory", r, __FILE__, __LINE__);
+      // Out of memory: name the heap and its size, the limit the caller ran into (the
+      // caller adds which array it was).
+      const std::uint32_t heap = ctx.memory.memoryTypes[placement_.type_index].heapIndex;
+      throw Error(fmt::format("vulkan: vkAllocateMemory of {} bytes for {} failed: {} (memory type {}, heap {} of {} "
+                              "bytes on '{}')",
+                              req.size, role_name(role), result_name(r), placement_.type_index, heap,
+                              ctx.memory.memoryHeaps[heap].size, ctx.props.deviceName));
     }
     allocation_size_ = req.size;
     MASQ_VK_CHECK(vkBindBufferMemory(ctx.device, buffer_, memory_, 0));

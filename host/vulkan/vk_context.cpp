@@ -76,7 +76,7 @@ bool instance_has_layer(const char* name) {
 std::shared_ptr<Context> Context::get(const char* backend, bool ray_query) {
   std::lock_guard<std::mutex> lock(g_mutex);
   std::weak_ptr<Context>& slot = g_contexts[ray_query ? 1 : 0];
-  if (auto existing = slot.lock()) return existing;
+  if (auto existing = slot.lock(); existing && !existing->lost()) return existing;
   std::shared_ptr<Context> ctx(new Context());
   ctx->create(backend, ray_query);
   slot = ctx;
@@ -294,6 +294,9 @@ void Context::acquire_allocation() {
 }
 
 VkCommandBuffer Context::begin_commands() {
+  if (lost_)
+    throw Error(fmt::format("vulkan: device '{}' was lost (VK_ERROR_DEVICE_LOST) earlier; open the backend again",
+                            props.deviceName));
   std::unique_lock<std::mutex> lock(submit_mutex_);
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   ai.commandPool = command_pool;
@@ -329,9 +332,25 @@ void Context::submit_and_wait(VkCommandBuffer cmd) {
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd;
-  MASQ_VK_CHECK(vkQueueSubmit(queue, 1, &si, guard.f));
-  MASQ_VK_CHECK(vkWaitForFences(device, 1, &guard.f, VK_TRUE, UINT64_MAX));
+  VkResult r = vkQueueSubmit(queue, 1, &si, guard.f);
+  if (r == VK_ERROR_DEVICE_LOST) throw_device_lost("vkQueueSubmit");
+  if (r != VK_SUCCESS) throw_vk_error("vkQueueSubmit", r, __FILE__, __LINE__);
+  // No timeout: a hung device is reset by the driver's watchdog, which makes the wait
+  // return VK_ERROR_DEVICE_LOST; a timeout here could not tell a long trace from a hang.
+  r = vkWaitForFences(device, 1, &guard.f, VK_TRUE, UINT64_MAX);
+  const char* inject = std::getenv("MASQ_VK_FAULT_DEVICE_LOST");
+  if (r == VK_SUCCESS && inject && std::strcmp(inject, "1") == 0) r = VK_ERROR_DEVICE_LOST;
+  if (r == VK_ERROR_DEVICE_LOST) throw_device_lost("vkWaitForFences");
+  if (r != VK_SUCCESS) throw_vk_error("vkWaitForFences", r, __FILE__, __LINE__);
   check_validation();
+}
+
+void Context::throw_device_lost(const char* call) {
+  lost_ = true;
+  throw Error(fmt::format("vulkan: device '{}' was lost ({}: VK_ERROR_DEVICE_LOST): the driver reset it, e.g. a "
+                          "dispatch ran past its watchdog (lower MASQ_MAX_RAYS_PER_DISPATCH) or a kernel faulted; "
+                          "backends opened from now on use a fresh device",
+                          props.deviceName, call));
 }
 
 } // namespace masq::vk

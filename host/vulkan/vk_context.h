@@ -80,6 +80,13 @@ class Context {
   VkCommandBuffer begin_commands();
   void submit_and_wait(VkCommandBuffer cmd);
 
+  // VK_ERROR_DEVICE_LOST from a submission or its wait (the driver reset the device: a
+  // dispatch past its watchdog, a faulting kernel) is one masq::Error naming the device,
+  // and the context is marked lost: begin_commands then refuses at once instead of
+  // submitting to a dead device, and Context::get opens a fresh context for the next
+  // backend. MASQ_VK_FAULT_DEVICE_LOST=1 (tests) reports it after a real, finished wait.
+  bool lost() const { return lost_.load(); }
+
   // The persistent staging buffer every copy to or from unmapped device memory goes
   // through (created on first use), and the pipeline cache every vkCreateComputePipelines
   // uses (loaded from and saved to masq's cache directory).
@@ -105,6 +112,8 @@ class Context {
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   std::uint64_t validation_errors_seen_ = 0;
   std::atomic<std::uint64_t> live_allocations_{0};
+  std::atomic<bool> lost_{false};
+  [[noreturn]] void throw_device_lost(const char* call);
   std::mutex staging_mutex_;
   std::unique_ptr<Staging> staging_;              // destroyed before the device
   std::unique_ptr<PipelineCache> pipeline_cache_; // saved and destroyed before the device
