@@ -179,9 +179,11 @@ TEST(DeviceFaults, DeviceLostIsOneErrorAndAFreshBackendTraces) {
     }
     return std::string();
   };
-  ::setenv("MASQ_VK_FAULT_DEVICE_LOST", "1", 1);
-  std::string lost = trace_error(*ctx);
-  ::unsetenv("MASQ_VK_FAULT_DEVICE_LOST");
+  std::string lost;
+  {
+    masq::test::ScopedEnv fault("MASQ_VK_FAULT_DEVICE_LOST", "1");
+    lost = trace_error(*ctx);
+  }
   EXPECT_NE(lost.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << lost;
   EXPECT_NE(lost.find("MASQ_MAX_RAYS_PER_DISPATCH"), std::string::npos) << lost;
   EXPECT_EQ(lost.find('\n'), std::string::npos) << lost;

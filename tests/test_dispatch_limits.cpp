@@ -28,17 +28,7 @@ using kernel::RayStats;
 
 namespace {
 
-// Sets an environment knob for the scope of one check.
-class Knob {
- public:
-  Knob(const char* name, const std::string& value) : name_(name) { setenv(name, value.c_str(), 1); }
-  ~Knob() { unsetenv(name_); }
-  Knob(const Knob&) = delete;
-  Knob& operator=(const Knob&) = delete;
-
- private:
-  const char* name_;
-};
+using Knob = masq::test::ScopedEnv;
 
 Scene capsule_scene(int count, std::uint64_t seed) {
   Scene s;

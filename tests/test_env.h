@@ -27,4 +27,16 @@ auto open_or_fail(const std::string& name, Make make) -> decltype(make(name)) {
   }
 }
 
+// Sets an environment variable (a knob, a fault injection) for the scope of one check.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : name_(name) { setenv(name, value.c_str(), 1); }
+  ~ScopedEnv() { unsetenv(name_); }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  const char* name_;
+};
+
 } // namespace masq::test

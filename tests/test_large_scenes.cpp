@@ -29,17 +29,7 @@ using kernel::Ray;
 
 namespace {
 
-// Sets an environment knob for the scope of one check.
-class Knob {
- public:
-  Knob(const char* name, const std::string& value) : name_(name) { setenv(name, value.c_str(), 1); }
-  ~Knob() { unsetenv(name_); }
-  Knob(const Knob&) = delete;
-  Knob& operator=(const Knob&) = delete;
-
- private:
-  const char* name_;
-};
+using Knob = masq::test::ScopedEnv;
 
 std::unique_ptr<Backend> backend_or_fail(const std::string& name) {
   return masq::test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });

@@ -28,7 +28,7 @@ using kernel::RayStats;
 
 // Null when OpenCL is missing and MASQ_ALLOW_MISSING_BACKENDS=1 (then the test skips);
 // otherwise a missing platform fails: the setup script installs PoCL.
-std::unique_ptr<Backend> open_or_skip(std::size_t chunk = kOpenClChunkRays) {
+std::unique_ptr<Backend> open_or_skip(std::size_t chunk = masq::kMaxRaysPerDispatch) {
   try {
     return make_opencl_backend(chunk);
   } catch (const BackendUnavailable& e) {

@@ -156,7 +156,10 @@ void Context::create(const char* backend, bool want_ray_query) {
   const bool has_m4 = props.apiVersion >= VK_API_VERSION_1_3;
   VkPhysicalDeviceMaintenance3Properties m3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES,
                                             has_m4 ? static_cast<void*>(&m4) : nullptr};
-  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &m3};
+  VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES, &m3};
+  VkPhysicalDeviceFloatControlsProperties float_controls{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES,
+                                                         &subgroup};
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &float_controls};
   accel_props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
   accel_props.pNext = &driver;
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
@@ -165,6 +168,8 @@ void Context::create(const char* backend, bool want_ray_query) {
   vkGetPhysicalDeviceProperties2(physical, &p2);
   accel_props.pNext = nullptr;
   driver_info_ = driver.driverInfo;
+  subgroup_size = subgroup.subgroupSize > 0 ? subgroup.subgroupSize : 1;
+  signed_zero_inf_nan_preserve_float32 = float_controls.shaderSignedZeroInfNanPreserveFloat32 == VK_TRUE;
   max_allocation = m3.maxMemoryAllocationSize;
   if (has_m4 && m4.maxBufferSize < max_allocation) {
     max_allocation = m4.maxBufferSize;

@@ -56,6 +56,10 @@ class Context {
   // maxBufferSize where the device reports it), and which of the two it is.
   std::uint64_t max_allocation = 0;
   const char* max_allocation_name = "maxMemoryAllocationSize";
+  // Read once with the other properties, for the work-group size and the float-controls
+  // patch of every pipeline (host/vulkan/vk_shader_limits.h).
+  std::uint32_t subgroup_size = 1;                      // VkPhysicalDeviceSubgroupProperties
+  bool signed_zero_inf_nan_preserve_float32 = false;    // VkPhysicalDeviceFloatControlsProperties
 
   std::string device_name() const; // "llvmpipe (...) [Mesa 25.0.7 ...]"
   // Largest storage-buffer binding, after MASQ_VK_MAX_BINDING_BYTES and the test

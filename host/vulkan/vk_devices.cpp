@@ -175,4 +175,8 @@ std::vector<DeviceInfo> vulkan_device_infos() {
   return out;
 }
 
+bool device_has_extension(VkPhysicalDevice pd, const char* name) {
+  return has_extension(device_extensions(pd), name);
+}
+
 } // namespace masq::vk

@@ -22,6 +22,9 @@ struct PhysicalDevice {
   DeviceInfo info;
 };
 
+// Whether `pd` has device extension `name` (false for one MASQ_VK_HIDE_EXTENSIONS hides).
+bool device_has_extension(VkPhysicalDevice pd, const char* name);
+
 // Every physical device of `instance`, in enumeration order (info.index = position).
 // MASQ_VK_HIDE_EXTENSIONS="VK_KHR_ray_query,..." makes the named device extensions look
 // absent, so the missing-extension path runs on a driver that has them.

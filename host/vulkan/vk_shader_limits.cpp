@@ -30,15 +30,11 @@ std::uint32_t local_size_override() {
 } // namespace
 
 ShaderLimits shader_limits(const Context& ctx) {
-  VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
-  VkPhysicalDeviceFloatControlsProperties fc{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES, &sub};
-  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &fc};
-  vkGetPhysicalDeviceProperties2(ctx.physical, &p2);
   ShaderLimits l;
-  l.subgroup_size = sub.subgroupSize > 0 ? sub.subgroupSize : 1;
-  l.max_group_size_x = p2.properties.limits.maxComputeWorkGroupSize[0];
-  l.max_group_invocations = p2.properties.limits.maxComputeWorkGroupInvocations;
-  l.preserve_float32 = fc.shaderSignedZeroInfNanPreserveFloat32 == VK_TRUE;
+  l.subgroup_size = ctx.subgroup_size;
+  l.max_group_size_x = ctx.props.limits.maxComputeWorkGroupSize[0];
+  l.max_group_invocations = ctx.props.limits.maxComputeWorkGroupInvocations;
+  l.preserve_float32 = ctx.signed_zero_inf_nan_preserve_float32;
   return l;
 }
 
