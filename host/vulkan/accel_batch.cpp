@@ -5,6 +5,7 @@
 // thousands of BLAS; compaction also gives the bytes the structures really need (the
 // build sizes are the driver's worst case).
 #include "host/vulkan/acceleration_structures.h"
+#include "host/vulkan/vk_barriers.h"
 #include <fmt/format.h>
 #include <algorithm>
 
@@ -59,18 +60,6 @@ VkAccelerationStructureBuildGeometryInfoKHR build_info(const AccelInput& in,
   info.geometryCount = 1;
   info.pGeometries = g;
   return info;
-}
-
-// The builds' writes made visible to what reads the structures next: a compacted-size
-// query or copy (acceleration-structure build stage), a TLAS build over a BLAS, and ray
-// queries in compute shaders.
-void build_barrier(VkCommandBuffer cmd) {
-  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  mb.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
-  mb.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-                       VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
-                       1, &mb, 0, nullptr, 0, nullptr);
 }
 
 } // namespace
@@ -178,7 +167,7 @@ class AccelBatch {
       VkCommandBuffer cmd = ctx_.begin_commands(); // nothing below throws until the submit
       if (queries > 0) vkCmdResetQueryPool(cmd, pool, 0, queries);
       ctx_.accel.cmd_build(cmd, static_cast<std::uint32_t>(n), infos.data(), range_ptrs.data());
-      build_barrier(cmd);
+      barrier_after_accel_build(cmd);
       if (queries > 0)
         ctx_.accel.cmd_write_properties(cmd, queries, to_query.data(),
                                         VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR, pool, 0);
@@ -201,7 +190,7 @@ class AccelBatch {
           copy.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
           ctx_.accel.cmd_copy(cmd, &copy);
         }
-        build_barrier(cmd);
+        barrier_after_accel_build(cmd);
         ctx_.submit_and_wait(cmd);
       }
       for (std::size_t i = 0; i < n; ++i) {

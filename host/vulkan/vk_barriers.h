@@ -1,8 +1,9 @@
 // The memory barriers between masq's transfers, dispatches and acceleration-structure
 // builds, in one place: Staging records the copy ones, KernelLayout::dispatch the
-// dispatch one, and tests/test_vk_memory_placement.cpp records a staged upload, a
-// dispatch and a staged readback in one command buffer with them under synchronization
-// validation (which sees hazards inside a command buffer, not across waited submissions).
+// dispatch one, the acceleration-structure batches (accel_batch.cpp) the build one.
+// tests/test_vk_memory_placement.cpp records a staged upload, a dispatch and a staged
+// readback in one command buffer with them under synchronization validation (which sees
+// hazards inside a command buffer, not across waited submissions).
 #pragma once
 #include "host/vulkan/vk_context.h"
 
@@ -22,5 +23,9 @@ void barrier_after_readback(const Context& ctx, VkCommandBuffer cmd);
 // (staged readback; the next chunk's ray upload waits for its reads) and to the next
 // dispatch, which writes the same hits.
 void barrier_after_dispatch(VkCommandBuffer cmd);
+// After acceleration-structure builds or copies: their writes are visible to what reads
+// the structures next (a compacted-size query or compacting copy, a TLAS build over a
+// BLAS, ray queries in compute shaders).
+void barrier_after_accel_build(VkCommandBuffer cmd);
 
 } // namespace masq::vk
