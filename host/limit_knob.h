@@ -11,6 +11,8 @@
 //   MASQ_CL_MAX_ALLOC_BYTES       opencl: CL_DEVICE_MAX_MEM_ALLOC_SIZE
 //   MASQ_VK_MAX_ALLOCATIONS       vulkan, rayquery: maxMemoryAllocationCount (live
 //                                 allocations per device, counted by vk::Buffer)
+//   MASQ_VK_WAIT_SECONDS          vulkan, rayquery: seconds one submission may take
+//                                 (host/vulkan/vk_context.h, kDefaultWaitSeconds)
 //   MASQ_MAX_RAYS_PER_DISPATCH    vulkan, rayquery, opencl (and their bv tracers): rays in
 //                                 one dispatch, kMaxRaysPerDispatch by default (below)
 #pragma once

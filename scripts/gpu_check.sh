@@ -72,6 +72,20 @@ if [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && [ -e "${nvidia_icds[0]}
   VK_ADD_DRIVER_FILES=$(IFS=:; echo "${nvidia_icds[*]}")
   export VK_ADD_DRIVER_FILES
 fi
+# That ICD names its library (libGLX_nvidia.so.0) without a path, in a folder outside
+# the dynamic loader's (seen on an H200 container: without it, VK_ERROR_INCOMPATIBLE_DRIVER).
+if [ -e "${nvidia_icds[0]}" ] && [ -d /usr/local/nvidia/lib64 ]; then
+  export LD_LIBRARY_PATH="${LD_LIBRARY_PATH:+$LD_LIBRARY_PATH:}/usr/local/nvidia/lib64"
+fi
+# Such containers also ship NVIDIA's OpenCL library without an ICD file: list it, with
+# the registered ones, in a folder of our own for the OpenCL ICD loader.
+nvidia_ocl=/usr/local/nvidia/lib64/libnvidia-opencl.so.1
+if [ -z "${OCL_ICD_VENDORS:-}" ] && [ -e "$nvidia_ocl" ] && ! grep -qs nvidia /etc/OpenCL/vendors/*.icd; then
+  OCL_ICD_VENDORS=$(mktemp -d)
+  cp /etc/OpenCL/vendors/*.icd "$OCL_ICD_VENDORS"/ 2>/dev/null || true
+  echo "$nvidia_ocl" >"$OCL_ICD_VENDORS/nvidia.icd"
+  export OCL_ICD_VENDORS
+fi
 if [ -n "${VK_DRIVER_FILES:-}" ]; then
   echo "Vulkan ICDs: VK_DRIVER_FILES=$VK_DRIVER_FILES (only these)"
 elif [ -n "${VK_ICD_FILENAMES:-}" ]; then
@@ -118,6 +132,16 @@ if grep -q 'matches no' <<<"$info"; then
   exit 1
 fi
 
+# A backend this machine lacks (rayquery on a GPU without VK_KHR_ray_query, such as an
+# H100 or H200) is skipped by the tests, with its reason above, instead of failing them.
+if grep -q '^[a-z]* *unavailable' <<<"$info"; then
+  export MASQ_ALLOW_MISSING_BACKENDS=1
+  grep '^[a-z]* *unavailable' <<<"$info" | sed 's/^/gpu_check: skipped by the tests: /'
+fi
+# A kernel that never finishes (a compute GPU has no watchdog) is an error after this
+# long, naming the device, instead of a hang (host/vulkan/vk_context.h).
+export MASQ_VK_WAIT_SECONDS=${MASQ_VK_WAIT_SECONDS:-120}
+
 echo "== cross-backend tests on the chosen devices"
 if [ $smoke -eq 1 ]; then
   # Two cases straight from the test binaries (this runs inside ctest itself).
@@ -127,7 +151,7 @@ else
   # Every backend against the oracle and each other, and the device choice itself.
   ctest --test-dir "$build_dir" \
     -R '^(CrossBackend|Types/EveryPrimitive|Backends/NodeFormatsAgree|EveryBackend/Occlusion|DeviceChoice|RealDevices)\.' \
-    --output-on-failure -j"$(nproc)"
+    --output-on-failure --timeout 600 -j"$(nproc)"
 fi
 
 echo "== quick suites -> $out"

@@ -196,6 +196,49 @@ TEST(DeviceFaults, DeviceLostIsOneErrorAndAFreshBackendTraces) {
   expect_traces("cpu");
 }
 
+// A dispatch that does not finish (a compute GPU has no watchdog to reset it) is one
+// error naming the device, the limit and its knob after MASQ_VK_WAIT_SECONDS, never a
+// hang; the context refuses further work and a fresh backend traces. The timeout is
+// injected after a real, finished wait (MASQ_VK_FAULT_TIMEOUT), as lavapipe's kernels end.
+TEST(DeviceFaults, UnfinishedDispatchIsOneErrorNotAHang) {
+  std::unique_ptr<api::Context> ctx;
+  try {
+    ctx = std::make_unique<api::Context>("vulkan");
+  } catch (const masq::BackendUnavailable& e) {
+    if (allow_missing()) GTEST_SKIP() << e.what();
+    FAIL() << e.what();
+  }
+  api::Accel accel = capsules(4);
+  api::Ray r;
+  r.org = {-0.75f, 0, -5};
+  auto trace_error = [&](api::Context& c) {
+    try {
+      c.trace(accel, {&r, 1});
+    } catch (const masq::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  std::string hung;
+  {
+    masq::test::ScopedEnv limit("MASQ_VK_WAIT_SECONDS", "7");
+    masq::test::ScopedEnv fault("MASQ_VK_FAULT_TIMEOUT", "1");
+    hung = trace_error(*ctx);
+  }
+  EXPECT_NE(hung.find("did not finish within 7 s"), std::string::npos) << hung;
+  EXPECT_NE(hung.find("MASQ_VK_WAIT_SECONDS"), std::string::npos) << hung;
+  EXPECT_EQ(hung.find('\n'), std::string::npos) << hung;
+  std::string again = trace_error(*ctx);
+  EXPECT_NE(again.find("was lost"), std::string::npos) << again;
+  api::Context fresh("vulkan");
+  EXPECT_TRUE(fresh.trace(accel, {&r, 1})[0].hit());
+  {
+    masq::test::ScopedEnv bad("MASQ_VK_WAIT_SECONDS", "soon");
+    const std::string e = trace_error(fresh);
+    EXPECT_NE(e.find("MASQ_VK_WAIT_SECONDS='soon' is not a positive integer"), std::string::npos) << e;
+  }
+}
+
 // A kernel that does not compile names the program and the source line; the device
 // then still builds and runs masq's own kernels.
 TEST(DeviceFaults, KernelCompileFailureIsNamedAndOpenClStaysUsable) {

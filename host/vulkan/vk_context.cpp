@@ -13,6 +13,18 @@
 #include <vector>
 
 namespace masq::vk {
+
+namespace {
+
+bool env_is_one(const char* name) {
+  const char* v = std::getenv(name);
+  return v != nullptr && std::strcmp(v, "1") == 0;
+}
+
+} // namespace
+
+std::uint64_t wait_limit_seconds() { return lowered_limit("vulkan", kDefaultWaitSeconds, "MASQ_VK_WAIT_SECONDS"); }
+
 namespace {
 
 std::mutex g_mutex;
@@ -234,6 +246,12 @@ void Context::create(const char* backend, bool want_ray_query) {
 }
 
 Context::~Context() {
+  if (device && hung_) {
+    // A dispatch that timed out may still run: waiting for the device would hang, and
+    // destroying it under a running kernel is undefined. Leave it to process exit.
+    std::fprintf(stderr, "masq: vulkan: device '%s' left open (a dispatch did not finish)\n", props.deviceName);
+    return;
+  }
   if (device) {
     vkDeviceWaitIdle(device);
     staging_.reset();
@@ -300,8 +318,8 @@ void Context::acquire_allocation() {
 
 VkCommandBuffer Context::begin_commands() {
   if (lost_)
-    throw Error(fmt::format("vulkan: device '{}' was lost (VK_ERROR_DEVICE_LOST) earlier; open the backend again",
-                            props.deviceName));
+    throw Error(fmt::format("vulkan: device '{}' was lost earlier ({}); open the backend again", props.deviceName,
+                            hung_ ? "a dispatch did not finish within MASQ_VK_WAIT_SECONDS" : "VK_ERROR_DEVICE_LOST"));
   std::unique_lock<std::mutex> lock(submit_mutex_);
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   ai.commandPool = command_pool;
@@ -325,12 +343,16 @@ void Context::submit_and_wait(VkCommandBuffer cmd) {
     Context* c;
     VkCommandBuffer b;
     VkFence f = VK_NULL_HANDLE;
+    bool in_flight = false; // a wait that timed out: the GPU may still use both
     ~Free() {
-      if (f) vkDestroyFence(c->device, f, nullptr);
-      vkFreeCommandBuffers(c->device, c->command_pool, 1, &b);
+      if (!in_flight) {
+        if (f) vkDestroyFence(c->device, f, nullptr);
+        vkFreeCommandBuffers(c->device, c->command_pool, 1, &b);
+      }
       c->submit_mutex_.unlock(); // taken by begin_commands
     }
   } guard{this, cmd};
+  const std::uint64_t seconds = wait_limit_seconds(); // a bad knob throws before anything is in flight
   MASQ_VK_CHECK(vkEndCommandBuffer(cmd));
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   MASQ_VK_CHECK(vkCreateFence(device, &fci, nullptr, &guard.f));
@@ -340,12 +362,27 @@ void Context::submit_and_wait(VkCommandBuffer cmd) {
   VkResult r = vkQueueSubmit(queue, 1, &si, guard.f);
   if (r == VK_ERROR_DEVICE_LOST) throw_device_lost("vkQueueSubmit");
   if (r != VK_SUCCESS) throw_vk_error("vkQueueSubmit", r, __FILE__, __LINE__);
-  // No timeout: a hung device is reset by the driver's watchdog, which makes the wait
-  // return VK_ERROR_DEVICE_LOST; a timeout here could not tell a long trace from a hang.
-  r = vkWaitForFences(device, 1, &guard.f, VK_TRUE, UINT64_MAX);
-  const char* inject = std::getenv("MASQ_VK_FAULT_DEVICE_LOST");
-  if (r == VK_SUCCESS && inject && std::strcmp(inject, "1") == 0) r = VK_ERROR_DEVICE_LOST;
+  // A bounded wait: a desktop GPU's watchdog resets a hung device (the wait then returns
+  // VK_ERROR_DEVICE_LOST), but a compute GPU without a display has none. On an H200 a
+  // trace kernel ran at 100% utilisation for minutes without returning (docs/results.md),
+  // and masq would have waited forever. One dispatch holds at most
+  // MASQ_MAX_RAYS_PER_DISPATCH rays, seconds of work even on a CPU driver, so the
+  // default limit only ever catches a kernel that does not terminate.
+  r = vkWaitForFences(device, 1, &guard.f, VK_TRUE, seconds * 1000000000ull);
+  if (r == VK_SUCCESS && env_is_one("MASQ_VK_FAULT_DEVICE_LOST")) r = VK_ERROR_DEVICE_LOST;
+  if (r == VK_SUCCESS && env_is_one("MASQ_VK_FAULT_TIMEOUT")) r = VK_TIMEOUT;
   if (r == VK_ERROR_DEVICE_LOST) throw_device_lost("vkWaitForFences");
+  if (r == VK_TIMEOUT) {
+    // The command buffer and fence may still be in use: leak them (and, at exit, the
+    // device: ~Context does not wait for it) rather than free what the GPU is running.
+    guard.in_flight = true;
+    hung_ = true;
+    lost_ = true;
+    throw Error(fmt::format("vulkan: a dispatch on '{}' did not finish within {} s (MASQ_VK_WAIT_SECONDS): a kernel "
+                            "that does not terminate on this device, or a dispatch too large for it (lower "
+                            "MASQ_MAX_RAYS_PER_DISPATCH); this device is not used again by the process",
+                            props.deviceName, seconds));
+  }
   if (r != VK_SUCCESS) throw_vk_error("vkWaitForFences", r, __FILE__, __LINE__);
   check_validation();
 }

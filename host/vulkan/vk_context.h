@@ -13,6 +13,11 @@
 
 namespace masq::vk {
 
+// How long submit_and_wait waits for one submission before it gives the device up:
+// 600 s by default, lowered by MASQ_VK_WAIT_SECONDS (a positive integer).
+inline constexpr std::uint64_t kDefaultWaitSeconds = 600;
+std::uint64_t wait_limit_seconds();
+
 class Staging;       // host/vulkan/vk_staging.h
 class PipelineCache; // host/vulkan/vk_pipeline_cache.h
 
@@ -89,6 +94,9 @@ class Context {
   // and the context is marked lost: begin_commands then refuses at once instead of
   // submitting to a dead device, and Context::get opens a fresh context for the next
   // backend. MASQ_VK_FAULT_DEVICE_LOST=1 (tests) reports it after a real, finished wait.
+  // A wait longer than wait_limit_seconds() is one masq::Error too, and marks the context
+  // lost and hung (its in-flight work and device are left alone; MASQ_VK_FAULT_TIMEOUT=1
+  // reports a timeout after a real, finished wait).
   bool lost() const { return lost_.load(); }
 
   // The persistent staging buffer every copy to or from unmapped device memory goes
@@ -117,6 +125,7 @@ class Context {
   std::uint64_t validation_errors_seen_ = 0;
   std::atomic<std::uint64_t> live_allocations_{0};
   std::atomic<bool> lost_{false};
+  std::atomic<bool> hung_{false}; // a wait timed out: the device may still be running it
   [[noreturn]] void throw_device_lost(const char* call);
   std::mutex staging_mutex_;
   std::unique_ptr<Staging> staging_;              // destroyed before the device
