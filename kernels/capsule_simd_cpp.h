@@ -81,7 +81,7 @@ inline CapsuleHits4 capsule_hits4(const Capsule* c, int n, glm::vec3 o, glm::vec
   F4 ts = -vdot(ocx, ocy, ocz, splat(d.x), splat(d.y), splat(d.z)) / dd;
   F4 px = ocx + ts * d.x, py = ocy + ts * d.y, pz = ocz + ts * d.z;
   F4 seam = MASQ_CAPSULE_SEAM * (h + r);
-  // Most leaves are crossed without a hit. Every crossing lies within h + r + seam of
+  // Most leaves are crossed without a hit. Every crossing lies within h + r of
   // the centre, and p is the line's closest point to it up to the rounding of ts and p
   // (bounded by the 64u term): when every lane's line passes farther, even with 1% to
   // spare, every scalar call misses too, and the rest is skipped. Otherwise all lanes
@@ -93,11 +93,22 @@ inline CapsuleHits4 capsule_hits4(const Capsule* c, int n, glm::vec3 o, glm::vec
     for (int i = 0; i < 4; ++i) out.hit[i] = 0;
     return out;
   }
-  F4 pa = vdot(px, py, pz, wx, wy, wz);
+  // From here every lane performs intersect_capsule's operations in its order.
+  F4 oax = o.x - ax, oay = o.y - ay, oaz = o.z - az;
+  F4 obx = o.x - bx, oby = o.y - by, obz = o.z - bz;
+  F4 ta = -vdot(oax, oay, oaz, splat(d.x), splat(d.y), splat(d.z)) / dd;
+  F4 tb = -vdot(obx, oby, obz, splat(d.x), splat(d.y), splat(d.z)) / dd;
+  F4 pax = oax + ta * d.x, pay = oay + ta * d.y, paz = oaz + ta * d.z;
+  F4 pbx = obx + tb * d.x, pby = oby + tb * d.y, pbz = obz + tb * d.z;
   F4 da = vdot(splat(d.x), splat(d.y), splat(d.z), wx, wy, wz);
   Best4 best{splat(tmax), F4{}, F4{}, F4{}, F4{}, I4{}};
-  // Cylinder side in the axis frame.
-  F4 prx = px - pa * wx, pry = py - pa * wy, prz = pz - pa * wz;
+  // Side in the axis frame of the nearer endpoint.
+  I4 near_b = vdot(pbx, pby, pbz, pbx, pby, pbz) < vdot(pax, pay, paz, pax, pay, paz);
+  F4 pex = near_b ? pbx : pax, pey = near_b ? pby : pay, pez = near_b ? pbz : paz;
+  F4 te = near_b ? tb : ta;
+  F4 sd = near_b ? splat(1.0f) : splat(-1.0f);
+  F4 pzz = vdot(pex, pey, pez, wx, wy, wz);
+  F4 prx = pex - pzz * wx, pry = pey - pzz * wy, prz = pez - pzz * wz;
   F4 drx = d.x - da * wx, dry = d.y - da * wy, drz = d.z - da * wz;
   F4 drdr = vdot(drx, dry, drz, drx, dry, drz);
   F4 s0 = -vdot(prx, pry, prz, drx, dry, drz) / drdr;
@@ -108,15 +119,15 @@ inline CapsuleHits4 capsule_hits4(const Capsule* c, int n, glm::vec3 o, glm::vec
   F4 q = vsqrt(disc / drdr);
   for (int k = 0; k < 2; ++k) {
     F4 s = k == 0 ? s0 - q : s0 + q;
-    F4 z = pa + s * da;
-    F4 u = vmin(vmax((z + h) / len, splat(0.0f)), splat(1.0f));
-    best.take(side_ok & (vabs(z) <= h + seam), ts + s, tlo, prx + s * drx, pry + s * dry, prz + s * drz, u);
+    F4 z = sd * (pzz + s * da);
+    F4 u = vmin(vmax(near_b ? 1.0f + z / len : -z / len, splat(0.0f)), splat(1.0f));
+    best.take(side_ok & (z <= 0.0f) & (z >= -len), te + s, tlo, prx + s * drx, pry + s * dry, prz + s * drz, u);
   }
-  // Caps: spheres at the two ends, outer hemisphere only.
+  // Caps: balls at the two ends, each in its endpoint's frame, outer hemisphere only.
   for (int e = 0; e < 2; ++e) {
     float side = e == 0 ? -1.0f : 1.0f;
-    F4 sh = side * h;
-    F4 pcx = px - sh * wx, pcy = py - sh * wy, pcz = pz - sh * wz;
+    F4 pcx = e == 0 ? pax : pbx, pcy = e == 0 ? pay : pby, pcz = e == 0 ? paz : pbz;
+    F4 tc = e == 0 ? ta : tb;
     F4 c0 = -vdot(pcx, pcy, pcz, splat(d.x), splat(d.y), splat(d.z)) / dd;
     F4 ux = pcx + c0 * d.x, uy = pcy + c0 * d.y, uz = pcz + c0 * d.z;
     F4 lc = vsqrt(vdot(ux, uy, uz, ux, uy, uz));
@@ -125,9 +136,9 @@ inline CapsuleHits4 capsule_hits4(const Capsule* c, int n, glm::vec3 o, glm::vec
     F4 qc = vsqrt(dc / dd);
     for (int k = 0; k < 2; ++k) {
       F4 s = k == 0 ? c0 - qc : c0 + qc;
-      F4 z = pa + s * da;
-      best.take(cap_ok & ((h == 0.0f) | (side * z >= h - seam)), ts + s, tlo, pcx + s * d.x, pcy + s * d.y,
-                pcz + s * d.z, splat(e == 0 ? 0.0f : 1.0f));
+      F4 nx = pcx + s * d.x, ny = pcy + s * d.y, nz = pcz + s * d.z;
+      best.take(cap_ok & ((h == 0.0f) | (side * vdot(nx, ny, nz, wx, wy, wz) >= -seam)), tc + s, tlo, nx, ny, nz,
+                splat(e == 0 ? 0.0f : 1.0f));
     }
   }
   std::memcpy(out.t, &best.t, sizeof out.t);

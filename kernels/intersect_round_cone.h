@@ -52,7 +52,8 @@
 //     circle the pieces' crossings agree to second order in the distance from it, so
 //     the nearest is a coin toss there while the normals differ to first order;
 //  7. dot(d,d) carried; the self-intersection window applied (prim_hit.h; centre =
-//     midpoint of a and b, r = max(ra, rb)).
+//     midpoint of a and b, r = max(ra, rb));
+//  8. each ball solved relative to its own centre (error u (D + r), not u (D + L)).
 // Fast: Quilez's "rounded cone" intersector (iquilezles.org) as written, adapted to
 // non-unit d (dd in the t^2 terms), both roots and exposure tests for the spheres (a
 // ray starting inside reports its exit), and the contained-sphere case.
@@ -166,17 +167,24 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
     s_in = lo;
     s_out = hi;
   }
+  // Each ball is solved relative to its own centre (origin o - a or o - b, shifted to
+  // the closest approach to it), as the capsule's caps: through p its distance from the
+  // ray would carry the centre frame's rounding, u (D + L), instead of u (D + r). Only
+  // its chord's position along the ray goes through te - ts (an error along the ray).
   for (int e = 0; e < 2; ++e) {
     float rs = e == 0 ? ra : rb;
-    vec3 pc = p - (e == 0 ? -h : h) * w;
+    vec3 oe = e == 0 ? oa : o - V3(rc.b);
+    float te = -dot(oe, d) / dd;
+    vec3 pc = oe + te * d;
     float s0 = -dot(pc, d) / dd;
     vec3 v = pc + s0 * d;
     float lv = length(v);
     float sdisc = (rs - lv) * (rs + lv);
     if (rs > 0.0f && sdisc >= 0.0f) {
       float sq = sqrt(sdisc / dd);
-      s_in = min(s_in, s0 - sq);
-      s_out = max(s_out, s0 + sq);
+      float sh = te - ts;
+      s_in = min(s_in, sh + (s0 - sq));
+      s_out = max(s_out, sh + (s0 + sq));
     }
   }
   // Nearest boundary crossing in the window: the entry, or the exit from inside.
@@ -191,10 +199,11 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
   // 6. the normal of the surface part the point lies on, chosen by z (near a seam the
   // pieces' crossings nearly coincide, so which piece gave s says little).
   vec3 nrm;
-  if (z <= za && ra > 0.0f) {
-    nrm = (p + h * w) + s * d;
-  } else if (z >= zb && rb > 0.0f) {
-    nrm = (p - h * w) + s * d;
+  if ((z <= za && ra > 0.0f) || (z >= zb && rb > 0.0f)) {
+    // A ball's normal, relative to its own centre (8.).
+    vec3 oe = z <= za ? oa : o - V3(rc.b);
+    float te = -dot(oe, d) / dd;
+    nrm = (oe + te * d) + ((ts - te) + s) * d;
   } else {
     vec3 xr = pr + s * dr;
     nrm = cs * xr + (sn * length(xr)) * w;
