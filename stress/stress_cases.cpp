@@ -303,7 +303,8 @@ Aim aim_triangle(const Probe& pr, RayKind kind, double L, const glm::dvec3* eye,
   }
 }
 
-Aim aim_round(const Probe& pr, RayKind kind, const glm::dvec3* eye, Rng& rng) {
+// spread: how far from the core random and axis-parallel rays pass, in radii.
+Aim aim_round(const Probe& pr, RayKind kind, const glm::dvec3* eye, double spread, Rng& rng) {
   // s slightly beyond [0,1] reaches the end caps.
   double s = pr.type == PrimType::Sphere ? 0.0 : uniform(rng, -0.05, 1.05);
   double sc = std::clamp(s, 0.0, 1.0);
@@ -332,10 +333,10 @@ Aim aim_round(const Probe& pr, RayKind kind, const glm::dvec3* eye, Rng& rng) {
     case RayKind::AxisParallel: {
       glm::dvec3 d(0.0);
       d[int(uniform(rng, 0, 3)) % 3] = uniform(rng, 0, 1) < 0.5 ? -1 : 1;
-      return {q + 1.2 * r * random_unit(rng) * uniform(rng, 0, 1), d};
+      return {q + 0.6 * spread * r * random_unit(rng) * uniform(rng, 0, 1), d};
     }
     default: {
-      glm::dvec3 at = q + 2.0 * r * random_unit(rng) * uniform(rng, 0, 1);
+      glm::dvec3 at = q + spread * r * random_unit(rng) * uniform(rng, 0, 1);
       return {at, eye ? glm::normalize(at - *eye) : random_unit(rng)};
     }
   }
@@ -396,6 +397,10 @@ Cell make_cell(const CellSpec& spec, int nrays, std::uint64_t seed) {
   const RayKind mix[] = {RayKind::Silhouette, RayKind::Silhouette, RayKind::Silhouette, RayKind::Grazing,
                          RayKind::AxisParallel, RayKind::Random, RayKind::SurfaceOut, RayKind::SurfaceIn};
   int misses = 0; // surface-start rays that found no surface in a row
+  // Random rays pass within 2 radii of the core; where the band is wider (D/r 1e7:
+  // 2.4 r) every such ray would be ambiguous, so they spread over 4 bands instead and
+  // the cell still checks that clear misses stay misses.
+  const double spread = std::max(2.0, 4.0 * cell.ambiguity);
   glm::dvec3 eye_point(0.0);
   const glm::dvec3* eye = nullptr;
   if (spec.camera) {
@@ -414,7 +419,7 @@ Cell make_cell(const CellSpec& spec, int nrays, std::uint64_t seed) {
     const Probe& pr = b.probes[eye ? 0 : std::size_t(uniform(rng, 0, kPrims)) % kPrims];
     RayKind aim_kind = kind == RayKind::SurfaceOut || kind == RayKind::SurfaceIn ? RayKind::Random : kind;
     Aim aim = spec.type == PrimType::Triangle ? aim_triangle(pr, aim_kind, L, eye, rng)
-                                              : aim_round(pr, aim_kind, eye, rng);
+                                              : aim_round(pr, aim_kind, eye, spread, rng);
     // Half of the rays get a non-unit direction (scaled by 1e-3..1e3): t must follow.
     double scale = uniform(rng, 0, 1) < 0.5 ? std::pow(10.0, uniform(rng, -3, 3)) : 1.0;
     glm::dvec3 org = eye ? *eye : aim.point - D * aim.dir;
