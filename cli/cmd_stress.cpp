@@ -71,6 +71,9 @@ Action add_stress(CLI::App& app) {
   cmd->add_flag("--quick", c->opt.sweep.quick, "Fewer sweep points (the ctest subset)");
   cmd->add_option("--prim", c->types, "Primitive types (default: all): " + prim_type_table.help())
       ->check(CLI::IsMember(prim_type_table.names()));
+  cmd->add_option("--sweep", c->opt.sweep.sweeps,
+                  "Sweeps (default: all): distance, length, radius, offset, camera, degenerate, invalid")
+      ->check(CLI::IsMember({"distance", "length", "radius", "offset", "camera", "degenerate", "invalid"}));
   cmd->add_option("--backend", c->opt.backends, "Backends (default: all): " + backend_table.help())
       ->check(CLI::IsMember(backend_table.names()));
   add_device_option(*cmd, c->device);
@@ -82,7 +85,8 @@ Action add_stress(CLI::App& app) {
   cmd->add_flag("-q,--quiet", c->quiet, "No progress line");
   cmd->footer("Examples:\n  masq stress --quick\n  masq stress --prim curve --backend cpu --rays 4096\n"
               "  masq stress --json stress.json --check\n"
-              "  masq stress --quick --backend vulkan --device 0");
+              "  masq stress --quick --backend vulkan --device 0\n"
+              "  masq stress --prim capsule --sweep length camera --backend cpu --mode robust");
   return [c] {
     apply_device_option(c->device, c->opt.backends.empty() ? backend_names() : c->opt.backends);
     return stress_run(*c);

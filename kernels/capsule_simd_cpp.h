@@ -10,6 +10,8 @@
 #include "intersect_capsule.h"
 #include "slab_simd_cpp.h"
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 namespace masq::kernel::simd {
 
@@ -35,21 +37,6 @@ inline F4 vsqrt(F4 x) {
 
 inline F4 vdot(F4 ax, F4 ay, F4 az, F4 bx, F4 by, F4 bz) { return (ax * bx + ay * by) + az * bz; } // glm's order
 inline F4 splat(float x) { return x - F4{}; }
-
-// The running nearest crossing of each lane (prim_take, lane-wise).
-struct Best4 {
-  F4 t, nx, ny, nz, u;
-  I4 hit;
-  void take(I4 cond, F4 tc, F4 tlo, F4 cx, F4 cy, F4 cz, F4 uc) {
-    I4 acc = cond & (tc >= tlo) & (tc <= t);
-    t = acc ? tc : t;
-    nx = acc ? cx : nx;
-    ny = acc ? cy : ny;
-    nz = acc ? cz : nz;
-    u = acc ? uc : u;
-    hit = hit | acc;
-  }
-};
 
 // Capsules c[0..n-1] (n in 1..4) against the ray (o, d) within [tmin, tmax].
 inline CapsuleHits4 capsule_hits4(const Capsule* c, int n, glm::vec3 o, glm::vec3 d, float tmin, float tmax) {
@@ -80,62 +67,103 @@ inline CapsuleHits4 capsule_hits4(const Capsule* c, int n, glm::vec3 o, glm::vec
   F4 tlo = vmax(splat(tmin), self);
   F4 ts = -vdot(ocx, ocy, ocz, splat(d.x), splat(d.y), splat(d.z)) / dd;
   F4 px = ocx + ts * d.x, py = ocy + ts * d.y, pz = ocz + ts * d.z;
-  F4 seam = MASQ_CAPSULE_SEAM * (h + r);
-  // Most leaves are crossed without a hit. Every crossing lies within h + r + seam of
+  // Most leaves are crossed without a hit. Every crossing lies within h + r of
   // the centre, and p is the line's closest point to it up to the rounding of ts and p
   // (bounded by the 64u term): when every lane's line passes farther, even with 1% to
   // spare, every scalar call misses too, and the rest is skipped. Otherwise all lanes
   // run in full, so the lanes stay bit-identical to the scalar calls.
   float d1 = std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z);
-  F4 reach = (h + r) * 1.01f + seam + 64.0f * MASQ_U * ((vabs(ocx) + vabs(ocy)) + vabs(ocz) + vabs(ts) * d1);
+  F4 reach = (h + r) * 1.01f + 64.0f * MASQ_U * ((vabs(ocx) + vabs(ocy)) + vabs(ocz) + vabs(ts) * d1);
   I4 near = ok & (vdot(px, py, pz, px, py, pz) <= reach * reach);
   if ((near[0] | near[1] | near[2] | near[3]) == 0) {
     for (int i = 0; i < 4; ++i) out.hit[i] = 0;
     return out;
   }
-  F4 pa = vdot(px, py, pz, wx, wy, wz);
+  // From here every lane performs intersect_capsule's operations in its order.
+  F4 oax = o.x - ax, oay = o.y - ay, oaz = o.z - az;
+  F4 obx = o.x - bx, oby = o.y - by, obz = o.z - bz;
+  F4 ta = -vdot(oax, oay, oaz, splat(d.x), splat(d.y), splat(d.z)) / dd;
+  F4 tb = -vdot(obx, oby, obz, splat(d.x), splat(d.y), splat(d.z)) / dd;
+  F4 pax = oax + ta * d.x, pay = oay + ta * d.y, paz = oaz + ta * d.z;
+  F4 pbx = obx + tb * d.x, pby = oby + tb * d.y, pbz = obz + tb * d.z;
   F4 da = vdot(splat(d.x), splat(d.y), splat(d.z), wx, wy, wz);
-  Best4 best{splat(tmax), F4{}, F4{}, F4{}, F4{}, I4{}};
-  // Cylinder side in the axis frame.
-  F4 prx = px - pa * wx, pry = py - pa * wy, prz = pz - pa * wz;
+  const F4 inf = splat(std::numeric_limits<float>::infinity());
+  F4 t_in = inf, t_out = -inf, s_in = splat(0.0f), s_out = splat(0.0f);
+  I4 e_in = I4{}, e_out = I4{};
+  // Balls, each in its endpoint's frame.
+  for (int e = 0; e < 2; ++e) {
+    F4 pcx = e == 0 ? pax : pbx, pcy = e == 0 ? pay : pby, pcz = e == 0 ? paz : pbz;
+    F4 tc = e == 0 ? ta : tb;
+    F4 c0 = -vdot(pcx, pcy, pcz, splat(d.x), splat(d.y), splat(d.z)) / dd;
+    F4 ux = pcx + c0 * d.x, uy = pcy + c0 * d.y, uz = pcz + c0 * d.z;
+    F4 lc = vsqrt(vdot(ux, uy, uz, ux, uy, uz));
+    F4 dc = (r - lc) * (r + lc);
+    I4 cap_ok = dc >= 0.0f;
+    F4 qc = vsqrt(dc / dd);
+    F4 t0 = tc + (c0 - qc), t1 = tc + (c0 + qc);
+    I4 new_in = cap_ok & (t0 < t_in), new_out = cap_ok & (t1 > t_out);
+    t_in = new_in ? t0 : t_in;
+    s_in = new_in ? c0 - qc : s_in;
+    e_in = new_in ? I4{} + e : e_in;
+    t_out = new_out ? t1 : t_out;
+    s_out = new_out ? c0 + qc : s_out;
+    e_out = new_out ? I4{} + e : e_out;
+  }
+  // The finite cylinder in the axis frame of the nearer endpoint.
+  I4 near_b = vdot(pbx, pby, pbz, pbx, pby, pbz) < vdot(pax, pay, paz, pax, pay, paz);
+  I4 nb = near_b ? I4{} + 1 : I4{};
+  F4 pnx = near_b ? pbx : pax, pny = near_b ? pby : pay, pnz = near_b ? pbz : paz;
+  F4 tn = near_b ? tb : ta;
+  F4 pzz = vdot(pnx, pny, pnz, wx, wy, wz);
+  F4 prx = pnx - pzz * wx, pry = pny - pzz * wy, prz = pnz - pzz * wz;
   F4 drx = d.x - da * wx, dry = d.y - da * wy, drz = d.z - da * wz;
   F4 drdr = vdot(drx, dry, drz, drx, dry, drz);
   F4 s0 = -vdot(prx, pry, prz, drx, dry, drz) / drdr;
   F4 vx = prx + s0 * drx, vy = pry + s0 * dry, vz = prz + s0 * drz;
   F4 lv = vsqrt(vdot(vx, vy, vz, vx, vy, vz));
   F4 disc = (r - lv) * (r + lv);
-  I4 side_ok = ok & (h > 0.0f) & (drdr > 0.0f) & (disc >= 0.0f);
+  I4 side_ok = (h > 0.0f) & (drdr > 0.0f) & (disc >= 0.0f);
   F4 q = vsqrt(disc / drdr);
-  for (int k = 0; k < 2; ++k) {
-    F4 s = k == 0 ? s0 - q : s0 + q;
-    F4 z = pa + s * da;
-    F4 u = vmin(vmax((z + h) / len, splat(0.0f)), splat(1.0f));
-    best.take(side_ok & (vabs(z) <= h + seam), ts + s, tlo, prx + s * drx, pry + s * dry, prz + s * drz, u);
-  }
-  // Caps: spheres at the two ends, outer hemisphere only.
-  for (int e = 0; e < 2; ++e) {
-    float side = e == 0 ? -1.0f : 1.0f;
-    F4 sh = side * h;
-    F4 pcx = px - sh * wx, pcy = py - sh * wy, pcz = pz - sh * wz;
-    F4 c0 = -vdot(pcx, pcy, pcz, splat(d.x), splat(d.y), splat(d.z)) / dd;
-    F4 ux = pcx + c0 * d.x, uy = pcy + c0 * d.y, uz = pcz + c0 * d.z;
-    F4 lc = vsqrt(vdot(ux, uy, uz, ux, uy, uz));
-    F4 dc = (r - lc) * (r + lc);
-    I4 cap_ok = ok & (dc >= 0.0f);
-    F4 qc = vsqrt(dc / dd);
-    for (int k = 0; k < 2; ++k) {
-      F4 s = k == 0 ? c0 - qc : c0 + qc;
-      F4 z = pa + s * da;
-      best.take(cap_ok & ((h == 0.0f) | (side * z >= h - seam)), ts + s, tlo, pcx + s * d.x, pcy + s * d.y,
-                pcz + s * d.z, splat(e == 0 ? 0.0f : 1.0f));
-    }
-  }
-  std::memcpy(out.t, &best.t, sizeof out.t);
-  std::memcpy(out.hit, &best.hit, sizeof out.hit);
-  std::memcpy(out.nx, &best.nx, sizeof out.nx);
-  std::memcpy(out.ny, &best.ny, sizeof out.ny);
-  std::memcpy(out.nz, &best.nz, sizeof out.nz);
-  std::memcpy(out.u, &best.u, sizeof out.u);
+  F4 lo = s0 - q, hi = s0 + q;
+  F4 zlo = near_b ? -len : splat(0.0f), zhi = near_b ? splat(0.0f) : len;
+  F4 sa = (zlo - pzz) / da, sb = (zhi - pzz) / da;
+  I4 tilted = da != 0.0f;
+  lo = tilted ? vmax(lo, vmin(sa, sb)) : lo;
+  hi = tilted ? vmin(hi, vmax(sa, sb)) : hi;
+  lo = (tilted | ((pzz >= zlo) & (pzz <= zhi))) ? lo : inf;
+  side_ok = side_ok & (lo <= hi);
+  I4 new_in = side_ok & (tn + lo < t_in), new_out = side_ok & (tn + hi > t_out);
+  t_in = new_in ? tn + lo : t_in;
+  s_in = new_in ? lo : s_in;
+  e_in = new_in ? nb : e_in;
+  t_out = new_out ? tn + hi : t_out;
+  s_out = new_out ? hi : s_out;
+  e_out = new_out ? nb : e_out;
+  // The entry, or (from inside) the exit, within the window.
+  I4 take_in = (t_in >= tlo) & (t_in <= tmax);
+  I4 hit = ok & (t_in <= t_out) & (take_in | ((t_out >= tlo) & (t_out <= tmax)));
+  I4 e = take_in ? e_in : e_out;
+  I4 eb = e != 0;
+  F4 sh = take_in ? s_in : s_out;
+  F4 xx = (eb ? pbx : pax) + sh * d.x, xy = (eb ? pby : pay) + sh * d.y, xz = (eb ? pbz : paz) + sh * d.z;
+  F4 z = vdot(xx, xy, xz, wx, wy, wz);
+  F4 zn = eb ? z : -z;
+  F4 nx = xx - z * wx, ny = xy - z * wy, nz = xz - z * wz;
+  F4 u = eb ? 1.0f + z / len : z / len;
+  I4 this_end = (zn >= 0.0f) | (h == 0.0f);
+  I4 other_end = ~this_end & (zn <= -len);
+  nx = this_end ? xx : (other_end ? (eb ? xx + bax : xx - bax) : nx);
+  ny = this_end ? xy : (other_end ? (eb ? xy + bay : xy - bay) : ny);
+  nz = this_end ? xz : (other_end ? (eb ? xz + baz : xz - baz) : nz);
+  u = this_end ? (eb ? splat(1.0f) : splat(0.0f)) : (other_end ? (eb ? splat(0.0f) : splat(1.0f)) : u);
+  u = vmin(vmax(u, splat(0.0f)), splat(1.0f));
+  F4 t = take_in ? t_in : t_out;
+  std::memcpy(out.t, &t, sizeof out.t);
+  std::memcpy(out.hit, &hit, sizeof out.hit);
+  std::memcpy(out.nx, &nx, sizeof out.nx);
+  std::memcpy(out.ny, &ny, sizeof out.ny);
+  std::memcpy(out.nz, &nz, sizeof out.nz);
+  std::memcpy(out.u, &u, sizeof out.u);
   return out;
 }
 

@@ -558,6 +558,17 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
   // End balls, outer hemispheres (with an overlap of the tube tolerance at the seam).
   for (int e = 0; e < 2; ++e) {
     vec3 bc = e == 0 ? f.b0 : f.b3;
+    if (robust != 0) {
+      // The ball centre c from o - c (exact, as o - cen above), not via cen (u L).
+      vec3 ce = e == 0 ? p0 : p3;
+      MASQ_PRECISE vec3 oe = o - ce;
+      MASQ_PRECISE vec3 be = oe - o;
+      MASQ_PRECISE vec3 ae = oe - be;
+      MASQ_PRECISE vec3 le = (o - ae) - (ce + be);
+      vec3 pe = cross(d, curve_cross_acc(oe, d) + cross(le, d)) / dd;
+      float te = -(curve_dot_acc(oe, d) + dot(le, d)) / dd;
+      bc = VEC3(-dot(pe, ex), -dot(pe, ey), (te - ts) * dl);
+    }
     vec3 ta = e == 0 ? -f.t0 : f.t1; // outward axis at that end
     float hc = sqrt(bc.x * bc.x + bc.y * bc.y);
     float disc = (r - hc) * (r + hc);

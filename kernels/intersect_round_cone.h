@@ -14,11 +14,11 @@
 // contains the other and the primitive is the bigger sphere.
 //
 // Robust form (the ideas of the robust capsule):
-//  1. origin relative to the centre formed as (o - a) - ba/2, then shifted along the
-//     ray to its closest approach p to the centre: every quantity is of the size of
-//     the primitive, not of its distance;
+//  1. origin relative to the nearer ball centre (o - a or o - b: one rounding of a
+//     difference of inputs), then shifted along the ray to its closest approach p to
+//     it: every quantity is of the size of the primitive, not of its distance (8.);
 //  2. axis frame: p = pr + pa w, d = dr + da w (pr, dr radial); with c = cos th,
-//     s = sin th, k = ra - s z0 (z0 = pa + L/2: axial coordinate of p from a), m = s da, the
+//     s = sin th, k = ra - s z0 (z0: axial coordinate of p from a), m = s da, the
 //     side is c^2 |pr + t dr|^2 = (k - m t)^2, i.e. A t^2 + 2 B t + C = 0 with
 //       A = (c|dr| - m)(c|dr| + m),  B = c^2 pr.dr + k m,  C = (c|pr| - k)(c|pr| + k);
 //  3. the discriminant in factored form: expanding,
@@ -52,7 +52,10 @@
 //     circle the pieces' crossings agree to second order in the distance from it, so
 //     the nearest is a coin toss there while the normals differ to first order;
 //  7. dot(d,d) carried; the self-intersection window applied (prim_hit.h; centre =
-//     midpoint of a and b, r = max(ra, rb)).
+//     midpoint of a and b, r = max(ra, rb));
+//  8. each ball solved relative to its own centre, and the lateral surface relative to
+//     the ball centre the ray passes nearer (items 1.-5. with p the ray's closest
+//     approach to that centre): near an end the error is u (D + r), not u (D + L).
 // Fast: Quilez's "rounded cone" intersector (iquilezles.org) as written, adapted to
 // non-unit d (dd in the t^2 terms), both roots and exposure tests for the spheres (a
 // ray starting inside reports its exit), and the contained-sphere case.
@@ -91,22 +94,28 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
     return hs;
   }
   vec3 w = ba / len;
-  float h = 0.5f * len;
   float sn = (ra - rb) / len;
   float cs = sqrt(max((1.0f - sn) * (1.0f + sn), 0.0f)); // |sn| < 1 unless division rounds up
   float za = ra * sn;
   float zb = len + rb * sn;
 
-  // 1. closest approach to the centre: t = ts + s.
-  float ts = -dot(oc, d) / dd;
-  vec3 p = oc + ts * d;
-  float pa = dot(p, w);
+  // 1. closest approach to each ball's centre (8.); the lateral surface is solved from
+  // the nearer one's: t = ts + s.
+  vec3 ob = o - V3(rc.b);
+  float ta = -dot(oa, d) / dd;
+  float tb = -dot(ob, d) / dd;
+  vec3 xa = oa + ta * d;
+  vec3 xb = ob + tb * d;
+  int near_b = dot(xb, xb) < dot(xa, xa) ? 1 : 0;
+  float ts = near_b != 0 ? tb : ta;
+  vec3 p = near_b != 0 ? xb : xa;
+  float pa = dot(p, w); // axial coordinate from that centre
   float da = dot(d, w);
-  float z0 = pa + h;
-  // 2.-4. lateral surface.
+  float z0 = near_b != 0 ? pa + len : pa; // from a: where the point lies (normal, u)
+  // 2.-4. lateral surface; k = ra - sn z0 = rb - sn (z0 - len), from the frame's end.
   vec3 pr = p - pa * w;
   vec3 dr = d - da * w;
-  float k = ra - sn * z0;
+  float k = near_b != 0 ? rb - sn * pa : ra - sn * pa;
   float m = sn * da;
   float lpr = length(pr);
   float ldr = length(dr);
@@ -126,8 +135,9 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
   // the apex, rounded; it is taken as passing it (disc = 0).
   bool in_t = disc >= 0.0f || qa <= 0.0f;
   if (da != 0.0f) {
-    float sa = (za - z0) / da;
-    float sb = (zb - z0) / da;
+    // The slab's planes from the frame's end: the nearer one without the length.
+    float sa = (near_b != 0 ? (za - len) - pa : za - pa) / da;
+    float sb = (near_b != 0 ? rb * sn - pa : zb - pa) / da;
     lo = min(sa, sb);
     hi = max(sa, sb);
   } else {
@@ -166,17 +176,23 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
     s_in = lo;
     s_out = hi;
   }
+  // Each ball is solved relative to its own centre (origin o - a or o - b, shifted to
+  // the closest approach to it), as the capsule's caps: through p its distance from the
+  // ray would carry the centre frame's rounding, u (D + L), instead of u (D + r). Only
+  // its chord's position along the ray goes through te - ts (an error along the ray).
   for (int e = 0; e < 2; ++e) {
     float rs = e == 0 ? ra : rb;
-    vec3 pc = p - (e == 0 ? -h : h) * w;
+    float te = e == 0 ? ta : tb;
+    vec3 pc = e == 0 ? xa : xb;
     float s0 = -dot(pc, d) / dd;
     vec3 v = pc + s0 * d;
     float lv = length(v);
     float sdisc = (rs - lv) * (rs + lv);
     if (rs > 0.0f && sdisc >= 0.0f) {
       float sq = sqrt(sdisc / dd);
-      s_in = min(s_in, s0 - sq);
-      s_out = max(s_out, s0 + sq);
+      float sh = te - ts;
+      s_in = min(s_in, sh + (s0 - sq));
+      s_out = max(s_out, sh + (s0 + sq));
     }
   }
   // Nearest boundary crossing in the window: the entry, or the exit from inside.
@@ -191,10 +207,10 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
   // 6. the normal of the surface part the point lies on, chosen by z (near a seam the
   // pieces' crossings nearly coincide, so which piece gave s says little).
   vec3 nrm;
-  if (z <= za && ra > 0.0f) {
-    nrm = (p + h * w) + s * d;
-  } else if (z >= zb && rb > 0.0f) {
-    nrm = (p - h * w) + s * d;
+  if ((z <= za && ra > 0.0f) || (z >= zb && rb > 0.0f)) {
+    // A ball's normal, relative to its own centre (8.).
+    float te = z <= za ? ta : tb;
+    nrm = (z <= za ? xa : xb) + ((ts - te) + s) * d;
   } else {
     vec3 xr = pr + s * dr;
     nrm = cs * xr + (sn * length(xr)) * w;

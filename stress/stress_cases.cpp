@@ -20,55 +20,89 @@ std::string pow10_label(const char* what, double v) {
   return fmt::format("{}=1e{}", what, int(std::lround(std::log10(v))));
 }
 
-bool tube_like(PrimType t) { return t == PrimType::Capsule || t == PrimType::RoundCone || t == PrimType::Curve; }
+
+// Which primitive types a sweep point applies to (bit per PrimType).
+constexpr unsigned kCapsuleBit = 1u << unsigned(PrimType::Capsule), kConeBit = 1u << unsigned(PrimType::RoundCone),
+                   kCurveBit = 1u << unsigned(PrimType::Curve), kSphereBit = 1u << unsigned(PrimType::Sphere),
+                   kTriangleBit = 1u << unsigned(PrimType::Triangle);
+constexpr unsigned kTubes = kCapsuleBit | kConeBit | kCurveBit;
+constexpr unsigned kAll = kTubes | kSphereBit | kTriangleBit;
+
+// One sweep point: the parameters that differ from CellSpec's defaults (r = 1e-3,
+// L/r = 100, D/r = 1e3, no offset). 0 keeps the default.
+struct SweepPoint {
+  const char* sweep;
+  unsigned types;
+  bool quick; // in the --quick subset (the ctest one): the hardest point of each sweep
+  double radius, length_r, distance_r, offset;
+};
+
+// The sweep, in report order. Lengths are of the primitive (spheres have none); the
+// camera cells look from D at a long primitive, so its far end is up to D + L/2 away
+// (the band's D + L covers it). Spheres get the camera at their own size.
+constexpr SweepPoint kSweep[] = {
+    {"distance", kAll, true, 0, 0, 1e1, 0},
+    {"distance", kAll, false, 0, 0, 1e2, 0},
+    {"distance", kAll, false, 0, 0, 1e3, 0},
+    {"distance", kAll, true, 0, 0, 1e4, 0},
+    {"distance", kAll, false, 0, 0, 1e5, 0},
+    {"distance", kAll, false, 0, 0, 1e6, 0},
+    {"distance", kAll, true, 0, 0, 1e7, 0},
+    {"length", kTubes | kTriangleBit, true, 0, 1, 0, 0},
+    {"length", kTubes | kTriangleBit, false, 0, 1e1, 0, 0},
+    {"length", kTubes | kTriangleBit, false, 0, 1e2, 0, 0},
+    {"length", kTubes | kTriangleBit, false, 0, 1e3, 0, 0},
+    {"length", kTubes | kTriangleBit, true, 0, 1e4, 0, 0},
+    {"length", kTubes | kTriangleBit, false, 0, 1e5, 0, 0},
+    {"length", kTubes | kTriangleBit, true, 0, 1e6, 0, 0},
+    {"radius", kTubes | kSphereBit, false, 1e-1, 0, 0, 0},
+    {"radius", kTubes | kSphereBit, false, 1e-3, 0, 0, 0},
+    {"radius", kTubes | kSphereBit, true, 1e-5, 0, 0, 0},
+    {"offset", kAll, false, 0, 0, 0, 1e1},
+    {"offset", kAll, false, 0, 0, 0, 1e3},
+    {"offset", kAll, false, 0, 0, 0, 1e5},
+    {"offset", kAll, true, 0, 0, 0, 1e6},
+    {"camera", kTubes | kTriangleBit, false, 0, 1e5, 1e4, 0},
+    {"camera", kTubes | kTriangleBit, true, 0, 1e6, 1e4, 0},
+    {"camera", kTubes | kTriangleBit, false, 0, 1e6, 1e5, 0},
+    {"camera", kTubes | kTriangleBit, false, 0, 1e6, 1e6, 0},
+    {"camera", kTubes | kTriangleBit, true, 0, 1e6, 1e7, 0},
+    {"camera", kSphereBit, false, 0, 0, 1e4, 0},
+    {"camera", kSphereBit, true, 0, 0, 1e7, 0},
+};
+
+CellSpec sweep_cell(PrimType t, const SweepPoint& p) {
+  CellSpec c;
+  c.type = t;
+  c.sweep = p.sweep;
+  if (p.radius > 0) c.radius = p.radius;
+  if (p.length_r > 0) c.length_r = p.length_r;
+  if (p.distance_r > 0) c.distance_r = p.distance_r;
+  c.offset = p.offset;
+  c.camera = c.sweep == "camera";
+  if (c.camera)
+    c.label = pow10_label("cam D/r", c.distance_r) + (p.length_r > 0 ? pow10_label(" L/r", c.length_r) : "");
+  else if (p.distance_r > 0) c.label = pow10_label("D/r", c.distance_r);
+  else if (p.length_r > 0) c.label = pow10_label("L/r", c.length_r);
+  else if (p.radius > 0) c.label = pow10_label("r", c.radius);
+  else c.label = pow10_label("offset", c.offset);
+  return c;
+}
 
 } // namespace
 
 std::vector<CellSpec> sweep_cells(const SweepOptions& opt) {
   std::vector<CellSpec> cells;
   for (PrimType t : opt.types) {
-    const bool tube = tube_like(t);
     CellSpec base;
     base.type = t;
-    auto add = [&](CellSpec c) { cells.push_back(std::move(c)); };
-    std::vector<double> distances = opt.quick ? std::vector<double>{1e1, 1e4, 1e6}
-                                              : std::vector<double>{1e1, 1e2, 1e3, 1e4, 1e5, 1e6};
-    for (double d : distances) {
-      CellSpec c = base;
-      c.sweep = "distance";
-      c.distance_r = d;
-      c.label = pow10_label("D/r", d);
-      add(c);
-    }
-    if (tube || t == PrimType::Triangle) {
-      std::vector<double> lengths = opt.quick ? std::vector<double>{1, 1e4} : std::vector<double>{1, 1e1, 1e2, 1e3, 1e4};
-      for (double l : lengths) {
-        CellSpec c = base;
-        c.sweep = "length";
-        c.length_r = l;
-        c.label = pow10_label("L/r", l);
-        add(c);
-      }
-    }
-    if (t != PrimType::Triangle) {
-      std::vector<double> radii = opt.quick ? std::vector<double>{1e-5} : std::vector<double>{1e-1, 1e-3, 1e-5};
-      for (double r : radii) {
-        CellSpec c = base;
-        c.sweep = "radius";
-        c.radius = r;
-        c.label = pow10_label("r", r);
-        add(c);
-      }
-    }
-    std::vector<double> offsets = opt.quick ? std::vector<double>{1e5} : std::vector<double>{1e1, 1e3, 1e5};
-    for (double o : offsets) {
-      CellSpec c = base;
-      c.sweep = "offset";
-      c.offset = o;
-      c.label = pow10_label("offset", o);
-      add(c);
-    }
-    std::vector<std::string> degenerate;
+    auto add = [&](CellSpec c) {
+      if (opt.sweeps.empty() || std::find(opt.sweeps.begin(), opt.sweeps.end(), c.sweep) != opt.sweeps.end())
+        cells.push_back(std::move(c));
+    };
+    for (const SweepPoint& p : kSweep)
+      if ((p.types >> unsigned(t) & 1u) && (p.quick || !opt.quick)) add(sweep_cell(t, p));
+  std::vector<std::string> degenerate;
     switch (t) {
       case PrimType::Capsule: degenerate = {"zero-length", "zero-radius"}; break;
       case PrimType::RoundCone: degenerate = {"contained", "zero-length", "zero-radius"}; break;
@@ -84,11 +118,13 @@ std::vector<CellSpec> sweep_cells(const SweepOptions& opt) {
       add(c);
     }
   }
-  CellSpec inv;
-  inv.type = PrimType::Capsule;
-  inv.sweep = "invalid";
-  inv.label = "nan/inf rays";
-  cells.push_back(inv);
+  if (opt.sweeps.empty() || std::find(opt.sweeps.begin(), opt.sweeps.end(), "invalid") != opt.sweeps.end()) {
+    CellSpec inv;
+    inv.type = PrimType::Capsule;
+    inv.sweep = "invalid";
+    inv.label = "nan/inf rays";
+    cells.push_back(inv);
+  }
   return cells;
 }
 
@@ -232,7 +268,10 @@ struct Aim {
   glm::dvec3 point, dir;
 };
 
-Aim aim_triangle(const Probe& pr, RayKind kind, double L, Rng& rng) {
+// With an eye (camera cells) the direction is eye -> point; the kinds that choose their
+// own direction (grazing, axis-parallel) are replaced by silhouette and random rays by
+// the caller.
+Aim aim_triangle(const Probe& pr, RayKind kind, double L, const glm::dvec3* eye, Rng& rng) {
   glm::dvec3 e1 = pr.p[1] - pr.p[0], e2 = pr.p[2] - pr.p[0];
   glm::dvec3 n = glm::cross(e1, e2);
   double nl = glm::length(n);
@@ -252,18 +291,20 @@ Aim aim_triangle(const Probe& pr, RayKind kind, double L, Rng& rng) {
       glm::dvec3 towards = glm::normalize(inside - mid + 1e-30);
       double eps = std::pow(10.0, uniform(rng, -6, -1)) * L * (uniform(rng, 0, 1) < 0.5 ? -1 : 1);
       glm::dvec3 d = glm::normalize(n + 0.5 * random_unit(rng));
-      return {mid + eps * towards, d};
+      glm::dvec3 at = mid + eps * towards;
+      return {at, eye ? glm::normalize(at - *eye) : d};
     }
     case RayKind::Grazing: {
       glm::dvec3 t = perpendicular_to(n, rng);
       double ang = std::pow(10.0, uniform(rng, -4, -1));
       return {inside, glm::normalize(std::cos(ang) * t + std::sin(ang) * n)};
     }
-    default: return {inside, random_unit(rng)};
+    default: return {inside, eye ? glm::normalize(inside - *eye) : random_unit(rng)};
   }
 }
 
-Aim aim_round(const Probe& pr, RayKind kind, Rng& rng) {
+// spread: how far from the core random and axis-parallel rays pass, in radii.
+Aim aim_round(const Probe& pr, RayKind kind, const glm::dvec3* eye, double spread, Rng& rng) {
   // s slightly beyond [0,1] reaches the end caps.
   double s = pr.type == PrimType::Sphere ? 0.0 : uniform(rng, -0.05, 1.05);
   double sc = std::clamp(s, 0.0, 1.0);
@@ -273,13 +314,14 @@ Aim aim_round(const Probe& pr, RayKind kind, Rng& rng) {
   double eps = std::pow(10.0, uniform(rng, -6, -1)) * (uniform(rng, 0, 1) < 0.5 ? -1 : 1);
   switch (kind) {
     case RayKind::Silhouette: {
-      glm::dvec3 d = random_unit(rng);
+      glm::dvec3 d = eye ? glm::normalize(q - *eye) : random_unit(rng);
       // Offset perpendicular to the ray and (on the tube) to the axis: the ray then
-      // passes the axis at distance r (1 + eps).
+      // passes the axis at distance r (1 + eps) (from an eye, to first order in r / D).
       glm::dvec3 n = glm::cross(d, w);
       if (s != sc || pr.type == PrimType::Sphere || glm::length(n) < 1e-3) n = perpendicular_to(d, rng);
       n = glm::normalize(n);
-      return {q + r * (1 + eps) * n, d};
+      glm::dvec3 at = q + r * (1 + eps) * n;
+      return {at, eye ? glm::normalize(at - *eye) : d};
     }
     case RayKind::Grazing: {
       double ang = std::pow(10.0, uniform(rng, -4, -0.5));
@@ -291,10 +333,29 @@ Aim aim_round(const Probe& pr, RayKind kind, Rng& rng) {
     case RayKind::AxisParallel: {
       glm::dvec3 d(0.0);
       d[int(uniform(rng, 0, 3)) % 3] = uniform(rng, 0, 1) < 0.5 ? -1 : 1;
-      return {q + 1.2 * r * random_unit(rng) * uniform(rng, 0, 1), d};
+      return {q + 0.6 * spread * r * random_unit(rng) * uniform(rng, 0, 1), d};
     }
-    default: return {q + 2.0 * r * random_unit(rng) * uniform(rng, 0, 1), random_unit(rng)};
+    default: {
+      glm::dvec3 at = q + spread * r * random_unit(rng) * uniform(rng, 0, 1);
+      return {at, eye ? glm::normalize(at - *eye) : random_unit(rng)};
+    }
   }
+}
+
+// The camera's eye: distance_r radii from the first primitive's centre, off its axis
+// (perpendicular to the chord, tilted up to 45 degrees towards it), so a long primitive
+// is seen from head-on near the centre to grazing at its ends. Rounded to fp32 first:
+// the rays start exactly there.
+glm::dvec3 camera_eye(const Probe& pr, double D, Rng& rng) {
+  glm::dvec3 c = pr.type == PrimType::Curve ? 0.5 * (pr.p[0] + pr.p[3]) : pr.point(0.5);
+  if (pr.type == PrimType::Triangle) c = (pr.p[0] + pr.p[1] + pr.p[2]) / 3.0;
+  glm::dvec3 w = pr.type == PrimType::Curve ? pr.p[3] - pr.p[0] : pr.p[1] - pr.p[0];
+  glm::dvec3 dir = random_unit(rng);
+  if (glm::length(w) > 0 && pr.type != PrimType::Sphere) {
+    w = glm::normalize(w);
+    dir = glm::normalize(perpendicular_to(w, rng) + uniform(rng, -1, 1) * w);
+  }
+  return glm::dvec3(glm::vec3(c + D * dir));
 }
 
 kernel::Ray invalid_ray(int i) {
@@ -336,17 +397,32 @@ Cell make_cell(const CellSpec& spec, int nrays, std::uint64_t seed) {
   const RayKind mix[] = {RayKind::Silhouette, RayKind::Silhouette, RayKind::Silhouette, RayKind::Grazing,
                          RayKind::AxisParallel, RayKind::Random, RayKind::SurfaceOut, RayKind::SurfaceIn};
   int misses = 0; // surface-start rays that found no surface in a row
+  // Random rays pass within 2 radii of the core; where the band is wider (D/r 1e7:
+  // 2.4 r) every such ray would be ambiguous, so they spread over 4 bands instead and
+  // the cell still checks that clear misses stay misses.
+  const double spread = std::max(2.0, 4.0 * cell.ambiguity);
+  glm::dvec3 eye_point(0.0);
+  const glm::dvec3* eye = nullptr;
+  if (spec.camera) {
+    eye_point = camera_eye(b.probes[0], D, rng);
+    eye = &eye_point;
+  }
   while (int(cell.rays.size()) < nrays) {
     RayKind kind = mix[cell.rays.size() % 8];
+    // An eye fixes each ray's direction: no grazing or axis-parallel choice there.
+    if (eye && kind == RayKind::Grazing) kind = RayKind::Silhouette;
+    if (eye && kind == RayKind::AxisParallel) kind = RayKind::Random;
     // A primitive without surface (radius 0) has no surface to start on: such rays
     // become random rays (which must all miss).
     if (misses > 20 && (kind == RayKind::SurfaceOut || kind == RayKind::SurfaceIn)) kind = RayKind::Random;
-    const Probe& pr = b.probes[std::size_t(uniform(rng, 0, kPrims)) % kPrims];
+    // The camera looks at the first primitive only (its distance is the cell's D).
+    const Probe& pr = b.probes[eye ? 0 : std::size_t(uniform(rng, 0, kPrims)) % kPrims];
     RayKind aim_kind = kind == RayKind::SurfaceOut || kind == RayKind::SurfaceIn ? RayKind::Random : kind;
-    Aim aim = spec.type == PrimType::Triangle ? aim_triangle(pr, aim_kind, L, rng) : aim_round(pr, aim_kind, rng);
+    Aim aim = spec.type == PrimType::Triangle ? aim_triangle(pr, aim_kind, L, eye, rng)
+                                              : aim_round(pr, aim_kind, eye, spread, rng);
     // Half of the rays get a non-unit direction (scaled by 1e-3..1e3): t must follow.
     double scale = uniform(rng, 0, 1) < 0.5 ? std::pow(10.0, uniform(rng, -3, 3)) : 1.0;
-    glm::dvec3 org = aim.point - D * aim.dir;
+    glm::dvec3 org = eye ? *eye : aim.point - D * aim.dir;
     kernel::Ray ray = make_ray(org, aim.dir * scale, 0.0f, std::numeric_limits<float>::infinity());
     if (kind == RayKind::SurfaceOut || kind == RayKind::SurfaceIn) {
       // Start on the surface where this ray first hits, leaving outward or inward.

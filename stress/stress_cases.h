@@ -34,12 +34,16 @@ inline const char* ray_kind_name(RayKind k) { return ray_kind_table.name(k); }
 
 struct CellSpec {
   PrimType type = PrimType::Capsule;
-  std::string sweep;        // distance, length, radius, offset, degenerate, invalid
+  std::string sweep;        // distance, length, radius, offset, camera, degenerate, invalid
   std::string label;        // e.g. "D/r=1e4"
   double radius = 1e-3;     // primitive radius (scene scale ~1)
   double length_r = 100;    // length / radius (capsule, cone, curve chord, triangle edge)
   double distance_r = 1e3;  // ray origin distance from the primitive / radius
   double offset = 0;        // translation of the whole scene (world coordinates)
+  // Perspective camera: every ray starts at one eye point distance_r radii from the
+  // first primitive's centre and fans over it (the other sweeps: parallel-ish rays,
+  // each from its own origin distance_r radii before its aim point).
+  bool camera = false;
   std::string degenerate;   // zero-length, zero-radius, coincident, contained, flat-tangent
 };
 
@@ -60,6 +64,7 @@ struct SweepOptions {
   std::vector<PrimType> types = {PrimType::Capsule, PrimType::RoundCone, PrimType::Curve, PrimType::Sphere,
                                  PrimType::Triangle};
   std::uint64_t seed = 7;
+  std::vector<std::string> sweeps; // only these sweeps (distance, length, ...); empty: all
 };
 
 std::vector<CellSpec> sweep_cells(const SweepOptions& opt);

@@ -51,8 +51,23 @@ Conditioning ambiguous_rays(const Cell& cell, const oracle::Oracle& oracle,
     if (kind == RayKind::Invalid) continue;
     kernel::Ray r = cell.rays[i];
     if (surface_kind(kind)) {
-      r.tmin = float(4.0 * cell.radius / 1024.0 / dir_length(r));
-      amb[i] = double(oracle.trace(r).clearance) < cell.ambiguity;
+      kernel::Ray w = r;
+      w.tmin = float(4.0 * cell.radius / 1024.0 / dir_length(r));
+      amb[i] = double(oracle.trace(w).clearance) < cell.ambiguity;
+      // Conditioning along the ray: the self window (prim_hit.h) is a cut in t, and on a
+      // long primitive it reaches the diameter (32u (|o - c| + L) > 2r at L = 1e6 r), so
+      // an exit just past it flips with the origin moved by the band along the ray,
+      // as any other ray's answer that flips under a band-sized origin move.
+      // The step is twice the band of a ray starting ON the primitive, 4u (1 + L / r)
+      // (no D: the cell's D is not this ray's distance).
+      const double len_r = cell.spec.type == PrimType::Triangle ? 1.0 : cell.spec.length_r;
+      const double surf_delta = 2.0 * 4.0 * 5.9604645e-8 * (1.0 + len_r) * cell.radius;
+      for (int k = 0; k < 2 && !amb[i]; ++k) {
+        kernel::Ray p = r;
+        const double step = (k ? surf_delta : -surf_delta) / dir_length(r);
+        for (int j = 0; j < 3; ++j) p.org[j] = float(double(p.org[j]) + step * double(p.dir[j]));
+        amb[i] = oracle.trace(p).prim != truth[i].prim;
+      }
       continue;
     }
     if (double(truth[i].clearance) < cell.ambiguity) {
