@@ -69,15 +69,15 @@ FN WideHits intersect_wide_node(WideNode n, vec3 o, vec3 inv_d, float tmin, floa
 // t_bound (docs/robustness.md), before the bound's own rounding is covered:
 //   origin:    gamma_4 * (|A| |o| + |b|)
 //   direction: gamma_3 * |A| |d|, times t_bound
-// Not contracted (MASQ_PRECISE), like the transform it bounds: the padded box decides
-// the masquerade's cull, which every backend must decide alike.
+// Rounded alike on every backend (no contraction anywhere: shim.h), like the transform
+// it bounds: the padded box decides the masquerade's cull.
 FN vec3 transform_error(Affine m, vec3 wo, vec3 wd, float t_bound) {
   vec3 ao = vabs_(wo);
   vec3 ad = vabs_(wd);
   float tb = fabs_(t_bound);
-  MASQ_PRECISE float px = MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r0), ad);
-  MASQ_PRECISE float py = MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r1), ad);
-  MASQ_PRECISE float pz = MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r2), ad);
+  float px = MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r0), ad);
+  float py = MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r1), ad);
+  float pz = MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r2), ad);
   return VEC3(px, py, pz);
 }
 

@@ -25,7 +25,7 @@
 //
 // intersect_curve (robust):
 //  - the frame's origin is the ray point nearest the curve's centre, from an exact
-//    o - centre (TwoSum) and an fma-accurate moment (o - centre) x d, so the curve's
+//    o - centre (TwoSum) and a Dot2-accurate moment (o - centre) x d, so the curve's
 //    offset from the ray does not carry an error of u |o - centre| (0.06 r at 10^6 radii);
 //  - the residual is taken on the ball at C(s) (the swept sphere itself), where it
 //    brackets (see "robust mode" below): phase 1 walks to the ray's closest approach
@@ -49,15 +49,9 @@
 #include "prim_hit.h"
 #include "variants.h" // MASQ_CURVE_ITERS
 
-// A fused multiply-add (error-free products); MASQ_PRECISE (shim.h) keeps GLSL compilers
-// from contracting or reordering the error-free transforms. (OpenCL C and C++ neither
-// reassociate nor contract without fast-math flags; an unfused fma would only lose
-// the extra digits, never give a wrong result.)
-#if defined(MASQ_LANG_CPP)
-#define MASQ_CURVE_FMA(a, b, c) std::fma((a), (b), (c))
-#else
-#define MASQ_CURVE_FMA(a, b, c) fma((a), (b), (c))
-#endif
+// The error-free products below are two_prod_err_ (shim.h): exact on every backend, so
+// the accurate dot products give the same bits everywhere (no backend contracts or
+// reorders the transforms around them: shim.h, "Contraction").
 
 // Robust: closest approach converged when its step is below this times r along the
 // curve (the distance it decides hit/miss by is then off by ~5e-7 r); also the
@@ -431,28 +425,31 @@ FN CurveSeeds curve_seeds(CurveFrame f) {
 
 // ---------------------------------------------------------------- both modes
 
-// a*b - c*e to within 1.5 ulp (Kahan's algorithm with fma).
+// a*b - c*e as if computed in twice the precision, then rounded (Dot2 of two terms:
+// within u |ab - ce| + 4u^2 (|ab| + |ce|)). Built from exact products and TwoSum only,
+// not Kahan's fma(a, b, -c*e), which needs a fused fma a GLSL driver may not give (shim.h).
 FN float curve_dop(float a, float b, float c, float e) {
-  MASQ_PRECISE float w = c * e;
-  MASQ_PRECISE float err = MASQ_CURVE_FMA(-c, e, w);
-  MASQ_PRECISE float fa = MASQ_CURVE_FMA(a, b, -w);
-  return fa + err;
+  float p = a * b;
+  float q = -(c * e);
+  float s = p + q;
+  float z = s - p;
+  return s + (((p - (s - z)) + (q - z)) + (two_prod_err_(a, b, p) - two_prod_err_(c, e, -q)));
 }
 
 // dot(a, b) computed as if in twice the precision, then rounded (Ogita, Rump and
-// Oishi's Dot2: error-free products by fma, sums by TwoSum).
+// Oishi's Dot2: error-free products (two_prod_err_), sums by TwoSum).
 FN float curve_dot_acc(vec3 a, vec3 b) {
-  MASQ_PRECISE float p = a.x * b.x;
-  MASQ_PRECISE float cmp = MASQ_CURVE_FMA(a.x, b.x, -p);
-  MASQ_PRECISE float h = a.y * b.y;
-  MASQ_PRECISE float hq = MASQ_CURVE_FMA(a.y, b.y, -h);
-  MASQ_PRECISE float x = p + h;
-  MASQ_PRECISE float zz = x - p;
+  float p = a.x * b.x;
+  float cmp = two_prod_err_(a.x, b.x, p);
+  float h = a.y * b.y;
+  float hq = two_prod_err_(a.y, b.y, h);
+  float x = p + h;
+  float zz = x - p;
   cmp += ((p - (x - zz)) + (h - zz)) + hq;
-  MASQ_PRECISE float g = a.z * b.z;
-  MASQ_PRECISE float gq = MASQ_CURVE_FMA(a.z, b.z, -g);
-  MASQ_PRECISE float y = x + g;
-  MASQ_PRECISE float zy = y - x;
+  float g = a.z * b.z;
+  float gq = two_prod_err_(a.z, b.z, g);
+  float y = x + g;
+  float zy = y - x;
   cmp += ((x - (y - zy)) + (g - zy)) + gq;
   return y + cmp;
 }
@@ -481,15 +478,15 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
   float rb = sqrt(max(max(dot(q0, q0), dot(q1, q1)), max(dot(q2, q2), dot(q3, q3)))) + r;
   float rb2 = 1.001f * rb * rb;
   // Origin shift to the ray point nearest cen: pp (relative to cen), at t = ts.
-  MASQ_PRECISE vec3 oc = o - cen;
+  vec3 oc = o - cen;
   vec3 pp;
   float ts;
   if (robust != 0) {
     // o - cen = oc + ol exactly (TwoSum); moment (o - cen) x d to ~1 ulp; then
     // pp = d x ((o - cen) x d) / dd has an error of the size of u |pp|, not u |o - cen|.
-    MASQ_PRECISE vec3 bv = oc - o;
-    MASQ_PRECISE vec3 av = oc - bv;
-    MASQ_PRECISE vec3 ol = (o - av) - (cen + bv);
+    vec3 bv = oc - o;
+    vec3 av = oc - bv;
+    vec3 ol = (o - av) - (cen + bv);
     vec3 mom = curve_cross_acc(oc, d) + cross(ol, d);
     pp = cross(d, mom) / dd;
     ts = -(curve_dot_acc(oc, d) + dot(ol, d)) / dd; // t of the shifted origin, to ~1 ulp

@@ -53,17 +53,13 @@ FN Affine affine_from_frame(Frame f) {
   return m;
 }
 
-// Not contracted (MASQ_PRECISE): the transformed ray decides which instance boxes a ray
-// enters, so every backend must round it alike for the same hits and counters.
+// The transformed ray decides which instance boxes a ray enters, so every backend must
+// round it alike (no contraction anywhere: shim.h) for the same hits and counters.
 FN vec3 affine_point(Affine m, vec3 p) {
-  MASQ_PRECISE vec3 q = VEC3(dot(m.r0, p) + m.t.x, dot(m.r1, p) + m.t.y, dot(m.r2, p) + m.t.z);
-  return q;
+  return VEC3(dot(m.r0, p) + m.t.x, dot(m.r1, p) + m.t.y, dot(m.r2, p) + m.t.z);
 }
 
-FN vec3 affine_vector(Affine m, vec3 v) {
-  MASQ_PRECISE vec3 q = VEC3(dot(m.r0, v), dot(m.r1, v), dot(m.r2, v));
-  return q;
-}
+FN vec3 affine_vector(Affine m, vec3 v) { return VEC3(dot(m.r0, v), dot(m.r1, v), dot(m.r2, v)); }
 
 // Normals go from object to world space with the transpose of the world-to-object map.
 FN vec3 affine_normal_to_world(Affine m, vec3 n) { return m.r0 * n.x + m.r1 * n.y + m.r2 * n.z; }

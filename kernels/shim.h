@@ -95,15 +95,39 @@ typedef float3 vec3;
 #define i2f_(i) float(i)
 #endif
 
-// MASQ_PRECISE: evaluate as written, never contracted into fused multiply-adds (GLSL
-// `precise`, SPIR-V NoContraction), where the kernels need the same rounding on every
-// backend or an error-free transform (docs/robustness.md, "Float semantics"). C++ is
-// compiled with -ffp-contract=off and needs nothing; OpenCL C contracts within an
-// expression by default (FP_CONTRACT ON) unless the program says otherwise.
-#if defined(MASQ_LANG_GLSL)
-#define MASQ_PRECISE precise
+// Contraction: none, on every backend (docs/robustness.md, "Float semantics"). Every
+// a*b + c rounds twice as written: C++ is compiled with -ffp-contract=off, the OpenCL
+// entries (trace.cl, trace_bv.cl) say `#pragma OPENCL FP_CONTRACT OFF`, and the Vulkan
+// backends decorate every float operation of the SPIR-V NoContraction at pipeline
+// creation (host/vulkan/spirv_float_controls.h). That pass covers every expression, so
+// the kernels carry no GLSL `precise` (a MASQ_PRECISE macro marked a few expressions
+// before the pass existed: redundant now, and the rest of a function could still fuse).
+//
+// two_prod_err_(a, b, p), p = a * b rounded: the product's rounding error a*b - p,
+// exactly (an error-free transform, for the curve's accurate dot products; exact unless
+// a*b overflows or falls below ~2^-100). C++ and OpenCL C: one explicit fused
+// multiply-add. GLSL: fma() is only a fused operation where the driver keeps it one, and
+// lavapipe lowers every 32-bit ffma into a product and a sum (even one decorated
+// NoContraction: measured), so GLSL takes Dekker's product of Veltkamp's halves instead
+// (split constant 2^12 + 1), exact in round-to-nearest fp32 as long as nothing is
+// contracted or reassociated, which the NoContraction pass guarantees. Exact both ways,
+// so every backend gets the same bits.
+#if defined(MASQ_LANG_CPP)
+namespace masq::kernel {
+inline float two_prod_err_(float a, float b, float p) { return std::fma(a, b, -p); }
+} // namespace masq::kernel
+#elif defined(MASQ_LANG_OPENCL)
+#define two_prod_err_(a, b, p) fma((a), (b), -(p))
 #else
-#define MASQ_PRECISE
+float two_prod_err_(float a, float b, float p) {
+  float ca = 4097.0f * a;
+  float ah = ca - (ca - a);
+  float al = a - ah;
+  float cb = 4097.0f * b;
+  float bh = cb - (cb - b);
+  float bl = b - bh;
+  return ((ah * bh - p) + ah * bl + al * bh) + al * bl;
+}
 #endif
 
 // Buffer access. GLSL binds each array as a global SSBO (or reads it by device address); OpenCL and C++ pass one struct

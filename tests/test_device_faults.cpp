@@ -252,7 +252,7 @@ TEST(DeviceFaults, KernelCompileFailureIsNamedAndOpenClStaysUsable) {
   const std::string broken = "#line 3 \"kernels/broken.h\"\n__kernel void k(__global int* p) { p[0] = ; }\n";
   std::string msg;
   try {
-    masq::opencl::build_program(rt, broken, masq::opencl::base_build_options(), "kernels/broken.cl");
+    masq::opencl::build_program(rt, broken, masq::opencl::base_build_options(rt), "kernels/broken.cl");
   } catch (const masq::Error& e) {
     msg = e.what();
   }

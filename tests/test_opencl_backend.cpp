@@ -231,7 +231,7 @@ TEST(OpenClBackend, BuildFailureNamesFileAndLine) {
   }
   const std::string broken = "#line 7 \"kernels/broken.h\"\n__kernel void k(__global int* p) { p[0] = ; }\n";
   try {
-    opencl::build_program(rt, broken, opencl::base_build_options(), "kernels/broken.cl");
+    opencl::build_program(rt, broken, opencl::base_build_options(rt), "kernels/broken.cl");
     FAIL() << "broken source built";
   } catch (const Error& e) {
     const std::string msg = e.what();

@@ -60,7 +60,7 @@ class OpenClLayout : public ::testing::Test {
       return;
     }
     try {
-      program_ = opencl::build_program(*rt_, opencl_src::layout_check_cl, opencl::base_build_options(),
+      program_ = opencl::build_program(*rt_, opencl_src::layout_check_cl, opencl::base_build_options(*rt_),
                                        "tests/kernels/layout_check.cl")
                      .program;
     } catch (const std::exception& e) {

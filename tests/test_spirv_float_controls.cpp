@@ -1,6 +1,7 @@
 // The device-dependent shader setup of the Vulkan backends (host/vulkan/vk_shader_limits.h):
-// SignedZeroInfNanPreserve patched into the kernels' SPIR-V (checked by spirv-val and by
-// creating the pipelines under validation on this machine's device), and the work-group
+// SignedZeroInfNanPreserve and NoContraction patched into the kernels' SPIR-V (checked by
+// spirv-val and by creating the pipelines under validation on this machine's device; that
+// the backends then return the cpu's bits: tests/test_cross_backend_bits.cpp), and the work-group
 // size fitted to the subgroup size and the device limits, for the limits of real devices
 // given as data.
 #include "host/vulkan/spirv_float_controls.h"
@@ -16,6 +17,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <unistd.h>
 
 using namespace masq;
@@ -105,12 +108,118 @@ TEST(SpirvFloatControls, OlderModulesGetTheExtension) {
   EXPECT_EQ(validate(patched, "vulkan1.1"), "");
 }
 
+// Float results (float arithmetic, GLSL.std.450 instructions with a float result) with
+// and without NoContraction, read from the module independently of the pass. Opcodes and
+// enumerants of the SPIR-V specification.
+struct Contraction {
+  int decorated = 0, undecorated = 0, fma = 0, fma_decorated = 0, duplicates = 0;
+};
+
+Contraction scan_contraction(const std::vector<std::uint32_t>& m) {
+  std::map<std::uint32_t, int> decorations; // id -> NoContraction decorations on it
+  std::set<std::uint32_t> floats;
+  std::vector<std::pair<std::uint32_t, bool>> results; // (id, is a GLSL.std.450 Fma)
+  std::uint32_t glsl = 0;
+  for (std::size_t at = 5; at < m.size(); at += m[at] >> 16) {
+    const std::uint32_t op = m[at] & 0xffff;
+    if (op == 11 && std::strcmp(reinterpret_cast<const char*>(&m[at + 2]), "GLSL.std.450") == 0) glsl = m[at + 1];
+    if (op == 71 && m[at + 2] == 42) ++decorations[m[at + 1]];
+    if (op == 22) floats.insert(m[at + 1]);
+    if ((op == 23 || op == 24) && floats.count(m[at + 2])) floats.insert(m[at + 1]);
+    const bool arithmetic = op == 127 || op == 129 || op == 131 || op == 133 || op == 136 || op == 140 || op == 141 ||
+                            (op >= 142 && op <= 148);
+    if (arithmetic || (op == 12 && m[at + 3] == glsl && floats.count(m[at + 1])))
+      results.push_back({m[at + 2], op == 12 && m[at + 4] == 50});
+  }
+  Contraction c;
+  for (const auto& [id, fma] : results) {
+    const int n = decorations.count(id) ? decorations[id] : 0;
+    (n > 0 ? c.decorated : c.undecorated) += 1;
+    c.duplicates += n > 1 ? 1 : 0;
+    c.fma += fma ? 1 : 0;
+    c.fma_decorated += fma && n > 0 ? 1 : 0;
+  }
+  return c;
+}
+
+// Every float operation of every kernel module NoContraction after the pass, the module
+// still valid, alone and with the float-controls mode. glslang decorates only what
+// `precise` marks (nothing: the kernels carry none) and never an Fma instruction.
+TEST(SpirvNoContraction, EveryFloatOperationOfEveryKernelModule) {
+  std::vector<std::pair<std::string, std::vector<std::uint32_t>>> modules{{"trace", words(trace_comp_spv)},
+                                                                          {"rayquery", words(rayquery_comp_spv)}};
+  for (const TraceBvModule& m : kTraceBvModules) modules.push_back({"bv " + std::to_string(m.bv_type), words(m.bound)});
+  for (const auto& [name, spirv] : modules) {
+    SCOPED_TRACE(name);
+    const Contraction before = scan_contraction(spirv);
+    EXPECT_GT(before.undecorated, 0) << "glslang already decorates everything: the pass has nothing to prove";
+    const std::vector<std::uint32_t> patched = with_no_contraction(spirv);
+    const Contraction after = scan_contraction(patched);
+    EXPECT_EQ(after.undecorated, 0);
+    EXPECT_EQ(after.duplicates, 0);
+    EXPECT_EQ(after.decorated, before.decorated + before.undecorated);
+    EXPECT_EQ(after.fma_decorated, after.fma);
+    EXPECT_EQ(patched.size(), spirv.size() + 3 * std::size_t(before.undecorated));
+    EXPECT_EQ(validate(patched, "vulkan1.2"), "");
+    EXPECT_EQ(validate(with_signed_zero_inf_nan_preserve(patched), "vulkan1.2"), "");
+    EXPECT_EQ(with_no_contraction(patched), patched) << "patching twice adds nothing";
+    std::printf("%s: %d float results, %d decorated by glslang (%d Fma)\n", name.c_str(), after.decorated,
+                before.decorated, after.fma);
+  }
+}
+
+// A module assembled word by word: a float product, an Fma, a vector dot product and an
+// integer sum. The float results get the decoration, the integer one does not, and a
+// result glslang already decorated is not decorated twice.
+TEST(SpirvNoContraction, FloatResultsOnlyAndOnce) {
+  auto op = [](std::uint32_t n, std::uint32_t code) { return n << 16 | code; };
+  const std::vector<std::uint32_t> m{
+      0x07230203, 0x00010500, 0, 20, 0,
+      op(2, 17), 1,                                            // OpCapability Shader
+      op(6, 11), 2, 0x4c534c47, 0x6474732e, 0x3035342e, 0,     // %2 = OpExtInstImport "GLSL.std.450"
+      op(3, 14), 0, 1,                                         // OpMemoryModel Logical GLSL450
+      op(5, 15), 5, 1, 0x6e69616d, 0,                          // OpEntryPoint GLCompute %1 "main"
+      op(6, 16), 1, 17, 1, 1, 1,                               // OpExecutionMode %1 LocalSize 1 1 1
+      op(3, 71), 10, 42,                                       // OpDecorate %10 NoContraction (as by `precise`)
+      op(2, 19), 3,                                            // %3 = OpTypeVoid
+      op(3, 33), 4, 3,                                         // %4 = OpTypeFunction %3
+      op(3, 22), 5, 32,                                        // %5 = OpTypeFloat 32
+      op(4, 21), 6, 32, 1,                                     // %6 = OpTypeInt 32 1
+      op(4, 23), 7, 5, 3,                                      // %7 = OpTypeVector %5 3
+      op(4, 43), 5, 8, 0x3f800000,                             // %8 = OpConstant %5 1.0
+      op(4, 43), 6, 9, 3,                                      // %9 = OpConstant %6 3
+      op(6, 44), 7, 15, 8, 8, 8,                               // %15 = OpConstantComposite %7 %8 %8 %8
+      op(5, 54), 3, 1, 0, 4,                                   // %1 = OpFunction %3 None %4
+      op(2, 248), 16,                                          // %16 = OpLabel
+      op(5, 133), 5, 10, 8, 8,                                 // %10 = OpFMul %5 %8 %8
+      op(8, 12), 5, 11, 2, 50, 10, 8, 8,                       // %11 = OpExtInst %5 %2 Fma %10 %8 %8
+      op(5, 148), 5, 12, 15, 15,                               // %12 = OpDot %5 %15 %15
+      op(5, 128), 6, 13, 9, 9,                                 // %13 = OpIAdd %6 %9 %9
+      op(6, 12), 5, 14, 2, 4, 11,                              // %14 = OpExtInst %5 %2 FAbs %11
+      op(1, 253),                                              // OpReturn
+      op(1, 56)};                                              // OpFunctionEnd
+  ASSERT_EQ(validate(m, "vulkan1.2"), "");
+  const Contraction before = scan_contraction(m);
+  EXPECT_EQ(before.decorated, 1);
+  EXPECT_EQ(before.undecorated, 3); // Fma, Dot, FAbs
+  const std::vector<std::uint32_t> patched = with_no_contraction(m);
+  const Contraction after = scan_contraction(patched);
+  EXPECT_EQ(after.decorated, 4);
+  EXPECT_EQ(after.undecorated, 0);
+  EXPECT_EQ(after.duplicates, 0);
+  EXPECT_EQ(after.fma_decorated, 1);
+  EXPECT_EQ(patched.size(), m.size() + 9) << "the integer sum stays undecorated";
+  EXPECT_EQ(validate(patched, "vulkan1.2"), "");
+}
+
 TEST(SpirvFloatControls, WordsThatAreNoModuleAreOneError) {
+  EXPECT_THROW(with_no_contraction(std::vector<std::uint32_t>{1, 2, 3, 4, 5, 6}), Error);
   EXPECT_THROW(with_signed_zero_inf_nan_preserve(std::vector<std::uint32_t>{1, 2, 3, 4, 5, 6}), Error);
   std::vector<std::uint32_t> cut = words(trace_comp_spv);
   cut.resize(cut.size() - 1);
   cut[5] = 0xffff0011; // a first instruction claiming more words than there are
   EXPECT_THROW(with_signed_zero_inf_nan_preserve(cut), Error);
+  EXPECT_THROW(with_no_contraction(cut), Error);
 }
 
 // Work-group sizes for the limits real devices report (subgroup size, maxComputeWorkGroupSize[0],

@@ -134,10 +134,14 @@ Runtime open_runtime() {
     throw BackendUnavailable("opencl: clCreateCommandQueue failed (" + cl_error_name(err) + ")");
   rt.description = describe(rt.platform, rt.device);
   rt.max_alloc = static_cast<std::size_t>(rt.device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
+  rt.correctly_rounded_divide_sqrt =
+      (rt.device.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>() & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
   return rt;
 }
 
-std::string base_build_options() { return "-cl-std=CL1.2"; }
+std::string base_build_options(const Runtime& rt) {
+  return rt.correctly_rounded_divide_sqrt ? "-cl-std=CL1.2 -cl-fp32-correctly-rounded-divide-sqrt" : "-cl-std=CL1.2";
+}
 
 std::string variant_build_options(const KernelVariant& v) {
   std::string out;

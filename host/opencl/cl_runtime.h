@@ -30,6 +30,9 @@ struct Runtime {
   cl::CommandQueue queue;    // in order, profiling enabled
   std::string description;   // device name, driver version, platform version
   std::size_t max_alloc = 0; // CL_DEVICE_MAX_MEM_ALLOC_SIZE
+  // CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT in CL_DEVICE_SINGLE_FP_CONFIG: the device can
+  // build with -cl-fp32-correctly-rounded-divide-sqrt.
+  bool correctly_rounded_divide_sqrt = false;
   // max_alloc lowered by MASQ_CL_MAX_ALLOC_BYTES (host/limit_knob.h), for tests of the
   // over-the-limit error on small scenes.
   std::size_t max_alloc_bytes() const {
@@ -62,9 +65,11 @@ struct BuiltProgram {
 BuiltProgram build_program(const Runtime& rt, const std::string& source, const std::string& options,
                            std::string_view label);
 
-// The options every masq program is built with (OpenCL C 1.2; never relaxed math:
-// the intersectors' error bounds assume IEEE single precision).
-std::string base_build_options();
+// The options every masq program is built with: OpenCL C 1.2; never relaxed math (the
+// intersectors' error bounds assume IEEE single precision); and correctly rounded
+// division and square root where the device offers them (OpenCL C allows 2.5 and 3 ulp
+// otherwise), so that they round as on the cpu (docs/robustness.md, "Float semantics").
+std::string base_build_options(const Runtime& rt);
 
 // The -D switches of one kernel variant for clBuildProgram: every row of
 // kernels/variant_table.h. Shared by the trace and bv programs.

@@ -147,7 +147,7 @@ class OpenClBackend final : public Backend {
 
   // The program variant for the current scene's features, built on first use.
   Variant& variant(bool want_stats, bool any_hit) {
-    std::string options = opencl::base_build_options() +
+    std::string options = opencl::base_build_options(rt_) +
                           opencl::variant_build_options(kernel_variant(scene_->features, {want_stats, any_hit}));
     auto it = variants_.find(options);
     if (it != variants_.end()) return it->second;

@@ -102,7 +102,7 @@ class OpenClBvTracer final : public BvTracer {
   }
 
   cl::Kernel& kernel(bool want_stats) {
-    std::string options = opencl::base_build_options() + " -D MASQ_BV_TYPE=" +
+    std::string options = opencl::base_build_options(rt_) + " -D MASQ_BV_TYPE=" +
                           std::to_string(bv_type_kernel_id(type_)) +
                           opencl::variant_build_options(kernel_variant(features_, {want_stats, false}));
     auto it = kernels_.find(options);

@@ -58,8 +58,9 @@ std::uint32_t local_size(const Context& ctx) {
 }
 
 std::vector<std::uint32_t> device_spirv(const Context& ctx, std::span<const std::uint32_t> spirv) {
-  if (!shader_limits(ctx).preserve_float32) return {spirv.begin(), spirv.end()};
-  return with_signed_zero_inf_nan_preserve(spirv);
+  std::vector<std::uint32_t> exact = with_no_contraction(spirv);
+  if (!shader_limits(ctx).preserve_float32) return exact;
+  return with_signed_zero_inf_nan_preserve(exact);
 }
 
 } // namespace masq::vk

@@ -29,8 +29,9 @@ std::uint32_t fit_local_size(const ShaderLimits& l, std::uint32_t want);
 // by fit_local_size.
 std::uint32_t local_size(const Context& ctx);
 
-// The module as the device gets it: with SignedZeroInfNanPreserve where the device
-// supports it (host/vulkan/spirv_float_controls.h), unchanged elsewhere.
+// The module as the device gets it (host/vulkan/spirv_float_controls.h): every float
+// operation decorated NoContraction, on every device; SignedZeroInfNanPreserve where
+// the device supports it.
 std::vector<std::uint32_t> device_spirv(const Context& ctx, std::span<const std::uint32_t> spirv);
 
 } // namespace masq::vk
