@@ -558,10 +558,10 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
     if (robust != 0) {
       // The ball centre c from o - c (exact, as o - cen above), not via cen (u L).
       vec3 ce = e == 0 ? p0 : p3;
-      MASQ_PRECISE vec3 oe = o - ce;
-      MASQ_PRECISE vec3 be = oe - o;
-      MASQ_PRECISE vec3 ae = oe - be;
-      MASQ_PRECISE vec3 le = (o - ae) - (ce + be);
+      vec3 oe = o - ce;
+      vec3 be = oe - o;
+      vec3 ae = oe - be;
+      vec3 le = (o - ae) - (ce + be);
       vec3 pe = cross(d, curve_cross_acc(oe, d) + cross(le, d)) / dd;
       float te = -(curve_dot_acc(oe, d) + dot(le, d)) / dd;
       bc = VEC3(-dot(pe, ex), -dot(pe, ey), (te - ts) * dl);
