@@ -34,13 +34,13 @@ inline const char* ray_kind_name(RayKind k) { return ray_kind_table.name(k); }
 
 struct CellSpec {
   PrimType type = PrimType::Capsule;
-  std::string sweep;        // distance, length, radius, offset, degenerate, invalid
+  std::string sweep;        // distance, length, radius, offset, degenerate, shape (curves), invalid
   std::string label;        // e.g. "D/r=1e4"
   double radius = 1e-3;     // primitive radius (scene scale ~1)
   double length_r = 100;    // length / radius (capsule, cone, curve chord, triangle edge)
   double distance_r = 1e3;  // ray origin distance from the primitive / radius
   double offset = 0;        // translation of the whole scene (world coordinates)
-  std::string degenerate;   // zero-length, zero-radius, coincident, contained, flat-tangent
+  std::string degenerate;   // zero-length, zero-radius, coincident, contained, flat-tangent; curve shapes: bend, cusp, fold
 };
 
 struct Cell {
