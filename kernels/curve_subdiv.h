@@ -21,8 +21,9 @@
 //  - sandwich: the piece's solid lies between the capsules of radius r -+ (dev + pad)
 //    about its chord. Missing the outer one prunes; crossing the inner one with both
 //    ends of the two intervals within ttol (z_lo in neither band) makes a leaf.
-//  - flat leaf: dev <= tol = MASQ_CURVE_FLAT u (r + span), a fraction of the fp32
-//    ambiguity band 4 u (r + D + L); the leaf capsule and the piece's swept balls are
+//  - flat leaf: dev <= tol = max(MASQ_CURVE_FLAT u (r + span), 4 u M), a fraction of
+//    the fp32 ambiguity band 4 u (r + D + L) but not below the rounding noise of dev
+//    itself (zero-speed ends would never be flat); the leaf capsule and the piece's swept balls are
 //    within dev of each other, so only rays whose clearance is below dev plus the
 //    rounding can flip (rays near the outline descend this far).
 // Pass 0 finds the nearest leaf entry at or after z_lo and stops at the first leaf that

@@ -103,7 +103,9 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
     // control points, a few u of the largest frame coordinate; tol: the leaf flatness.
     vec3 mb = max(max(vabs_(f.b0), vabs_(f.b1)), max(vabs_(f.b2), vabs_(f.b3)));
     float pad = 64.0f * MASQ_U * (vmax3_(mb.x, mb.y, mb.z) + r);
-    float tol = MASQ_CURVE_FLAT * MASQ_U * (r + span);
+    // tol: the leaf flatness; never below 4 u M, the rounding noise of dev itself (a
+    // zero-speed end's pieces would otherwise never count as flat).
+    float tol = max(MASQ_CURVE_FLAT * MASQ_U * (r + span), 4.0f * MASQ_U * vmax3_(mb.x, mb.y, mb.z));
     int inside = dot(pp, pp) + zlo * zlo <= rb2 ? 1 : 0; // zlo may lie in the solid
     CurveRoot rt = curve_subdiv(f, zlo, (tmax - ts) * dl, tol, MASQ_CURVE_TTOL * r, pad, inside);
     if (rt.found != 0) best = prim_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
