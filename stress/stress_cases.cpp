@@ -117,6 +117,18 @@ std::vector<CellSpec> sweep_cells(const SweepOptions& opt) {
       c.label = d;
       add(c);
     }
+    // Curves whose solid is not a tube about a smooth axis: a hairpin bent with a
+    // radius of curvature near r (its legs' balls overlap), a cusp (zero speed, the
+    // tangent turning by 180 degrees), and a control polygon folded back on itself.
+    if (t == PrimType::Curve) {
+      for (const char* d : {"bend", "cusp", "fold"}) {
+        CellSpec c = base;
+        c.sweep = "shape";
+        c.degenerate = d;
+        c.label = d;
+        add(c);
+      }
+    }
   }
   if (opt.sweeps.empty() || std::find(opt.sweeps.begin(), opt.sweeps.end(), "invalid") != opt.sweeps.end()) {
     CellSpec inv;
@@ -230,6 +242,10 @@ Built build_scene(const CellSpec& c, Rng& rng) {
         std::array<glm::dvec3, 4> q = {a, a + (e - a) / 3.0 + 0.15 * L * m, a + 2.0 * (e - a) / 3.0 - 0.1 * L * m, e};
         if (c.degenerate == "coincident") q = {centre, centre, centre, centre};
         if (c.degenerate == "flat-tangent") q = {a, a, e, e};
+        if (c.degenerate == "bend") q = {a, e, e + 2.5 * r * m, a + 2.5 * r * m};
+        if (c.degenerate == "cusp") // (0,0) (1,1) (0,1) (1,0) in (w, m): C'(1/2) = 0
+          q = {a, e + L * m, a + L * m, e};
+        if (c.degenerate == "fold") q = {a, e, e, a};
         for (int k = 0; k < 4; ++k) {
           cv.p[std::size_t(k)] = glm::vec3(q[std::size_t(k)]);
           pr.p[std::size_t(k)] = glm::dvec3(cv.p[std::size_t(k)]);

@@ -34,7 +34,7 @@ inline const char* ray_kind_name(RayKind k) { return ray_kind_table.name(k); }
 
 struct CellSpec {
   PrimType type = PrimType::Capsule;
-  std::string sweep;        // distance, length, radius, offset, camera, degenerate, invalid
+  std::string sweep;        // distance, length, radius, offset, camera, degenerate, shape (curves), invalid
   std::string label;        // e.g. "D/r=1e4"
   double radius = 1e-3;     // primitive radius (scene scale ~1)
   double length_r = 100;    // length / radius (capsule, cone, curve chord, triangle edge)
@@ -44,7 +44,7 @@ struct CellSpec {
   // first primitive's centre and fans over it (the other sweeps: parallel-ish rays,
   // each from its own origin distance_r radii before its aim point).
   bool camera = false;
-  std::string degenerate;   // zero-length, zero-radius, coincident, contained, flat-tangent
+  std::string degenerate;   // zero-length, zero-radius, coincident, contained, flat-tangent; curve shapes: bend, cusp, fold
 };
 
 struct Cell {

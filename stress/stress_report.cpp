@@ -169,64 +169,14 @@ nlohmann::json stress_json(const StressReport& r) {
   return j;
 }
 
-const std::vector<Exemption>& stress_exemptions() {
-  static const std::vector<Exemption> e = {
-      {PrimType::Curve, false, RayKind::Grazing, 0, 1e-1,
-       "curve, grazing rays (nearly parallel to the curve): the phantom iteration may converge to a later "
-       "crossing or none"},
-      {PrimType::Curve, false, RayKind::Silhouette, 0, 1e-3,
-       "curve, silhouette rays: ~1e-4 flip outside the fp32 band (the phantom accepts a crossing at a residual "
-       "of 2^-7 r)"},
-      {PrimType::Curve, true, RayKind::Random, 10, 1e-2,
-       "curves shorter than 10 radii: the phantom tube assumes a radius of curvature well above r"},
-  };
-  return e;
-}
-
-std::string stress_exemptions_text() {
-  std::string out;
-  for (const Exemption& e : stress_exemptions()) out += fmt::format("  - {} (bound {})\n", e.why, rate_str(e.bound));
-  return out;
-}
-
 std::string stress_failures(const StressReport& r, double max_rate) {
   std::string out;
   for (const CellResult& c : r.results) {
     if (c.mode != Mode::Robust) continue;
-    // Split the disagreements into those an exemption covers (each against its own
-    // bound) and the rest (against max_rate).
-    std::size_t exempt = 0, exempt_rays = 0;
-    bool whole_cell = false, exempt_bad = false;
-    double exempt_rate = 0;
-    for (const Exemption& e : stress_exemptions()) {
-      if (e.type != c.spec.type) continue;
-      if (e.any_kind) {
-        if (c.spec.length_r < e.below_length_r) {
-          whole_cell = true;
-          exempt_rate = c.m.rate();
-          exempt_bad = exempt_bad || exempt_rate > e.bound;
-        }
-        continue;
-      }
-      std::size_t d = c.m.disagree_by_kind[std::size_t(e.kind)], n = c.m.rays_by_kind[std::size_t(e.kind)];
-      exempt += d;
-      exempt_rays += n;
-      double rate = n ? double(d) / double(n) : 0.0;
-      exempt_rate = std::max(exempt_rate, rate);
-      exempt_bad = exempt_bad || rate > e.bound;
-    }
-    double rest_rate = 0;
-    if (!whole_cell) {
-      std::size_t rest = c.m.disagree - exempt, rest_rays = c.m.compared > exempt_rays ? c.m.compared - exempt_rays : 0;
-      rest_rate = rest_rays ? double(rest) / double(rest_rays) : 0.0;
-    }
-    bool self_bad = c.m.self_hits > 0 && !whole_cell;
-    if (rest_rate > max_rate || exempt_bad || c.m.false_culls > 0 || self_bad)
-      out += fmt::format("{} {} {} {}: rate {} outside exemptions, worst exempt kind {} ({} of {} rays disagree), false culls "
-                         "{}, self hits {}\n",
-                         c.backend, prim_type_key(c.spec.type), c.spec.label, method_name(c.method),
-                         rate_str(rest_rate), rate_str(exempt_rate), c.m.disagree, c.m.compared, c.m.false_culls,
-                         c.m.self_hits) +
+    if (c.m.rate() > max_rate || c.m.false_culls > 0 || c.m.self_hits > 0)
+      out += fmt::format("{} {} {} {}: rate {} ({} of {} rays disagree), false culls {}, self hits {}\n", c.backend,
+                         prim_type_key(c.spec.type), c.spec.label, method_name(c.method), rate_str(c.m.rate()),
+                         c.m.disagree, c.m.compared, c.m.false_culls, c.m.self_hits) +
              (c.m.example.empty() ? "" : "    first: " + c.m.example + "\n");
   }
   return out;

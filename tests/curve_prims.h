@@ -1,4 +1,4 @@
-// Shared by the phantom curve intersector tests (test_curve_intersector_*.cpp): hair-like
+// Shared by the curve intersector tests (test_curve_intersector_*.cpp): hair-like
 // curves in fp32 with their exact geometry, surface sampling, the kernel and oracle on
 // the same curve, and the comparison at several iteration limits. Each test checks the
 // curve intersector (kernels/intersect_curve.h, compiled as C++) against the
@@ -24,6 +24,9 @@
 // (1e-3 r + 4 u (|o - c| + L)) / cos(i), normal and u likewise (u as the distance
 // along the curve between C(u) and C(u_oracle), so zero-speed ends do not inflate it).
 //
+// Since issue 23 the robust kernel is the certified subdivision (kernels/curve_subdiv.h),
+// which has no iteration limit: the sweep below changes only the fast phantom, and the
+// three robust tallies agree.
 // Iteration limit: the robust kernel is asserted at kAssertIters = 12 phantom steps per
 // phase, and measured at 8 (kernels/variants.h's default at the time of writing) and 16;
 // converged rays stop early, so the limit costs time only on the hard rays (measured:

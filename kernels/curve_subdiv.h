@@ -1,0 +1,378 @@
+// Robust curve intersection by certified subdivision (robust mode's intersector; the
+// phantom iteration stays fast mode's, kernels/curve_phantom.h).
+//
+// The solid is the union of the balls B(C(s), r), s in [0,1] (round ends included).
+// Along the ray it is a union of t-intervals; the hit is the first interval boundary in
+// [t_lo, tmax] (an entry, or the exit when the origin is inside) -- exactly what the
+// long-double oracle computes (oracle/oracle_curve.cpp).
+//
+// Method: a depth-first search over the binary tree of dyadic s-intervals [s0, s1].
+// The state is the node's (level, index) and one bit per level (which child was
+// visited first): no stack of control points, no recursion. A node's control points
+// are split from its parent's on the way down (de Casteljau at 1/2) and extracted from
+// the whole curve at s0 and s1 on a jump to a sibling. Per node, in the ray frame:
+//  - bounds: the piece lies in the hull of its control points, hence in their xy box
+//    and z range, and within `dev` of its chord (|C(s) - chord(s)| <= max_i |P_i -
+//    chord(i/3)|: the Bernstein weights sum to 1). hmin (from the box and the chord)
+//    bounds its distance from the ray; its crossings lie within its z range grown by
+//    sqrt(rp^2 - hmin^2) + pad, rp = r + pad. pad bounds the fp32 error of the control
+//    points (64 u (M + r), M the largest frame coordinate). A node is pruned when these
+//    bounds show it cannot hold a better answer.
+//  - sandwich: the piece's solid lies between the capsules of radius r -+ (dev + pad)
+//    about its chord. Missing the outer one prunes; crossing the inner one with both
+//    ends of the two intervals within ttol (z_lo in neither band) makes a leaf.
+//  - flat leaf: dev <= tol = max(MASQ_CURVE_FLAT u (r + span), 4 u M), a fraction of
+//    the fp32 ambiguity band 4 u (r + D + L) but not below the rounding noise of dev
+//    itself (zero-speed ends would never be flat); the leaf capsule and the piece's swept balls are
+//    within dev of each other, so only rays whose clearance is below dev plus the
+//    rounding can flip (rays near the outline descend this far).
+// Pass 0 finds the nearest leaf entry at or after z_lo and stops at the first leaf that
+// holds z_lo (the origin is inside); nodes are visited near end first and pruned beyond
+// the best entry. If the origin is inside, later passes extend the exit: cur = the
+// largest exit of the leaves holding cur, until a pass changes nothing (the merged
+// interval's end). Then the hit is moved onto the curve's own surface (curve_refine).
+// Every pruning step discards only nodes that provably hold no better answer, so the
+// answer is certified up to tol, ttol and the rounding; the only uncertified outcome is
+// the visit limit (MASQ_CURVE_VISITS per pass), which no stress or test ray reaches.
+// docs/robustness.md ("Curve: certified subdivision") gives the argument in full.
+#ifndef MASQ_KERNEL_CURVE_SUBDIV_H
+#define MASQ_KERNEL_CURVE_SUBDIV_H
+#include "curve_frame.h"
+
+// Leaf flatness: this times u (r + span); at most 1/16 of the ambiguity band.
+#define MASQ_CURVE_FLAT 0.25f
+// A coarser piece is a leaf when the capsules of radius r -+ dev put both ends of the
+// ray's interval within this times r, and on the same side of z_lo.
+#define MASQ_CURVE_TTOL 7.8125e-3f
+// Depth limit (s-intervals of 2^-22: far below any tolerance for finite curves).
+#define MASQ_CURVE_DEPTH 22
+// Node visits per pass (a grazing ray along a 1e4 r curve takes a few hundred).
+#ifndef MASQ_CURVE_VISITS
+#define MASQ_CURVE_VISITS 4096
+#endif
+
+KERNEL_NS_BEGIN
+
+STRUCT_BEGIN(CurvePiece)
+  vec3 p0;
+  vec3 p1;
+  vec3 p2;
+  vec3 p3;
+STRUCT_END(CurvePiece)
+
+// The piece of the frame curve on [s0, s1] (de Casteljau at both ends).
+FN CurvePiece curve_piece(CurveFrame f, float s0, float s1) {
+  float h = s1 - s0;
+  CurvePiece pc;
+  for (int k = 0; k < 2; ++k) {
+    float s = k == 0 ? s0 : s1;
+    float t = 1.0f - s;
+    vec3 a = t * f.b0 + s * f.b1;
+    vec3 b = t * f.b1 + s * f.b2;
+    vec3 c = t * f.b2 + s * f.b3;
+    vec3 ab = t * a + s * b;
+    vec3 bc = t * b + s * c;
+    vec3 p = t * ab + s * bc;
+    vec3 dh = h * (bc - ab); // h C'(s) / 3
+    if (k == 0) {
+      pc.p0 = p;
+      pc.p1 = p + dh;
+    } else {
+      pc.p3 = p;
+      pc.p2 = p - dh;
+    }
+  }
+  return pc;
+}
+
+// Half c (0: s in [s0, mid], 1: [mid, s1]) of a piece (de Casteljau at 1/2, exact
+// halvings: the error grows by a rounding of the piece's own coordinates per level).
+FN CurvePiece curve_half(CurvePiece pc, uint c) {
+  vec3 m01 = 0.5f * (pc.p0 + pc.p1);
+  vec3 m12 = 0.5f * (pc.p1 + pc.p2);
+  vec3 m23 = 0.5f * (pc.p2 + pc.p3);
+  vec3 a = 0.5f * (m01 + m12);
+  vec3 b = 0.5f * (m12 + m23);
+  vec3 m = 0.5f * (a + b);
+  CurvePiece h;
+  h.p0 = c == 0u ? pc.p0 : m;
+  h.p1 = c == 0u ? m01 : b;
+  h.p2 = c == 0u ? a : m23;
+  h.p3 = c == 0u ? m : pc.p3;
+  return h;
+}
+
+// The capsule of radius r about the chord p0 -> p3 against the z axis: its entry and
+// exit z (x > y: missed), the normal (frame) at each and the chord parameter there.
+STRUCT_BEGIN(CurveSpan)
+  float zin;
+  float zout;
+  vec3 nin;
+  vec3 nout;
+  float uin;
+  float uout;
+STRUCT_END(CurveSpan)
+
+FN CurveSpan curve_leaf_capsule(vec3 a, vec3 b, float r) {
+  CurveSpan sp;
+  sp.zin = inf_();
+  sp.zout = -inf_();
+  sp.nin = VEC3(0.0f, 0.0f, 0.0f);
+  sp.nout = sp.nin;
+  sp.uin = 0.0f;
+  sp.uout = 0.0f;
+  // End balls (closest-approach form (r - h)(r + h)).
+  for (int k = 0; k < 2; ++k) {
+    vec3 c = k == 0 ? a : b;
+    float hc = sqrt(c.x * c.x + c.y * c.y);
+    float disc = (r - hc) * (r + hc);
+    if (disc >= 0.0f) {
+      float w = sqrt(disc);
+      float uk = k == 0 ? 0.0f : 1.0f;
+      if (c.z - w < sp.zin) {
+        sp.zin = c.z - w;
+        sp.nin = VEC3(-c.x, -c.y, -w);
+        sp.uin = uk;
+      }
+      if (c.z + w > sp.zout) {
+        sp.zout = c.z + w;
+        sp.nout = VEC3(-c.x, -c.y, w);
+        sp.uout = uk;
+      }
+    }
+  }
+  // Lateral surface: the axis line's closest approach to the z axis is at chord
+  // parameter us = -(a_xy . e_xy) / |e_xy|^2, z0 = a_z + us e_z, distance
+  // hh = |a_xy x e_xy| / |e_xy| (Dot2-accurate cross product); the cylinder spans
+  // z0 -+ sqrt(r^2 - hh^2) |e| / |e_xy|. Its crossings count where their chord
+  // parameter lies in [0, 1]; beyond, the end balls hold the capsule.
+  vec3 e = b - a;
+  float aa = e.x * e.x + e.y * e.y;
+  float ee = dot(e, e);
+  if (aa > 1e-12f * ee) {
+    float hh = fabs_(curve_dop(a.x, e.y, a.y, e.x)) / sqrt(aa);
+    float disc = (r - hh) * (r + hh);
+    if (disc >= 0.0f) {
+      float us = -(a.x * e.x + a.y * e.y) / aa;
+      float z0 = a.z + us * e.z;
+      float hw = sqrt(disc * ee / aa);
+      float du = hw * e.z / ee;
+      for (int k = 0; k < 2; ++k) {
+        float sgn = k == 0 ? -1.0f : 1.0f;
+        float u = us + sgn * du;
+        float z = z0 + sgn * hw;
+        if (u >= 0.0f && u <= 1.0f) {
+          vec3 n = VEC3(0.0f, 0.0f, z) - (a + u * e);
+          if (k == 0 && z < sp.zin) {
+            sp.zin = z;
+            sp.nin = n;
+            sp.uin = u;
+          }
+          if (k == 1 && z > sp.zout) {
+            sp.zout = z;
+            sp.nout = n;
+            sp.uout = u;
+          }
+        }
+      }
+    }
+  }
+  return sp;
+}
+
+// The leaf's chord parameter is not the curve's (the speed varies along the piece), and
+// its normal leans by up to dev / r: the hit point X = (0, 0, z) is projected onto the
+// curve by a few Newton steps on (C(s) - X) . C'(s) = 0 from the leaf's s, each kept
+// within w = 16 leaf widths (the foot can lie several leaves away in s where the
+// speed is low, yet not on another leg of a folded curve; a radius of curvature below r makes |C(s) - X|^2 concave
+// near the foot: there, half-width steps downhill). The crossing of the ball at that foot point then replaces
+// z (twice), and the normal is X - C(s), the swept ball's.
+FN CurveRoot curve_refine(CurveFrame f, CurveRoot rt, float w, float side, float ttol) {
+  float s = rt.s;
+  vec3 v = VEC3(0.0f, 0.0f, 0.0f);
+  for (int pass = 0; pass < 2; ++pass) {
+    vec3 x = VEC3(0.0f, 0.0f, rt.z);
+    CurvePoint e = curve_eval(f, s);
+    v = e.p - x;
+    for (int k = 0; k < 4; ++k) {
+      float g = dot(v, e.d);
+      float gd = dot(e.d, e.d) + dot(v, e.dd);
+      // Newton where |C(s) - X|^2 is convex, else a step of w / 2 downhill (then
+      // halved). No test of the distance itself: near the foot it changes by less
+      // than its rounding (u of the curve's size).
+      float ds = gd > 0.0f ? min(max(g / gd, -w), w) : (g > 0.0f ? 0.5f * w : -0.5f * w);
+      if (!(gd > 0.0f)) w *= 0.5f;
+      s = min(max(s - ds, 0.0f), 1.0f);
+      e = curve_eval(f, s);
+      v = e.p - x;
+    }
+    // The ball at the foot point is tangent to the surface at the hit: its crossing
+    // moves t by the second order of the foot point's error only.
+    float h = sqrt(e.p.x * e.p.x + e.p.y * e.p.y);
+    float disc = (f.r - h) * (f.r + h);
+    if (!(disc >= 0.0f)) break;
+    float zb = e.p.z + side * sqrt(disc);
+    if (!(fabs_(zb - rt.z) <= ttol)) break; // (another leg's foot: keep the leaf's)
+    rt.z = zb;
+    v = e.p - VEC3(0.0f, 0.0f, zb);
+  }
+  // The foot must be this crossing's: X on its ball's sphere (else keep the leaf's).
+  float vl = length(v);
+  if (fabs_(vl - f.r) <= 4.0f * ttol) {
+    rt.s = s;
+    rt.nrm = -v;
+  }
+  return rt;
+}
+
+// The search's answer: frame z of the hit (found = 0: none in the window), normal
+// (frame), curve parameter.
+// maybe_inside = 0: the point at zlo is known to lie outside the solid.
+FN CurveRoot curve_subdiv(CurveFrame f, float zlo, float zmax, float tol, float ttol, float pad, int maybe_inside) {
+  CurveRoot rt;
+  rt.found = 0;
+  rt.z = 0.0f;
+  rt.s = 0.0f;
+  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
+  float r = f.r;
+  float rp = r + pad;
+  float best = zmax; // entry pass: nearest entry at or after zlo
+  int inside = 0;    // some leaf contains zlo
+  float cur = zlo;   // extension passes: end of the merged interval holding zlo
+  vec3 ncur = VEC3(0.0f, 0.0f, 0.0f);
+  float scur = 0.0f;
+  float wbest = 0.0f; // s-width of the leaf that gave the answer
+  float wcur = 0.0f;
+  // Passes: 0 entry and containment (the nearest entry at or after zlo, stopping at
+  // the first leaf that holds zlo), 1 entry alone (zlo known to be outside), then
+  // 2 extension (inside, repeated until cur stays).
+  int mode = maybe_inside != 0 ? 0 : 1;
+  for (int pass = 0; pass < 8; ++pass) {
+    float cur0 = cur;
+    int stop = 0;
+    int level = 0;
+    uint idx = 0u;
+    uint first = 0u; // bit l: the child of the level-(l-1) node visited first
+    uint lbit = 1u;  // 2^level
+    float hs = 1.0f; // 2^-level
+    int have = 0;    // pc already holds this node (split from its parent)
+    CurvePiece pc;
+    for (int it = 0; it < MASQ_CURVE_VISITS; ++it) {
+      float s0 = u2f_(idx) * hs;
+      if (have == 0) pc = curve_piece(f, s0, s0 + hs);
+      have = 0;
+      float xlo = vmin3_(pc.p0.x, pc.p1.x, min(pc.p2.x, pc.p3.x));
+      float xhi = vmax3_(pc.p0.x, pc.p1.x, max(pc.p2.x, pc.p3.x));
+      float ylo = vmin3_(pc.p0.y, pc.p1.y, min(pc.p2.y, pc.p3.y));
+      float yhi = vmax3_(pc.p0.y, pc.p1.y, max(pc.p2.y, pc.p3.y));
+      float bx = max(max(xlo, -xhi), 0.0f);
+      float by = max(max(ylo, -yhi), 0.0f);
+      vec3 ch = pc.p3 - pc.p0;
+      vec3 g1 = pc.p1 - (pc.p0 + ch * (1.0f / 3.0f));
+      vec3 g2 = pc.p2 - (pc.p3 - ch * (1.0f / 3.0f));
+      float dev = sqrt(max(dot(g1, g1), dot(g2, g2)));
+      float cc = ch.x * ch.x + ch.y * ch.y;
+      float uc = cc > 0.0f ? min(max(-(pc.p0.x * ch.x + pc.p0.y * ch.y) / cc, 0.0f), 1.0f) : 0.0f;
+      float cx = pc.p0.x + uc * ch.x;
+      float cy = pc.p0.y + uc * ch.y;
+      // hmin: a lower bound of the piece's distance from the ray axis (the xy box, and
+      // the chord less dev); the ray's chord through a ball of the piece is then at
+      // most 2 sqrt(rp^2 - hmin^2) long, which bounds the piece's entries and exits.
+      float hmin = max(sqrt(bx * bx + by * by), sqrt(cx * cx + cy * cy) - dev);
+      float wz = sqrt(max((rp - hmin) * (rp + hmin), 0.0f)) + pad;
+      float zl = vmin3_(pc.p0.z, pc.p1.z, min(pc.p2.z, pc.p3.z)) - wz;
+      float zh = vmax3_(pc.p0.z, pc.p1.z, max(pc.p2.z, pc.p3.z)) + wz;
+      // Keep the node only if it may hold what the pass looks for (NaN prunes): an
+      // entry before best or a leaf holding zlo, a leaf that extends the interval past cur.
+      int keep = hmin <= rp ? 1 : 0;
+      if (mode <= 1) keep = keep != 0 && zl < best && zh >= zlo ? 1 : 0;
+      else keep = keep != 0 && zl <= cur && zh > cur ? 1 : 0;
+      int down = 0;
+      if (keep != 0) {
+        int leaf = dev <= tol || level >= MASQ_CURVE_DEPTH ? 1 : 0;
+        if (leaf == 0 && dev <= 4.0f * ttol) {
+          // The piece's solid lies between the capsules of radius r -+ (dev + pad)
+          // about its chord: if the ray crosses both within ttol at each end of its
+          // interval, the capsule of radius r gives both ends to ttol (and the
+          // hit/miss is certain); only rays near this piece's outline go deeper.
+          float rdev = dev + pad;
+          CurveSpan so = curve_leaf_capsule(pc.p0, pc.p3, r + rdev);
+          CurveSpan si = curve_leaf_capsule(pc.p0, pc.p3, r - rdev);
+          // The outer capsule bounds the piece's entries and exits tightly: prune a
+          // piece that cannot move the answer by more than ttol.
+          if (!(so.zin <= so.zout)) keep = 0; // misses the outer capsule
+          else if (mode == 0 && (so.zout < zlo || (so.zin > zlo && so.zin >= best - ttol))) keep = 0;
+          else if (mode == 1 && (so.zin >= best - ttol || so.zout < zlo)) keep = 0;
+          else if (mode == 2 && (so.zin > cur || so.zout <= cur + ttol)) keep = 0;
+          else if (r > rdev && si.zin <= si.zout && si.zin - so.zin <= ttol && so.zout - si.zout <= ttol &&
+                   !(so.zin <= zlo && zlo <= si.zin) && !(si.zout <= zlo && zlo <= so.zout))
+            leaf = 1; // (and zlo is not in either band: inside or outside is certain)
+        }
+        if (keep != 0 && leaf != 0) {
+          CurveSpan sp = curve_leaf_capsule(pc.p0, pc.p3, r);
+          int met = sp.zin <= sp.zout ? 1 : 0; // (missed: zin = inf, zout = -inf)
+          if (met != 0 && mode <= 1 && sp.zin >= zlo && sp.zin <= best) {
+            best = sp.zin;
+            rt.found = 1;
+            rt.z = sp.zin;
+            rt.s = s0 + sp.uin * hs;
+            rt.nrm = sp.nin;
+            wbest = hs;
+          }
+          if (met != 0 && ((mode == 0 && sp.zin < zlo && sp.zout >= zlo) || (mode == 2 && sp.zin <= cur && sp.zout > cur))) {
+            inside = 1;
+            cur = sp.zout;
+            ncur = sp.nout;
+            scur = s0 + sp.uout * hs;
+            wcur = hs;
+            if (mode == 0) stop = 1; // one witness is enough
+          }
+        } else if (keep != 0) {
+          // Near end first: the child holding the end of smaller z.
+          uint c = pc.p0.z <= pc.p3.z ? 0u : 1u;
+          level += 1;
+          hs *= 0.5f;
+          idx = 2u * idx + c;
+          lbit = lbit << 1u;
+          first = (first & ~lbit) | (c != 0u ? lbit : 0u);
+          pc = curve_half(pc, c);
+          have = 1;
+          down = 1;
+        }
+      }
+      if (stop != 0) break;
+      if (down == 0) {
+        // Next: the sibling if this is the first child visited, else up.
+        int done = 1;
+        while (level > 0) {
+          uint cb = (first & lbit) != 0u ? 1u : 0u;
+          if ((idx & 1u) == cb) {
+            idx = idx ^ 1u;
+            done = 0;
+            break;
+          }
+          idx = idx >> 1u;
+          lbit = lbit >> 1u;
+          level -= 1;
+          hs *= 2.0f;
+        }
+        if (done != 0) break;
+      }
+    }
+    if (inside == 0 || cur > zmax) break; // outside: best is the first entry
+    if (mode == 2 && !(cur > cur0)) break; // no leaf extended the interval
+    mode = inside != 0 ? 2 : 1;
+  }
+  if (inside != 0) {
+    rt.found = cur <= zmax ? 1 : 0;
+    rt.z = cur;
+    rt.s = scur;
+    rt.nrm = ncur;
+    wbest = wcur;
+  }
+  if (rt.found != 0) rt = curve_refine(f, rt, min(16.0f * wbest, 0.25f), inside != 0 ? 1.0f : -1.0f, ttol);
+  return rt;
+}
+
+KERNEL_NS_END
+#endif
