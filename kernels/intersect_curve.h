@@ -107,7 +107,12 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
     // zero-speed end's pieces would otherwise never count as flat).
     float tol = max(MASQ_CURVE_FLAT * MASQ_U * (r + span), 4.0f * MASQ_U * vmax3_(mb.x, mb.y, mb.z));
     int inside = dot(pp, pp) + zlo * zlo <= rb2 ? 1 : 0; // zlo may lie in the solid
-    CurveRoot rt = curve_subdiv(f, zlo, (tmax - ts) * dl, tol, MASQ_CURVE_TTOL * r, pad, inside);
+    // The search ignores tmax: it settles near-ties within ttol by its own visit order,
+    // so a bound from another primitive (the traversal's nearest hit so far) would
+    // prune this curve's entry when it lies within ttol before that hit, and the answer
+    // would depend on the order a backend visits primitives in (ray query's driver
+    // order differs from masq's). tmax decides only the answer's acceptance below.
+    CurveRoot rt = curve_subdiv(f, zlo, inf_(), tol, MASQ_CURVE_TTOL * r, pad, inside);
     if (rt.found != 0) best = prim_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
   }
   // Fast: exit chains only when the origin (at tlo) may be inside the solid.

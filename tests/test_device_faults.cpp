@@ -156,29 +156,44 @@ TEST(DeviceFaults, OutOfDeviceMemoryIsAnErrorAndDeviceStaysUsable) {
   expect_traces("vulkan");
 }
 
+// A Vulkan context for the fault tests; empty, with the reason, where there is none.
+std::unique_ptr<api::Context> vulkan_context(std::string& why) {
+  try {
+    return std::make_unique<api::Context>("vulkan");
+  } catch (const masq::BackendUnavailable& e) {
+    why = e.what();
+    return nullptr;
+  }
+}
+
+// One ray that hits one of four capsules; error() is what tracing it throws ("" if nothing).
+struct OneRay {
+  api::Accel accel = capsules(4);
+  api::Ray r;
+  OneRay() { r.org = {-0.75f, 0, -5}; }
+  std::string error(api::Context& c) const {
+    try {
+      c.trace(accel, {&r, 1});
+    } catch (const masq::Error& e) {
+      return e.what();
+    }
+    return "";
+  }
+};
+
 // A lost device (the driver's watchdog reset it) is one error naming it and
 // VK_ERROR_DEVICE_LOST, never a hang; the lost context refuses further work at once, and
 // a backend opened afterwards gets a fresh device and traces. The loss is injected after
 // a real, finished wait (MASQ_VK_FAULT_DEVICE_LOST), as lavapipe cannot be made to lose it.
 TEST(DeviceFaults, DeviceLostIsOneErrorAndAFreshBackendTraces) {
-  std::unique_ptr<api::Context> ctx;
-  try {
-    ctx = std::make_unique<api::Context>("vulkan");
-  } catch (const masq::BackendUnavailable& e) {
-    if (allow_missing()) GTEST_SKIP() << e.what();
-    FAIL() << e.what();
+  std::string why;
+  std::unique_ptr<api::Context> ctx = vulkan_context(why);
+  if (!ctx) {
+    if (allow_missing()) GTEST_SKIP() << why;
+    FAIL() << why;
   }
-  api::Accel accel = capsules(4);
-  api::Ray r;
-  r.org = {-0.75f, 0, -5};
-  auto trace_error = [&](api::Context& c) {
-    try {
-      c.trace(accel, {&r, 1});
-    } catch (const masq::Error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  const OneRay one;
+  auto trace_error = [&](api::Context& c) { return one.error(c); };
   std::string lost;
   {
     masq::test::ScopedEnv fault("MASQ_VK_FAULT_DEVICE_LOST", "1");
@@ -191,8 +206,7 @@ TEST(DeviceFaults, DeviceLostIsOneErrorAndAFreshBackendTraces) {
   std::string again = trace_error(*ctx); // the same backend: refused without a submission
   EXPECT_NE(again.find("was lost"), std::string::npos) << again;
   api::Context fresh("vulkan");
-  std::vector<api::Hit> hits = fresh.trace(accel, {&r, 1});
-  EXPECT_TRUE(hits[0].hit());
+  EXPECT_TRUE(fresh.trace(one.accel, {&one.r, 1})[0].hit());
   expect_traces("cpu");
 }
 
@@ -201,24 +215,14 @@ TEST(DeviceFaults, DeviceLostIsOneErrorAndAFreshBackendTraces) {
 // hang; the context refuses further work and a fresh backend traces. The timeout is
 // injected after a real, finished wait (MASQ_VK_FAULT_TIMEOUT), as lavapipe's kernels end.
 TEST(DeviceFaults, UnfinishedDispatchIsOneErrorNotAHang) {
-  std::unique_ptr<api::Context> ctx;
-  try {
-    ctx = std::make_unique<api::Context>("vulkan");
-  } catch (const masq::BackendUnavailable& e) {
-    if (allow_missing()) GTEST_SKIP() << e.what();
-    FAIL() << e.what();
+  std::string why;
+  std::unique_ptr<api::Context> ctx = vulkan_context(why);
+  if (!ctx) {
+    if (allow_missing()) GTEST_SKIP() << why;
+    FAIL() << why;
   }
-  api::Accel accel = capsules(4);
-  api::Ray r;
-  r.org = {-0.75f, 0, -5};
-  auto trace_error = [&](api::Context& c) {
-    try {
-      c.trace(accel, {&r, 1});
-    } catch (const masq::Error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  const OneRay one;
+  auto trace_error = [&](api::Context& c) { return one.error(c); };
   std::string hung;
   {
     masq::test::ScopedEnv limit("MASQ_VK_WAIT_SECONDS", "7");
@@ -231,7 +235,7 @@ TEST(DeviceFaults, UnfinishedDispatchIsOneErrorNotAHang) {
   std::string again = trace_error(*ctx);
   EXPECT_NE(again.find("was lost"), std::string::npos) << again;
   api::Context fresh("vulkan");
-  EXPECT_TRUE(fresh.trace(accel, {&r, 1})[0].hit());
+  EXPECT_TRUE(fresh.trace(one.accel, {&one.r, 1})[0].hit());
   {
     masq::test::ScopedEnv bad("MASQ_VK_WAIT_SECONDS", "soon");
     const std::string e = trace_error(fresh);
