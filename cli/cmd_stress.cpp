@@ -5,6 +5,7 @@
 #include "masq/error.h"
 #include "stress/stress_report.h"
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fstream>
 
 namespace masq::cli {
@@ -70,8 +71,8 @@ Action add_stress(CLI::App& app) {
   cmd->add_option("--prim", c->types, "Primitive types (default: all): " + prim_type_table.help())
       ->check(CLI::IsMember(prim_type_table.names()));
   cmd->add_option("--sweep", c->opt.sweep.sweeps,
-                  "Sweeps (default: all): distance, length, radius, offset, camera, degenerate, invalid")
-      ->check(CLI::IsMember({"distance", "length", "radius", "offset", "camera", "degenerate", "invalid"}));
+                  "Sweeps (default: all): " + fmt::format("{}", fmt::join(stress::sweep_names(), ", ")))
+      ->check(CLI::IsMember(stress::sweep_names()));
   cmd->add_option("--backend", c->opt.backends, "Backends (default: all): " + backend_table.help())
       ->check(CLI::IsMember(backend_table.names()));
   add_device_option(*cmd, c->device);

@@ -102,7 +102,7 @@ std::vector<CellSpec> sweep_cells(const SweepOptions& opt) {
     };
     for (const SweepPoint& p : kSweep)
       if ((p.types >> unsigned(t) & 1u) && (p.quick || !opt.quick)) add(sweep_cell(t, p));
-  std::vector<std::string> degenerate;
+    std::vector<std::string> degenerate;
     switch (t) {
       case PrimType::Capsule: degenerate = {"zero-length", "zero-radius"}; break;
       case PrimType::RoundCone: degenerate = {"contained", "zero-length", "zero-radius"}; break;

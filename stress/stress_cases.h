@@ -32,9 +32,16 @@ static_assert([] {
 }());
 inline const char* ray_kind_name(RayKind k) { return ray_kind_table.name(k); }
 
+// The sweeps a cell belongs to (CellSpec::sweep; `masq stress --sweep` selects among them).
+inline const std::vector<std::string>& sweep_names() {
+  static const std::vector<std::string> names = {"distance", "length", "radius", "offset",
+                                                 "camera",   "degenerate", "shape", "invalid"};
+  return names;
+}
+
 struct CellSpec {
   PrimType type = PrimType::Capsule;
-  std::string sweep;        // distance, length, radius, offset, camera, degenerate, shape (curves), invalid
+  std::string sweep;        // one of sweep_names() (shape: curves only)
   std::string label;        // e.g. "D/r=1e4"
   double radius = 1e-3;     // primitive radius (scene scale ~1)
   double length_r = 100;    // length / radius (capsule, cone, curve chord, triangle edge)
