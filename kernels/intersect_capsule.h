@@ -66,12 +66,10 @@ FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax
   for (int e = 0; e < 2; ++e) {
     vec3 pe = e == 0 ? pa : pb;
     float te = e == 0 ? ta : tb;
-    float s0 = -dot(pe, d) / dd;
-    vec3 v = pe + s0 * d;
-    float lv = length(v);
-    float disc = (r - lv) * (r + lv);
-    if (disc >= 0.0f) {
-      float q = sqrt(disc / dd);
+    BallSpan b = ball_span(pe, r, d, dd);
+    if (b.found != 0) {
+      float s0 = b.s0;
+      float q = b.q;
       float t0 = te + (s0 - q);
       float t1 = te + (s0 + q);
       if (t0 < t_in) {
@@ -97,14 +95,10 @@ FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax
   vec3 dr = d - da * w;
   float drdr = dot(dr, dr);
   if (h > 0.0f && drdr > 0.0f) {
-    float s0 = -dot(pr, dr) / drdr;
-    vec3 v = pr + s0 * dr;
-    float lv = length(v);
-    float disc = (r - lv) * (r + lv);
-    if (disc >= 0.0f) {
-      float q = sqrt(disc / drdr);
-      float lo = s0 - q;
-      float hi = s0 + q;
+    BallSpan c = ball_span(pr, r, dr, drdr);
+    if (c.found != 0) {
+      float lo = c.s0 - c.q;
+      float hi = c.s0 + c.q;
       float zlo = near_b != 0 ? -len : 0.0f;
       float zhi = near_b != 0 ? 0.0f : len;
       if (da != 0.0f) {

@@ -184,12 +184,10 @@ FN PrimHit intersect_round_cone(RoundCone rc, vec3 o, vec3 d, float tmin, float 
     float rs = e == 0 ? ra : rb;
     float te = e == 0 ? ta : tb;
     vec3 pc = e == 0 ? xa : xb;
-    float s0 = -dot(pc, d) / dd;
-    vec3 v = pc + s0 * d;
-    float lv = length(v);
-    float sdisc = (rs - lv) * (rs + lv);
-    if (rs > 0.0f && sdisc >= 0.0f) {
-      float sq = sqrt(sdisc / dd);
+    BallSpan b = ball_span(pc, rs, d, dd);
+    if (rs > 0.0f && b.found != 0) {
+      float s0 = b.s0;
+      float sq = b.q;
       float sh = te - ts;
       s_in = min(s_in, sh + (s0 - sq));
       s_out = max(s_out, sh + (s0 + sq));

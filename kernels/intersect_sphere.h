@@ -19,12 +19,11 @@ KERNEL_NS_BEGIN
 // ray origin relative to the centre, formed by the caller). u = v = 0.
 FN PrimHit sphere_hit_robust(vec3 oc, float r, vec3 d, float dd, float tlo, float tmax) {
   PrimHit res = prim_miss();
-  float ts = -dot(oc, d) / dd;
-  vec3 p = oc + ts * d;
-  float lp = length(p);
-  float disc = (r - lp) * (r + lp);
-  if (!(disc >= 0.0f)) return res;
-  float q = sqrt(disc / dd);
+  BallSpan b = ball_span(oc, r, d, dd);
+  if (b.found == 0) return res;
+  float ts = b.s0;
+  vec3 p = b.v;
+  float q = b.q;
   // Near root first: the first accepted one is the nearest.
   for (int k = 0; k < 2; ++k) {
     float s = k == 0 ? -q : q;

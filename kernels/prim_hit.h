@@ -50,5 +50,29 @@ FN PrimHit prim_take(PrimHit best, float t, float tmin, vec3 n, float u) {
   return best;
 }
 
+// A ray against a ball of radius r: p is the ray origin relative to the ball's centre,
+// d the direction, dd = dot(d, d). The crossings are s0 -+ q in the ray's parameter from
+// that origin, formed at the closest approach v = p + s0 d so that the discriminant
+// (r - |v|)(r + |v|) is exact to a few ulps of r^2 however far the origin is
+// (intersect_sphere.h). found = 0 where the ray misses (or the discriminant is NaN).
+// Also the circle of a cylinder's cross-section (p and d projected off its axis).
+STRUCT_BEGIN(BallSpan)
+  int found;
+  float s0;
+  float q;
+  vec3 v;
+STRUCT_END(BallSpan)
+
+FN BallSpan ball_span(vec3 p, float r, vec3 d, float dd) {
+  BallSpan b;
+  b.s0 = -dot(p, d) / dd;
+  b.v = p + b.s0 * d;
+  float lv = length(b.v);
+  float disc = (r - lv) * (r + lv);
+  b.found = disc >= 0.0f ? 1 : 0;
+  b.q = b.found != 0 ? sqrt(disc / dd) : 0.0f;
+  return b;
+}
+
 KERNEL_NS_END
 #endif
