@@ -30,10 +30,12 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
   // are, once known to be values of their tables (row() throws masq::Error otherwise).
   method_table.row(options.method);
   mode_table.row(options.mode);
+  curve_isect_table.row(options.curve_isect);
   builder_table.row(options.builder);
   node_format_table.row(options.nodes);
   masq::AccelOptions ao;
   ao.mode = options.mode;
+  ao.curve_isect = options.curve_isect;
   ao.builder.kind = options.builder;
   ao.nodes = options.nodes;
   ao.masq_instances = options.compact_masquerade ? masq::MasqInstances::Compact : masq::MasqInstances::Full;

@@ -17,6 +17,11 @@ using api::method_table;
 inline const char* method_name(Method m) { return method_table.name(m); }
 inline Method parse_method(std::string_view name) { return method_table.parse(name); } // throws masq::Error
 
+using CurveIsect = api::CurveIsect;
+using api::curve_isect_table;
+inline const char* curve_isect_name(CurveIsect c) { return curve_isect_table.name(c); }
+inline CurveIsect parse_curve_isect(std::string_view name) { return curve_isect_table.parse(name); } // throws
+
 using Mode = api::Mode;
 using api::mode_table;
 inline const char* mode_name(Mode m) { return mode_table.name(m); }

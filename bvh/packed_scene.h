@@ -40,6 +40,7 @@ struct KernelFeatures {
   bool curves = false;
   Mode mode = Mode::Robust;
   int curve_iters = 24;
+  CurveIsect curve_isect = CurveIsect::Phantom;
   bool single_blas = false; // one BLAS instance, identity transform: no TLAS stage
   NodeFormat nodes = NodeFormat::W4;
   StackNeed tlas_stack{MASQ_STACK_MAX, "TLAS"}; // the TLAS walk (trace_closest)

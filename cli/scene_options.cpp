@@ -42,6 +42,9 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->capture_default_str()
       ->check(CLI::IsMember(curve_obb_table.names()));
   cmd.add_option("--curve-iters", opt.curve_iters, "Phantom curve iteration limit")->capture_default_str()->check(CLI::Range(1, 64));
+  cmd.add_option("--curve-isect", opt.curve_isect, "Cubic-curve intersector: " + curve_isect_table.help())
+      ->capture_default_str()
+      ->check(CLI::IsMember(curve_isect_table.names()));
   cmd.add_option("--cluster-size", opt.cluster_size, "Methods cluster/auto: most primitives per oriented cluster")
       ->capture_default_str()
       ->check(CLI::Range(2, 256));
@@ -145,6 +148,7 @@ AccelOptions accel_options(const SceneOptions& opt) {
   a.mode = parse_mode(opt.mode);
   a.curve_obb = parse_curve_obb(opt.curve_obb);
   a.curve_iters = opt.curve_iters;
+  a.curve_isect = parse_curve_isect(opt.curve_isect);
   a.masq_instances = parse_masq_instances(opt.masq_instance);
   a.cluster.max_size = opt.cluster_size;
   a.cluster.classes = opt.cluster_classes;

@@ -32,6 +32,7 @@ struct SceneOptions {
   std::string mode = "robust";
   std::string curve_obb = "tight";
   int curve_iters = 24;
+  std::string curve_isect = "phantom";
   int cluster_size = 32;     // cluster, auto
   int cluster_classes = 32;  // cluster, auto
   double cluster_leaf_price = 4.0; // cluster, auto: ClusterOptions::leaf_price

@@ -19,6 +19,7 @@ struct TraceSwitches {
 inline std::int32_t switch_value(bool b) { return b ? 1 : 0; }
 inline std::int32_t switch_value(int i) { return i; }
 inline std::int32_t switch_value(Mode m) { return m == Mode::Robust ? 1 : 0; }
+inline std::int32_t switch_value(CurveIsect c) { return c == CurveIsect::Roving ? MASQ_CURVE_ROVING : MASQ_CURVE_PHANTOM; }
 inline std::int32_t switch_value(NodeFormat f) { return node_format_id(f); }
 inline std::int32_t switch_value(const StackNeed& n) { return kernel_stack_size(n.entries, n.tree); }
 

@@ -37,13 +37,15 @@
 // docs/robustness.md ("Curve: certified subdivision") gives the argument in full.
 #ifndef MASQ_KERNEL_CURVE_SUBDIV_H
 #define MASQ_KERNEL_CURVE_SUBDIV_H
-#include "curve_frame.h"
+#include "curve_entry.h"
 
 // Leaf flatness: this times u (r + span); at most 1/16 of the ambiguity band.
 #define MASQ_CURVE_FLAT 0.25f
 // A coarser piece is a leaf when the capsules of radius r -+ dev put both ends of the
 // ray's interval within this times r, and on the same side of z_lo.
 #define MASQ_CURVE_TTOL 7.8125e-3f
+// Coarse leaves (roving): the least sin^2 of the angle between the ray and the chord.
+#define MASQ_COARSE_SIN2 0.0625f
 // Depth limit (s-intervals of 2^-22: far below any tolerance for finite curves).
 #define MASQ_CURVE_DEPTH 22
 // Node visits per pass (a grazing ray along a 1e4 r curve takes a few hundred).
@@ -187,10 +189,10 @@ FN CurveSpan curve_leaf_capsule(vec3 a, vec3 b, float r) {
 // speed is low, yet not on another leg of a folded curve; a radius of curvature below r makes |C(s) - X|^2 concave
 // near the foot: there, half-width steps downhill). The crossing of the ball at that foot point then replaces
 // z (twice), and the normal is X - C(s), the swept ball's.
-FN CurveRoot curve_refine(CurveFrame f, CurveRoot rt, float w, float side, float ttol) {
+FN CurveRoot curve_refine(CurveFrame f, CurveRoot rt, float w, float side, float ttol, int passes) {
   float s = rt.s;
   vec3 v = VEC3(0.0f, 0.0f, 0.0f);
-  for (int pass = 0; pass < 2; ++pass) {
+  for (int pass = 0; pass < passes; ++pass) {
     vec3 x = VEC3(0.0f, 0.0f, rt.z);
     CurvePoint e = curve_eval(f, s);
     v = e.p - x;
@@ -225,10 +227,24 @@ FN CurveRoot curve_refine(CurveFrame f, CurveRoot rt, float w, float side, float
   return rt;
 }
 
+// Whether the piece, seen along the ray (xy), moves forward along its chord ch all the
+// way: every leg of its control polygon does (the derivative lies in their hull).
+FN int curve_runs_along(CurvePiece pc, vec3 ch) {
+  float a = (pc.p1.x - pc.p0.x) * ch.x + (pc.p1.y - pc.p0.y) * ch.y;
+  float b = (pc.p2.x - pc.p1.x) * ch.x + (pc.p2.y - pc.p1.y) * ch.y;
+  float c = (pc.p3.x - pc.p2.x) * ch.x + (pc.p3.y - pc.p2.y) * ch.y;
+  return a > 0.0f && b > 0.0f && c > 0.0f ? 1 : 0;
+}
+
 // The search's answer: frame z of the hit (found = 0: none in the window), normal
 // (frame), curve parameter.
 // maybe_inside = 0: the point at zlo is known to lie outside the solid.
-FN CurveRoot curve_subdiv(CurveFrame f, float zlo, float zmax, float tol, float ttol, float pad, int maybe_inside) {
+// The search covers s in [sa, sa + sw] ([0, 1]: the whole curve; roving capsules pass
+// the part their clipping left, kernels/curve_roving.h). coarse > 0 (roving): a piece
+// flat to coarse whose inner capsule the ray crosses, starting before its outer one, is
+// a leaf whose entry is found by curve_refine right away (curve_roving.h, step 3).
+FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zmax, float tol, float ttol, float pad,
+                          int maybe_inside, float coarse) {
   CurveRoot rt;
   rt.found = 0;
   rt.z = 0.0f;
@@ -243,6 +259,7 @@ FN CurveRoot curve_subdiv(CurveFrame f, float zlo, float zmax, float tol, float 
   float scur = 0.0f;
   float wbest = 0.0f; // s-width of the leaf that gave the answer
   float wcur = 0.0f;
+  int refined = 0; // the answer came from a coarse leaf, already on the surface
   // Passes: 0 entry and containment (the nearest entry at or after zlo, stopping at
   // the first leaf that holds zlo), 1 entry alone (zlo known to be outside), then
   // 2 extension (inside, repeated until cur stays).
@@ -254,11 +271,11 @@ FN CurveRoot curve_subdiv(CurveFrame f, float zlo, float zmax, float tol, float 
     uint idx = 0u;
     uint first = 0u; // bit l: the child of the level-(l-1) node visited first
     uint lbit = 1u;  // 2^level
-    float hs = 1.0f; // 2^-level
+    float hs = sw;   // 2^-level sw
     int have = 0;    // pc already holds this node (split from its parent)
     CurvePiece pc;
     for (int it = 0; it < MASQ_CURVE_VISITS; ++it) {
-      float s0 = u2f_(idx) * hs;
+      float s0 = sa + u2f_(idx) * hs;
       if (have == 0) pc = curve_piece(f, s0, s0 + hs);
       have = 0;
       float xlo = vmin3_(pc.p0.x, pc.p1.x, min(pc.p2.x, pc.p3.x));
@@ -290,7 +307,9 @@ FN CurveRoot curve_subdiv(CurveFrame f, float zlo, float zmax, float tol, float 
       int down = 0;
       if (keep != 0) {
         int leaf = dev <= tol || level >= MASQ_CURVE_DEPTH ? 1 : 0;
-        if (leaf == 0 && dev <= 4.0f * ttol) {
+        CurveRoot cand; // a coarse leaf's entry, on the curve's surface
+        cand.found = 0;
+        if (leaf == 0 && dev <= max(4.0f * ttol, coarse)) {
           // The piece's solid lies between the capsules of radius r -+ (dev + pad)
           // about its chord: if the ray crosses both within ttol at each end of its
           // interval, the capsule of radius r gives both ends to ttol (and the
@@ -307,12 +326,33 @@ FN CurveRoot curve_subdiv(CurveFrame f, float zlo, float zmax, float tol, float 
           else if (r > rdev && si.zin <= si.zout && si.zin - so.zin <= ttol && so.zout - si.zout <= ttol &&
                    !(so.zin <= zlo && zlo <= si.zin) && !(si.zout <= zlo && zlo <= so.zout))
             leaf = 1; // (and zlo is not in either band: inside or outside is certain)
+          else if (mode <= 1 && dev <= coarse && r > rdev && si.zin <= si.zout && zlo < so.zin &&
+                   cc >= MASQ_COARSE_SIN2 * dot(ch, ch) && curve_runs_along(pc, ch) != 0) {
+            // Coarse leaf: the piece surely holds an entry, in [so.zin, si.zin], and the
+            // envelope condition on the curve itself finds its least one (curve_entry.h).
+            // That needs z_in convex on the piece: the ray crosses it at an angle (a ray
+            // nearly along it sees the bends, not the line), and seen along the ray the
+            // piece runs one way along its chord (a fold or cusp doubles back). One
+            // outside that band is not trusted: the piece is split instead.
+            float sg = s0 + so.uin * hs; // (the outer capsule's entry: a start near the answer)
+            cand = curve_piece_entry(f, s0, s0 + hs, sg, sa, sa + sw);
+            if (cand.found == 0) leaf = 2;
+            if (cand.found == 1 && cand.z >= so.zin - ttol && cand.z <= si.zin + ttol && cand.z >= zlo) leaf = 2;
+          }
         }
+        if (keep != 0 && leaf == 2) {
+          if (cand.found == 1 && cand.z <= best) {
+            best = cand.z;
+            rt = cand;
+            refined = 1;
+          }
+        } else
         if (keep != 0 && leaf != 0) {
           CurveSpan sp = curve_leaf_capsule(pc.p0, pc.p3, r);
           int met = sp.zin <= sp.zout ? 1 : 0; // (missed: zin = inf, zout = -inf)
           if (met != 0 && mode <= 1 && sp.zin >= zlo && sp.zin <= best) {
             best = sp.zin;
+            refined = 0;
             rt.found = 1;
             rt.z = sp.zin;
             rt.s = s0 + sp.uin * hs;
@@ -364,13 +404,15 @@ FN CurveRoot curve_subdiv(CurveFrame f, float zlo, float zmax, float tol, float 
     mode = inside != 0 ? 2 : 1;
   }
   if (inside != 0) {
+    refined = 0;
     rt.found = cur <= zmax ? 1 : 0;
     rt.z = cur;
     rt.s = scur;
     rt.nrm = ncur;
     wbest = wcur;
   }
-  if (rt.found != 0) rt = curve_refine(f, rt, min(16.0f * wbest, 0.25f), inside != 0 ? 1.0f : -1.0f, ttol);
+  if (rt.found != 0 && refined == 0)
+    rt = curve_refine(f, rt, min(16.0f * wbest, 0.25f), inside != 0 ? 1.0f : -1.0f, ttol, 2);
   return rt;
 }
 

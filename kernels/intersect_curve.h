@@ -22,17 +22,22 @@
 //    (kernels/curve_subdiv.h): pieces whose padded bounds cannot hold a better answer
 //    are pruned, pieces flat to a fraction of the fp32 ambiguity band are capsules;
 //  - the self window t_self (prim_hit.h; span: the control polygon's length).
+// isect (the run's --curve-isect, MASQ_CURVE_ISECT): phantom is the above; roving
+// (kernels/curve_roving.h) clips the curve to the part whose balls can meet the ray and
+// settles most pieces at once by the envelope condition, in both modes (fast roving:
+// the same search without the padding; the frame and self window as fast's).
 // Measured against the long-double oracle in `masq stress` (docs/robustness.md) and
 // tests/test_curve_intersector_*.cpp.
 #ifndef MASQ_KERNEL_INTERSECT_CURVE_H
 #define MASQ_KERNEL_INTERSECT_CURVE_H
 #include "curve_phantom.h"
-#include "curve_subdiv.h"
+#include "curve_roving.h"
 
 KERNEL_NS_BEGIN
 
 // robust != 0: intersect_curve; 0: intersect_curve_fast (see the top of this file).
-FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax, int robust) {
+// isect: MASQ_CURVE_PHANTOM or MASQ_CURVE_ROVING (kernels/curve_roving.h).
+FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax, int robust, int isect) {
   float r = c.radius;
   float dd = dot(d, d);
   if (!(r > 0.0f) || !(dd > 0.0f) || !(tmin <= tmax)) return prim_miss();
@@ -98,11 +103,13 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
   PrimHit best = prim_miss();
   best.t = tmax;
   float zlo = (tlo - ts) * dl;
-  if (robust != 0) {
-    // Certified subdivision (curve_subdiv.h). pad: the rounding of the extracted
+  int roving = isect == MASQ_CURVE_ROVING ? 1 : 0;
+  if (robust != 0 || roving != 0) {
+    // Certified subdivision (curve_subdiv.h), of the whole curve or of what roving
+    // capsules' clipping leaves (curve_roving.h); fast roving drops the padding. pad: the rounding of the extracted
     // control points, a few u of the largest frame coordinate; tol: the leaf flatness.
     vec3 mb = max(max(vabs_(f.b0), vabs_(f.b1)), max(vabs_(f.b2), vabs_(f.b3)));
-    float pad = 64.0f * MASQ_U * (vmax3_(mb.x, mb.y, mb.z) + r);
+    float pad = robust != 0 ? 64.0f * MASQ_U * (vmax3_(mb.x, mb.y, mb.z) + r) : 0.0f;
     // tol: the leaf flatness; never below 4 u M, the rounding noise of dev itself (a
     // zero-speed end's pieces would otherwise never count as flat).
     float tol = max(MASQ_CURVE_FLAT * MASQ_U * (r + span), 4.0f * MASQ_U * vmax3_(mb.x, mb.y, mb.z));
@@ -112,12 +119,13 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
     // prune this curve's entry when it lies within ttol before that hit, and the answer
     // would depend on the order a backend visits primitives in (ray query's driver
     // order differs from masq's). tmax decides only the answer's acceptance below.
-    CurveRoot rt = curve_subdiv(f, zlo, inf_(), tol, MASQ_CURVE_TTOL * r, pad, inside);
+    CurveRoot rt = roving != 0 ? curve_roving(f, zlo, inf_(), tol, MASQ_CURVE_TTOL * r, pad, inside)
+                               : curve_subdiv(f, 0.0f, 1.0f, zlo, inf_(), tol, MASQ_CURVE_TTOL * r, pad, inside, 0.0f);
     if (rt.found != 0) best = prim_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
   }
   // Fast: exit chains only when the origin (at tlo) may be inside the solid.
   int maybe_inside = dot(pp, pp) + zlo * zlo <= rb2 ? 1 : 0;
-  if (sc > 0.0f && robust == 0) {
+  if (sc > 0.0f && robust == 0 && roving == 0) {
     for (int k = 0; k < 4; ++k) {
       if (k >= 2 && maybe_inside == 0) break;
       float s0 = (k & 1) == 0 ? 0.0f : 1.0f;
@@ -127,7 +135,7 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
     }
   }
   // Fast: end balls, outer hemispheres (overlapping the tube at the seam).
-  for (int e = 0; e < 2 && robust == 0; ++e) {
+  for (int e = 0; e < 2 && robust == 0 && roving == 0; ++e) {
     vec3 bc = e == 0 ? f.b0 : f.b3;
     vec3 ta = e == 0 ? -f.t0 : f.t1; // outward axis at that end
     float hc = sqrt(bc.x * bc.x + bc.y * bc.y);
@@ -149,11 +157,19 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
 }
 
 FN PrimHit intersect_curve(Curve c, vec3 o, vec3 d, float tmin, float tmax) {
-  return curve_intersect_mode(c, o, d, tmin, tmax, 1);
+  return curve_intersect_mode(c, o, d, tmin, tmax, 1, MASQ_CURVE_PHANTOM);
 }
 
 FN PrimHit intersect_curve_fast(Curve c, vec3 o, vec3 d, float tmin, float tmax) {
-  return curve_intersect_mode(c, o, d, tmin, tmax, 0);
+  return curve_intersect_mode(c, o, d, tmin, tmax, 0, MASQ_CURVE_PHANTOM);
+}
+
+FN PrimHit intersect_curve_roving(Curve c, vec3 o, vec3 d, float tmin, float tmax) {
+  return curve_intersect_mode(c, o, d, tmin, tmax, 1, MASQ_CURVE_ROVING);
+}
+
+FN PrimHit intersect_curve_roving_fast(Curve c, vec3 o, vec3 d, float tmin, float tmax) {
+  return curve_intersect_mode(c, o, d, tmin, tmax, 0, MASQ_CURVE_ROVING);
 }
 
 KERNEL_NS_END

@@ -1,5 +1,6 @@
 // Dispatch to the intersector of a geometry's primitive type and the run's mode
-// (robust or fast). Types a scene lacks are compiled out by the MASQ_HAVE_* switches.
+// (robust or fast; for curves also the run's curve intersector, MASQ_CURVE_ISECT).
+// Types a scene lacks are compiled out by the MASQ_HAVE_* switches.
 #ifndef MASQ_KERNEL_INTERSECT_PRIMITIVE_H
 #define MASQ_KERNEL_INTERSECT_PRIMITIVE_H
 #include "kernel_data.h"
@@ -18,8 +19,7 @@ FN PrimHit intersect_primitive(KD_PARAM Geometry g, int prim, vec3 o, vec3 d, fl
     return MASQ_ROBUST ? intersect_capsule(KD(capsules)[i], o, d, tmin, tmax)
                        : intersect_capsule_fast(KD(capsules)[i], o, d, tmin, tmax);
   if (MASQ_HAVE_CURVES && g.type == MASQ_PRIM_CURVE)
-    return MASQ_ROBUST ? intersect_curve(KD(curves)[i], o, d, tmin, tmax)
-                       : intersect_curve_fast(KD(curves)[i], o, d, tmin, tmax);
+    return curve_intersect_mode(KD(curves)[i], o, d, tmin, tmax, MASQ_ROBUST ? 1 : 0, MASQ_CURVE_ISECT);
   if (MASQ_HAVE_CONES && g.type == MASQ_PRIM_ROUND_CONE)
     return MASQ_ROBUST ? intersect_round_cone(KD(cones)[i], o, d, tmin, tmax)
                        : intersect_round_cone_fast(KD(cones)[i], o, d, tmin, tmax);

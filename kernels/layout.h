@@ -16,7 +16,12 @@ LAYOUT_NS_BEGIN
 #define MASQ_NODES_W4 0
 #define MASQ_NODES_W8 1
 #define MASQ_NODES_Q8 2
+
 #define MASQ_NODE_FORMAT_COUNT 3 // the cpu units of MASQ_NODE_FORMAT (kernels/variant_table.h) cover them all
+
+// Cubic-curve intersectors (the MASQ_CURVE_ISECT switch; host: CurveIsect).
+#define MASQ_CURVE_PHANTOM 0
+#define MASQ_CURVE_ROVING 1
 
 // Primitive types. A geometry holds primitives of one type.
 #define MASQ_PRIM_TRIANGLE 0

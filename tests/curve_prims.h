@@ -102,8 +102,12 @@ inline Hair make_hair(Rng& rng, ld r, ld len_r, ld T, ld bend = 0.1L) {
   return from_points(p, float(r));
 }
 
+// The curve intersector the tests run (MASQ_CURVE_PHANTOM or MASQ_CURVE_ROVING): every
+// CurveIntersector test runs once with each (the fixture's parameter).
+inline int g_curve_isect = MASQ_CURVE_PHANTOM;
+
 inline KV::PrimHit run_kernel(const Hair& h, bool fast, glm::vec3 o, glm::vec3 d, float tmin = 0, float tmax = kInfF) {
-  return fast ? KV::intersect_curve_fast(h.k, o, d, tmin, tmax) : KV::intersect_curve(h.k, o, d, tmin, tmax);
+  return KV::curve_intersect_mode(h.k, o, d, tmin, tmax, fast ? 0 : 1, g_curve_isect);
 }
 
 // Direction of the curve at s; where C'(s) = 0 (coincident control points) the limit
@@ -248,11 +252,24 @@ struct Modes {
 inline void set_iters(int n) { KV::MASQ_CURVE_ITERS = n; }
 
 // Every test runs the robust kernel at kAssertIters unless it sweeps.
-class CurveIntersector : public ::testing::Test {
+class CurveIntersector : public ::testing::TestWithParam<int> {
  protected:
-  void SetUp() override { set_iters(kAssertIters); }
-  void TearDown() override { set_iters(kDefaultIters); }
+  void SetUp() override {
+    set_iters(kAssertIters);
+    g_curve_isect = GetParam();
+  }
+  void TearDown() override {
+    set_iters(kDefaultIters);
+    g_curve_isect = MASQ_CURVE_PHANTOM;
+  }
 };
+
+// Each test file instantiates the fixture for both curve intersectors with this.
+#define MASQ_CURVE_ISECT_SUITE                                                                              \
+  INSTANTIATE_TEST_SUITE_P(Isect, CurveIntersector, ::testing::Values(MASQ_CURVE_PHANTOM, MASQ_CURVE_ROVING), \
+                           [](const ::testing::TestParamInfo<int>& i) {                                      \
+                             return std::string(i.param == MASQ_CURVE_ROVING ? "roving" : "phantom");        \
+                           })
 
 inline void compare_modes(const Hair& h, glm::vec3 o, glm::vec3 d, float tmin, float tmax, Modes& m) {
   PrimRay ray = ld_ray(o, d, tmin, tmax);

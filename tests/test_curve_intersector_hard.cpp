@@ -86,7 +86,7 @@ void shoot(const Hair& h, Rng& rng, ld D, int n, Tally& t, bool from_inside = tr
   }
 }
 
-TEST_F(CurveIntersector, ShortBentFoldedAndCuspedCurves) {
+TEST_P(CurveIntersector, ShortBentFoldedAndCuspedCurves) {
   Rng rng(0xc0b5);
   const char* names[] = {"blob", "hairpin", "cusp", "fold"};
   for (int si = 0; si < 4; ++si) {
@@ -118,7 +118,7 @@ TEST_F(CurveIntersector, ShortBentFoldedAndCuspedCurves) {
 // (32 u (|o - c| + span) ~ 2 r) swallows most of a ray's way out of a ball, and t near
 // the window's edge carries u |o - c| (the frame's origin is the ray point nearest the
 // curve's centre), so such rays are decided by the window's rounding.
-TEST_F(CurveIntersector, VeryLongCurvesFarAway) {
+TEST_P(CurveIntersector, VeryLongCurvesFarAway) {
   Rng rng(0x10e6);
   Tally t;
   for (ld lr : {1e4L, 1e6L})
@@ -132,7 +132,7 @@ TEST_F(CurveIntersector, VeryLongCurvesFarAway) {
 
 // Bad input: NaN or infinite control points and a zero radius never hit and never
 // produce non-finite output; coincident points are a sphere.
-TEST_F(CurveIntersector, BadControlPointsMiss) {
+TEST_P(CurveIntersector, BadControlPointsMiss) {
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   glm::vec3 good[4] = {{0, 0, 0}, {1, 0.2f, 0}, {2, -0.2f, 0}, {3, 0, 0}};
   long hits = 0;
@@ -158,3 +158,5 @@ TEST_F(CurveIntersector, BadControlPointsMiss) {
 }
 
 } // namespace
+
+MASQ_CURVE_ISECT_SUITE;

@@ -21,7 +21,7 @@ struct RaySet {
   std::vector<glm::vec3> o, d;
 };
 
-TEST_F(CurveIntersector, HairRandomAndSilhouetteRays) {
+TEST_P(CurveIntersector, HairRandomAndSilhouetteRays) {
   Rng rng(0xc0e7e);
   const ld r = 1e-4L;
   print_modes_header();
@@ -93,7 +93,7 @@ TEST_F(CurveIntersector, HairRandomAndSilhouetteRays) {
 
 // ---------------------------------------------------------------- rays nearly along the curve
 
-TEST_F(CurveIntersector, RaysNearlyParallelToTheCurve) {
+TEST_P(CurveIntersector, RaysNearlyParallelToTheCurve) {
   Rng rng(0x9a7a);
   const ld r = 1e-4L;
   print_modes_header();
@@ -131,7 +131,7 @@ TEST_F(CurveIntersector, RaysNearlyParallelToTheCurve) {
 
 // ---------------------------------------------------------------- rays from the surface
 
-TEST_F(CurveIntersector, RaysFromTheSurfaceAndFromInside) {
+TEST_P(CurveIntersector, RaysFromTheSurfaceAndFromInside) {
   Rng rng(0x5e1f);
   StartTally outward;
   Tally inward, inside;
@@ -186,3 +186,5 @@ TEST_F(CurveIntersector, RaysFromTheSurfaceAndFromInside) {
 }
 
 } // namespace
+
+MASQ_CURVE_ISECT_SUITE;

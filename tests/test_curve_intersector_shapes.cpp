@@ -16,7 +16,7 @@ namespace {
 // ---------------------------------------------------------------- special shapes
 
 // Control points evenly spaced on a segment: the solid is exactly a capsule.
-TEST_F(CurveIntersector, StraightCurveIsCapsule) {
+TEST_P(CurveIntersector, StraightCurveIsCapsule) {
   Rng rng(0x57a1);
   Tally vs_capsule, fast_vs_capsule;
   long oracle_disagree = 0, rays = 0;
@@ -78,7 +78,7 @@ TEST_F(CurveIntersector, StraightCurveIsCapsule) {
 }
 
 // Coincident control points: zero end tangents, a sphere, a zero radius.
-TEST_F(CurveIntersector, DegenerateControlPoints) {
+TEST_P(CurveIntersector, DegenerateControlPoints) {
   Rng rng(0xde9e);
   glm::vec3 c(0.3f, -0.2f, 0.7f);
   Vld w = unitl(Vld{1, 2, 3}), v = unitl(crossl(w, Vld{0, 0, 1}));
@@ -155,7 +155,7 @@ TEST_F(CurveIntersector, DegenerateControlPoints) {
   EXPECT_EQ(ball_bad, 0) << "coincident control points must be the sphere";
 }
 
-TEST_F(CurveIntersector, NoSurfaceOrInvalidRayMisses) {
+TEST_P(CurveIntersector, NoSurfaceOrInvalidRayMisses) {
   Rng rng(0x0);
   glm::vec3 p[4] = {{0.1f, 0.2f, 0.3f}, {0.4f, 0.2f, 0.3f}, {0.7f, 0.25f, 0.3f}, {1.0f, 0.2f, 0.35f}};
   float nan = std::numeric_limits<float>::quiet_NaN();
@@ -190,3 +190,5 @@ TEST_F(CurveIntersector, NoSurfaceOrInvalidRayMisses) {
 }
 
 } // namespace
+
+MASQ_CURVE_ISECT_SUITE;

@@ -138,6 +138,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   pack_primitives(scene, ps);
   ps.features.mode = opt.mode;
   ps.features.curve_iters = opt.curve_iters;
+  ps.features.curve_isect = opt.curve_isect;
   ps.features.nodes = opt.nodes; // before any node is appended (cluster BLAS read it)
   ps.features.tlas_stack.entries = 0; // the trees' needs, as they are appended
   ps.features.blas_stack.entries = 0;

@@ -30,6 +30,7 @@ struct AccelOptions {
   CurveObb curve_obb = CurveObb::Tight; // masq: how curve OBBs are oriented
   Mode mode = Mode::Robust;             // kernel intersectors and box test
   int curve_iters = 24;                 // phantom iteration limit (1..64; 24: see docs/robustness.md)
+  CurveIsect curve_isect = CurveIsect::Phantom; // the cubic-curve intersector
   ClusterOptions cluster;               // cluster, auto: cluster size and orientation classes
   CostPrices prices;                    // auto: the whole-structure cost model's prices
   AutoSelect auto_select = AutoSelect::WholeStructure;

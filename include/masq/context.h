@@ -15,6 +15,8 @@ namespace masq::api {
 struct AccelOptions {
   Method method = Method::Masq;
   Mode mode = Mode::Robust;
+  /// The cubic-curve intersector (curve_isect_table).
+  CurveIsect curve_isect = CurveIsect::Phantom;
   Builder builder = Builder::Sah;
   NodeFormat nodes = NodeFormat::W4;
   /// Masquerade TLAS entries as 32-byte compact records (quaternion, bfloat16 scales;

@@ -77,6 +77,19 @@ inline constexpr NameRow<Mode> mode_rows[] = {
 };
 inline constexpr NameTable mode_table{"mode", mode_rows};
 
+/// Which intersector cubic curves get (in either Mode). Each value's name and meaning:
+/// curve_isect_table.
+enum class CurveIsect { Phantom, Roving };
+
+inline constexpr NameRow<CurveIsect> curve_isect_rows[] = {
+    {CurveIsect::Phantom, "phantom",
+     "fast mode: Reshetov & Luebke's phantom iteration; robust mode: certified subdivision of the whole curve"},
+    {CurveIsect::Roving, "roving",
+     "roving capsules (after Reshetov & Hart 2024): clip the curve to where its balls can meet the ray, then "
+     "capsules on what is left"},
+};
+inline constexpr NameTable curve_isect_table{"curve intersector", curve_isect_rows};
+
 /// How the BVH nodes of the TLAS and every BLAS are stored (same hits either way). Each
 /// value's name and layout: node_format_table.
 enum class NodeFormat { W4, W8, Q8 };
