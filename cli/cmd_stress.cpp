@@ -15,6 +15,7 @@ struct StressCli {
   stress::StressOptions opt;
   std::vector<std::string> types;
   std::vector<std::string> modes;
+  std::vector<std::string> curve_isects;
   std::string json_path;
   std::string device; // --device (cli/device_option.h)
   bool quiet = false;
@@ -25,6 +26,10 @@ int stress_run(StressCli& c) {
   if (!c.types.empty()) {
     c.opt.sweep.types.clear();
     for (const std::string& t : c.types) c.opt.sweep.types.push_back(parse_prim_type(t));
+  }
+  if (!c.curve_isects.empty()) {
+    c.opt.sweep.curve_isects.clear();
+    for (const std::string& n : c.curve_isects) c.opt.sweep.curve_isects.push_back(parse_curve_isect(n));
   }
   if (!c.modes.empty()) {
     c.opt.modes.clear();
@@ -78,6 +83,8 @@ Action add_stress(CLI::App& app) {
   add_device_option(*cmd, c->device);
   cmd->add_option("--mode", c->modes, "Modes (default: all): " + mode_table.help())
       ->check(CLI::IsMember(mode_table.names()));
+  cmd->add_option("--curve-isect", c->curve_isects, "Curve cells, one per intersector (default: all): " + curve_isect_table.help())
+      ->check(CLI::IsMember(curve_isect_table.names()));
   cmd->add_option("--seed", c->opt.sweep.seed, "Random seed")->capture_default_str();
   cmd->add_option("--json", c->json_path, "Write every figure as JSON to this file");
   cmd->add_flag("--check", c->check, "Exit 1 unless robust mode meets the acceptance bounds on every cell");

@@ -46,6 +46,8 @@
 #define MASQ_CURVE_TTOL 7.8125e-3f
 // Coarse leaves (roving): the least sin^2 of the angle between the ray and the chord.
 #define MASQ_COARSE_SIN2 0.0625f
+// ... and the most it may bow (dev / chord length), squared.
+#define MASQ_COARSE_BOW2 9.765625e-4f
 // Depth limit (s-intervals of 2^-22: far below any tolerance for finite curves).
 #define MASQ_CURVE_DEPTH 22
 // Node visits per pass (a grazing ray along a 1e4 r curve takes a few hundred).
@@ -327,11 +329,13 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
                    !(so.zin <= zlo && zlo <= si.zin) && !(si.zout <= zlo && zlo <= so.zout))
             leaf = 1; // (and zlo is not in either band: inside or outside is certain)
           else if (mode <= 1 && dev <= coarse && r > rdev && si.zin <= si.zout && zlo < so.zin &&
-                   cc >= MASQ_COARSE_SIN2 * dot(ch, ch) && curve_runs_along(pc, ch) != 0) {
+                   cc >= MASQ_COARSE_SIN2 * dot(ch, ch) && dev * dev <= MASQ_COARSE_BOW2 * dot(ch, ch) &&
+                   curve_runs_along(pc, ch) != 0) {
             // Coarse leaf: the piece surely holds an entry, in [so.zin, si.zin], and the
             // envelope condition on the curve itself finds its least one (curve_entry.h).
             // That needs z_in convex on the piece: the ray crosses it at an angle (a ray
-            // nearly along it sees the bends, not the line), and seen along the ray the
+            // nearly along it sees the bends, not the line), it bows by little against
+            // its length (its tangent turns little), and seen along the ray the
             // piece runs one way along its chord (a fold or cusp doubles back). One
             // outside that band is not trusted: the piece is split instead.
             float sg = s0 + so.uin * hs; // (the outer capsule's entry: a start near the answer)

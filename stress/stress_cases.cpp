@@ -137,7 +137,23 @@ std::vector<CellSpec> sweep_cells(const SweepOptions& opt) {
     inv.label = "nan/inf rays";
     cells.push_back(inv);
   }
-  return cells;
+  // Every cell's rays by its place in this list; then a curve cell per intersector,
+  // each asked the same rays (labelled by the intersector past the first).
+  std::vector<CellSpec> out;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    cells[i].ray_seed = i;
+    if (cells[i].type != PrimType::Curve) {
+      out.push_back(cells[i]);
+      continue;
+    }
+    for (CurveIsect ci : opt.curve_isects) {
+      CellSpec c = cells[i];
+      c.curve_isect = ci;
+      if (ci != CurveIsect::Phantom) c.label += std::string(" ") + curve_isect_name(ci);
+      out.push_back(std::move(c));
+    }
+  }
+  return out;
 }
 
 namespace {

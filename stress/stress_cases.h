@@ -3,6 +3,7 @@
 // holds a small scene of that primitive and a mix of hard rays aimed at it. Everything
 // is deterministic from the seed.
 #pragma once
+#include "bvh/options.h"
 #include "kernels/layout.h"
 #include "masq/names.h"
 #include "scenes/scene.h"
@@ -52,6 +53,10 @@ struct CellSpec {
   // each from its own origin distance_r radii before its aim point).
   bool camera = false;
   std::string degenerate;   // zero-length, zero-radius, coincident, contained, flat-tangent; curve shapes: bend, cusp, fold
+  CurveIsect curve_isect = CurveIsect::Phantom; // curves: the intersector traced (a cell per one)
+  // The cell's rays come from the seed and this index: the curve intersectors' cells of
+  // one sweep point share it, so they are asked the same rays.
+  std::size_t ray_seed = 0;
 };
 
 struct Cell {
@@ -72,6 +77,7 @@ struct SweepOptions {
                                  PrimType::Triangle};
   std::uint64_t seed = 7;
   std::vector<std::string> sweeps; // only these sweeps (distance, length, ...); empty: all
+  std::vector<CurveIsect> curve_isects = {CurveIsect::Phantom, CurveIsect::Roving}; // curve cells: one per
 };
 
 std::vector<CellSpec> sweep_cells(const SweepOptions& opt);
