@@ -175,11 +175,11 @@ Scene instanced_scene(PrimType type) {
   return s;
 }
 
-class CrossBackendBits : public ::testing::TestWithParam<PrimType> {};
-
-TEST_P(CrossBackendBits, RobustHitsEqualTheCpusBits) {
-  const Scene s = instanced_scene(GetParam());
-  const std::vector<kernel::Ray> rays = rays_at_primitives(s, 6000, 7 + int(GetParam()));
+// Every backend against the cpu's bits on a scene of one primitive type, traced with the
+// given curve intersector.
+void expect_cpu_bits(PrimType type, CurveIsect isect) {
+  const Scene s = instanced_scene(type);
+  const std::vector<kernel::Ray> rays = rays_at_primitives(s, 6000, 7 + int(type));
   std::unique_ptr<Backend> cpu = make_backend("cpu");
   std::vector<std::unique_ptr<Backend>> others;
   for (const std::string& name : backend_names())
@@ -189,6 +189,7 @@ TEST_P(CrossBackendBits, RobustHitsEqualTheCpusBits) {
   for (Method m : {Method::Ref, Method::Masq, Method::Cluster}) {
     AccelOptions opt;
     opt.mode = Mode::Robust;
+    opt.curve_isect = isect;
     const PackedScene ps = build_accel(s, m, opt);
     cpu->set_scene(ps);
     std::vector<kernel::Hit> want(rays.size());
@@ -198,7 +199,7 @@ TEST_P(CrossBackendBits, RobustHitsEqualTheCpusBits) {
     for (const kernel::Instance& in : ps.instances)
       if (in.blas_root >= 0 && in.prim != MASQ_INST_CLUSTER) driver_placed.insert({in.geom, in.scene_inst});
     for (const std::unique_ptr<Backend>& be : others) {
-      SCOPED_TRACE(be->name() + " " + method_name(m) + " on " + s.name);
+      SCOPED_TRACE(be->name() + " " + method_name(m) + " on " + s.name + " (curves: " + curve_isect_name(isect) + ")");
       be->set_scene(ps);
       std::vector<kernel::Hit> got(rays.size());
       // rayquery reports no node or transform counters (-1): its hits only.
@@ -224,6 +225,13 @@ TEST_P(CrossBackendBits, RobustHitsEqualTheCpusBits) {
     }
   }
 }
+
+class CrossBackendBits : public ::testing::TestWithParam<PrimType> {};
+
+TEST_P(CrossBackendBits, RobustHitsEqualTheCpusBits) { expect_cpu_bits(GetParam(), CurveIsect::Phantom); }
+
+// The second curve intersector (kernels/curve_roving.h) on the same curves and rays.
+TEST(CrossBackendBitsRoving, RobustCurveHitsEqualTheCpusBits) { expect_cpu_bits(PrimType::Curve, CurveIsect::Roving); }
 
 INSTANTIATE_TEST_SUITE_P(Types, CrossBackendBits,
                          ::testing::Values(PrimType::Triangle, PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere,
