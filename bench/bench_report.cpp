@@ -27,17 +27,35 @@ const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& b
 }
 
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b,
-                         NodeFormat nodes) {
+                         NodeFormat nodes, CurveIsect isect) {
   for (const BenchRow& r : rows)
     if (r.backend == backend && r.method == m && r.ray_set == set && r.builder == b && r.nodes == nodes &&
-        r.unavailable.empty())
+        r.curve_isect == isect && r.unavailable.empty())
       return &r;
   return nullptr;
 }
 
 std::string method_label(const BenchRow& r) {
-  return r.builder == Builder::Sah ? std::string(method_name(r.method))
-                                   : fmt::format("{} [{}]", method_name(r.method), builder_name(r.builder));
+  std::string s = method_name(r.method);
+  if (r.builder != Builder::Sah) s += fmt::format(" [{}]", builder_name(r.builder));
+  if (r.curve_isect != CurveIsect::Phantom) s += fmt::format(" ({})", curve_isect_name(r.curve_isect));
+  return s;
+}
+
+Table bench_curve_isect_ratios(const std::vector<BenchRow>& rows) {
+  Table t;
+  t.header = {"backend", "method", "nodes", "rays", "curve isect", "Mrays/s", "speed vs phantom", "isect/r", "hit%"};
+  t.left_columns = 5;
+  for (const BenchRow& r : rows) {
+    if (!r.unavailable.empty()) continue;
+    const BenchRow* p = find_row(rows, r.backend, r.method, r.ray_set, r.builder, r.nodes, CurveIsect::Phantom);
+    t.add({r.backend, method_label(r), node_format_name(r.nodes), rays_label(r), curve_isect_name(r.curve_isect),
+           fmt::format("{:.3f}", r.mrays_per_s()), p ? fmt::format("{:.2f}x", r.mrays_per_s() / p->mrays_per_s()) : "-",
+           r.isect_calls >= 0 ? fmt::format("{:.2f}", r.isect_calls) : "n/a", fmt::format("{:.1f}", 100.0 * r.hit_fraction)});
+  }
+  t.notes = {"speed vs phantom: Mrays/s of this row over the phantom row of the same backend, method, builder, node "
+             "format and rays (one run, same rays, the rows taking turns round by round)"};
+  return t;
 }
 
 namespace {
@@ -65,7 +83,7 @@ Table bench_builders(const std::vector<BenchRow>& rows) {
   t.left_columns = 5;
   for (const BenchRow& r : rows) {
     if (!r.unavailable.empty()) continue;
-    const BenchRow* b = find_row(rows, r.backend, r.method, r.ray_set, base, r.nodes);
+    const BenchRow* b = find_row(rows, r.backend, r.method, r.ray_set, base, r.nodes, r.curve_isect);
     auto ratio = [&](double x, double y) { return b && y > 0 && x >= 0 ? fmt::format("{:.3f}", x / y) : std::string("-"); };
     // Wide-node visits per ray, TLAS and BLAS (-1 where the backend cannot count them).
     auto nodes = [](const BenchRow& x) { return x.tlas_nodes < 0 || x.blas_nodes < 0 ? -1.0 : x.tlas_nodes + x.blas_nodes; };
@@ -95,7 +113,7 @@ Table bench_node_ratios(const std::vector<BenchRow>& rows) {
   t.left_columns = 4;
   for (const BenchRow& r : rows) {
     if (!r.unavailable.empty()) continue;
-    const BenchRow* w4 = find_row(rows, r.backend, r.method, r.ray_set, r.builder, NodeFormat::W4);
+    const BenchRow* w4 = find_row(rows, r.backend, r.method, r.ray_set, r.builder, NodeFormat::W4, r.curve_isect);
     double visits = r.tlas_nodes + r.blas_nodes;
     bool counted = r.tlas_nodes >= 0 && r.blas_nodes >= 0;
     double w4_visits = w4 ? w4->tlas_nodes + w4->blas_nodes : 0;
@@ -181,9 +199,10 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) 
   t.left_columns = 4;
   for (const BenchRow& m : rows) {
     if (m.method == Method::Ref || !m.unavailable.empty()) continue;
-    const BenchRow* r = find_row(rows, m.backend, Method::Ref, m.ray_set, m.builder, m.nodes);
+    const BenchRow* r = find_row(rows, m.backend, Method::Ref, m.ray_set, m.builder, m.nodes, m.curve_isect);
     if (!r) continue;
-    const BenchRow* q = m.method == Method::Masq ? nullptr : find_row(rows, m.backend, Method::Masq, m.ray_set, m.builder, m.nodes);
+    const BenchRow* q = m.method == Method::Masq ? nullptr
+                                                 : find_row(rows, m.backend, Method::Masq, m.ray_set, m.builder, m.nodes, m.curve_isect);
     t.add({m.backend, method_label(m), node_format_name(m.nodes), rays_label(m),
            fmt::format("{:.2f}x", m.mrays_per_s() / r->mrays_per_s()),
            q ? fmt::format("{:.2f}x", m.mrays_per_s() / q->mrays_per_s()) : "-",
@@ -200,7 +219,7 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) 
 
 nlohmann::json bench_row_json(const BenchRow& r) {
   nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"builder", builder_name(r.builder)},
-                      {"nodes", node_format_name(r.nodes)}, {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},
+                      {"nodes", node_format_name(r.nodes)}, {"curve_isect", curve_isect_name(r.curve_isect)}, {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},
                       {"device", r.device}};
   e["bytes"] = {{"acceleration", r.accel_bytes}, {"primitives", r.prim_bytes}, {"device", r.device_bytes}};
   e["primitives"] = r.primitives;

@@ -17,15 +17,19 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model =
 Table bench_builders(const std::vector<BenchRow>& rows);
 nlohmann::json bench_row_json(const BenchRow& row);
 nlohmann::json bench_json(const Scene& scene, const BenchOptions& opt, const std::vector<BenchRow>& rows);
-// The ref and masq rows of one backend and ray set (nullptr when missing or unavailable):
-// the first builder's and node format's, the given builder's (any format), or the given
-// builder's and node format's.
-// "ref", or "ref [sbvh]" for a builder other than the default.
+// "ref", or "ref [sbvh]" for a builder other than the default, "masq (roving)" for a
+// curve intersector other than the default.
 std::string method_label(const BenchRow& r);
+// The ref and masq rows of one backend and ray set (nullptr when missing or unavailable):
+// the first builder's, node format's and curve intersector's, the given builder's (any
+// format), or the given builder's, node format's and curve intersector's.
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set);
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b);
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& backend, Method m, RaySet set, Builder b,
-                         NodeFormat nodes);
+                         NodeFormat nodes, CurveIsect isect = CurveIsect::Phantom);
+// Curve intersectors side by side (`masq bench --curve-isect phantom,roving`): each row
+// against the phantom row of the same backend, method, builder, format and ray set.
+Table bench_curve_isect_ratios(const std::vector<BenchRow>& rows);
 // Node formats side by side (rows of several formats, `masq bench --nodes w4,w8,q8`):
 // each w8/q8 row against the w4 row of the same backend, method, builder and ray set.
 Table bench_node_ratios(const std::vector<BenchRow>& rows);

@@ -95,6 +95,7 @@ BenchRow lane_row(const Lane& lane, const std::string& backend, const RayBatch& 
   row.method = lane.method;
   row.builder = ps.builder;
   row.nodes = ps.features.nodes;
+  row.curve_isect = ps.features.curve_isect;
   row.ray_set = batch.set;
   row.query = batch_query(batch, *lane.opt);
   row.rays = double(batch.rays.size());
@@ -318,28 +319,33 @@ std::vector<RayBatch> make_ray_batches(const Scene& scene, const BuiltMethods& b
 
 const BuiltMethods& BenchRun::built_for(const BenchRow& row) const {
   for (std::size_t k = 0; k < built.size(); ++k)
-    if (options[k].accel.builder.kind == row.builder && options[k].accel.nodes == row.nodes) return built[k];
-  throw Error(fmt::format("bench: no structure built with builder {} and node format {}", builder_name(row.builder),
-                          node_format_name(row.nodes)));
+    if (options[k].accel.builder.kind == row.builder && options[k].accel.nodes == row.nodes &&
+        options[k].accel.curve_isect == row.curve_isect)
+      return built[k];
+  throw Error(fmt::format("bench: no structure built with builder {}, node format {} and curve intersector {}",
+                          builder_name(row.builder), node_format_name(row.nodes), curve_isect_name(row.curve_isect)));
 }
 
 BenchRun run_bench_kept(const Scene& scene, const BenchOptions& opt, BackendPool& pool) {
   if (opt.builders.empty()) throw Error("bench: no builder to run");
   if (opt.node_formats.empty()) throw Error("bench: no node format to run");
+  if (opt.curve_isects.empty()) throw Error("bench: no curve intersector to run");
   // Every builder's and node format's scenes first, then per backend all of them.
   BenchRun run;
   std::vector<BuiltMethods>& built = run.built;
   std::vector<BenchOptions>& per_build = run.options;
-  built.reserve(opt.builders.size() * opt.node_formats.size());
+  built.reserve(opt.builders.size() * opt.node_formats.size() * opt.curve_isects.size());
   per_build.reserve(built.capacity());
   for (Builder b : opt.builders)
-    for (NodeFormat f : opt.node_formats) {
-      BenchOptions one = opt;
-      one.accel.builder.kind = b;
-      one.accel.nodes = f;
-      built.push_back(build_methods(scene, one));
-      per_build.push_back(std::move(one));
-    }
+    for (NodeFormat f : opt.node_formats)
+      for (CurveIsect ci : opt.curve_isects) {
+        BenchOptions one = opt;
+        one.accel.builder.kind = b;
+        one.accel.nodes = f;
+        one.accel.curve_isect = ci;
+        built.push_back(build_methods(scene, one));
+        per_build.push_back(std::move(one));
+      }
   run.batches = make_ray_batches(scene, built.front(), per_build.front(), pool);
   const std::vector<RayBatch>& batches = run.batches;
   std::vector<const BuiltMethods*> builds;
@@ -363,7 +369,8 @@ BenchRun run_bench_kept(const Scene& scene, const BenchOptions& opt, BackendPool
   std::stable_sort(rows.begin(), rows.end(), [&](const BenchRow& a, const BenchRow& b) {
     auto key = [&](const BenchRow& r) {
       return std::tuple(index(opt.backends, r.backend), index(opt.methods, r.method), index(opt.builders, r.builder),
-                        index(opt.node_formats, r.nodes), index(opt.ray_sets, r.ray_set));
+                        index(opt.node_formats, r.nodes), index(opt.curve_isects, r.curve_isect),
+                        index(opt.ray_sets, r.ray_set));
     };
     return key(a) < key(b);
   });

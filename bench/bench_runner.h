@@ -53,6 +53,8 @@ struct BenchOptions {
   std::vector<Builder> builders = {Builder::Sah};
   // Node formats run side by side the same way (each replaces accel.nodes in turn).
   std::vector<NodeFormat> node_formats = {NodeFormat::W4};
+  // Curve intersectors run side by side the same way (each replaces accel.curve_isect).
+  std::vector<CurveIsect> curve_isects = {CurveIsect::Phantom};
   AutoBy auto_by = AutoBy::Pilot;
   PilotOptions pilot;
   std::function<void(const std::string&)> progress; // one line per step, may be empty
@@ -64,6 +66,7 @@ struct BenchRow {
   Method method = Method::Ref;
   Builder builder = Builder::Sah;
   NodeFormat nodes = NodeFormat::W4;
+  CurveIsect curve_isect = CurveIsect::Phantom;
   RaySet ray_set = RaySet::Primary;
   Query query = Query::Closest;
   std::string unavailable; // non-empty: the backend could not run (why)

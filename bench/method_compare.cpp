@@ -19,7 +19,8 @@ std::string method_cell(const std::vector<BenchRow>& rows, const std::string& ba
     double r = automatic->mrays_per_s() / best;
     Method kept = automatic->build.auto_choice;
     const BenchRow* same =
-        kept == Method::Auto ? automatic : find_row(rows, backend, kept, set, automatic->builder, automatic->nodes);
+        kept == Method::Auto ? automatic
+                             : find_row(rows, backend, kept, set, automatic->builder, automatic->nodes, automatic->curve_isect);
     // auto's cluster candidate may have another shape than the cluster row's: then no
     // row holds the same bytes.
     if (same && kept == Method::Cluster &&

@@ -175,6 +175,7 @@ int bench(BenchCli& c) {
   c.bench.auto_by = parse_auto_by(c.auto_by);
   c.bench.builders = parse_builders(c.scene);
   c.bench.node_formats = node_formats(c.scene);
+  c.bench.curve_isects = curve_isects(c.scene);
   c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && embedded_scene_table.parse(c.scene.scene) == EmbeddedScene::Bundle;
   fmt::print("scene '{}': {} primitives{}, {} mode, nodes {}, {} masquerade entries, {}x{} camera rays; ray sets: {}; "
@@ -193,6 +194,8 @@ int bench(BenchCli& c) {
   fmt::print("{}\n{}", bench_table(rows).text(),
              ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n") : ratios.text());
   if (c.bench.node_formats.size() > 1) fmt::print("\nnode formats side by side:\n{}", bench_node_ratios(rows).text());
+  if (c.bench.curve_isects.size() > 1)
+    fmt::print("\ncurve intersectors side by side:\n{}", bench_curve_isect_ratios(rows).text());
   print_auto_choices(rows, c.bench.auto_by);
   if (!builders.rows.empty()) fmt::print("\nbuilders side by side:\n{}", builders.text());
   if (c.fit_prices) {

@@ -42,7 +42,9 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->capture_default_str()
       ->check(CLI::IsMember(curve_obb_table.names()));
   cmd.add_option("--curve-iters", opt.curve_iters, "Phantom curve iteration limit")->capture_default_str()->check(CLI::Range(1, 64));
-  cmd.add_option("--curve-isect", opt.curve_isect, "Cubic-curve intersector: " + curve_isect_table.help())
+  cmd.add_option("--curve-isect", opt.curve_isects,
+                 "Cubic-curve intersector: " + curve_isect_table.help() + "; bench takes a comma-separated list and runs each")
+      ->delimiter(',')
       ->capture_default_str()
       ->check(CLI::IsMember(curve_isect_table.names()));
   cmd.add_option("--cluster-size", opt.cluster_size, "Methods cluster/auto: most primitives per oriented cluster")
@@ -131,6 +133,17 @@ Scene make_scene(const SceneOptions& opt) {
   return s;
 }
 
+std::vector<CurveIsect> curve_isects(const SceneOptions& opt) {
+  std::vector<CurveIsect> out;
+  for (const std::string& n : opt.curve_isects) {
+    CurveIsect c = parse_curve_isect(n);
+    if (std::find(out.begin(), out.end(), c) != out.end()) throw Error("--curve-isect: '" + n + "' is given twice");
+    out.push_back(c);
+  }
+  if (out.empty()) throw Error("--curve-isect: no curve intersector given");
+  return out;
+}
+
 std::vector<NodeFormat> node_formats(const SceneOptions& opt) {
   std::vector<NodeFormat> out;
   for (const std::string& n : opt.nodes) {
@@ -148,7 +161,7 @@ AccelOptions accel_options(const SceneOptions& opt) {
   a.mode = parse_mode(opt.mode);
   a.curve_obb = parse_curve_obb(opt.curve_obb);
   a.curve_iters = opt.curve_iters;
-  a.curve_isect = parse_curve_isect(opt.curve_isect);
+  a.curve_isect = curve_isects(opt).front();
   a.masq_instances = parse_masq_instances(opt.masq_instance);
   a.cluster.max_size = opt.cluster_size;
   a.cluster.classes = opt.cluster_classes;

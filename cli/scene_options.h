@@ -32,7 +32,8 @@ struct SceneOptions {
   std::string mode = "robust";
   std::string curve_obb = "tight";
   int curve_iters = 24;
-  std::string curve_isect = "phantom";
+  // Cubic-curve intersectors (curve_isect_table): bench runs each side by side; the others take one.
+  std::vector<std::string> curve_isects{"phantom"};
   int cluster_size = 32;     // cluster, auto
   int cluster_classes = 32;  // cluster, auto
   double cluster_leaf_price = 4.0; // cluster, auto: ClusterOptions::leaf_price
@@ -55,4 +56,6 @@ AccelOptions accel_options(const SceneOptions& opt);
 std::vector<Builder> parse_builders(const SceneOptions& opt);
 // Every node format of opt.nodes, parsed (throws masq::Error on an unknown or repeated one).
 std::vector<NodeFormat> node_formats(const SceneOptions& opt);
+// The --curve-isect list (bench runs each; the others take the first); throws on a repeat.
+std::vector<CurveIsect> curve_isects(const SceneOptions& opt);
 } // namespace masq::cli

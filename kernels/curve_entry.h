@@ -29,51 +29,51 @@ STRUCT_BEGIN(CurveEnvelope)
   float h;
 STRUCT_END(CurveEnvelope)
 
-FN CurveEnvelope curve_envelope(CurvePoint e, float r) {
+// zs = 1: for the entries z - sqrt(h); zs = -1: for the exits z + sqrt(h), as the
+// entries of the curve mirrored in z (-z - sqrt(h) = -(z + sqrt(h))).
+FN CurveEnvelope curve_envelope(CurvePoint e, float r, float zs) {
   CurveEnvelope v;
   float rho = sqrt(e.p.x * e.p.x + e.p.y * e.p.y);
   v.h = (r - rho) * (r + rho);
   float g = e.p.x * e.d.x + e.p.y * e.d.y;
   float sq = sqrt(max(v.h, 0.0f));
-  v.dv = e.d.z * sq + g;
+  v.dv = zs * e.d.z * sq + g;
   float gd = e.d.x * e.d.x + e.d.y * e.d.y + e.p.x * e.dd.x + e.p.y * e.dd.y;
-  v.slope = v.h > 0.0f ? e.dd.z * sq - e.d.z * g / sq + gd : 0.0f;
+  v.slope = v.h > 0.0f ? zs * (e.dd.z * sq - e.d.z * g / sq) + gd : 0.0f;
   return v;
 }
 
-// The least entry of the piece [p0, p1] of the curve, starting from s (a guess inside);
-// [sa, sb]: the part of the curve searched (no ball outside it meets the ray).
-// found: 1 the entry (z, s, outward normal, frame); 0 the piece's least entry lies at an
-// end shared with a neighbouring piece, which holds it, or nowhere; -1 not settled here
-// (the caller splits the piece).
-FN CurveRoot curve_piece_entry(CurveFrame f, float p0, float p1, float s, float sa, float sb) {
+// The least entry (zs = 1) or the greatest exit (zs = -1) of the piece [p0, p1] of the
+// curve, starting from s (a guess inside); [sa, sb]: the part of the curve searched (no
+// ball outside it meets the ray). found: 1 the entry or exit (z, s, outward normal,
+// frame); 2 it is that of the ball at an end shared with a neighbouring piece, whose own
+// reaches further (a bound, not a point of the surface); -1 not settled here (the
+// caller splits the piece).
+FN CurveRoot curve_piece_entry(CurveFrame f, float p0, float p1, float s, float sa, float sb, float zs) {
   CurveRoot rt;
   rt.found = -1;
   rt.z = 0.0f;
   rt.s = s;
   rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
-  CurveEnvelope v0 = curve_envelope(curve_eval(f, p0), f.r);
-  CurveEnvelope v1 = curve_envelope(curve_eval(f, p1), f.r);
+  CurveEnvelope v0 = curve_envelope(curve_eval(f, p0), f.r, zs);
+  CurveEnvelope v1 = curve_envelope(curve_eval(f, p1), f.r, zs);
   int lo_up = v0.dv >= 0.0f ? 1 : 0;   // z_in rises from p0
   int hi_down = v1.dv <= 0.0f ? 1 : 0; // z_in falls towards p1
   if (lo_up != 0 && hi_down != 0) return rt; // not convex here
-  float se = -1.0f;                          // an end of the curve that holds the least entry
+  // z_in rising from p0 (or falling to p1) all the way: the least entry is the ball's at
+  // that end. If that ball misses the ray, the piece's z_in is not as assumed (the caller
+  // knows the ray meets the piece): not settled. At an end the piece shares with a
+  // neighbour (not an end of [sa, sb]; pieces' ends are at least a piece width apart, so
+  // a quarter of one absorbs the rounding of their sums) it is not a point of the
+  // surface, as the neighbour's balls reach further: found 2, a bound.
+  float se = -1.0f;
+  int at_joint = 0;
   if (lo_up != 0 || hi_down != 0) {
-    float pe = lo_up != 0 ? p0 : p1;
     float he = lo_up != 0 ? v0.h : v1.h;
-    // An end of the searched part (pieces' ends are at least a piece width apart, so a
-    // quarter of one absorbs the rounding of their sums).
+    if (!(he > 0.0f)) return rt;
+    se = lo_up != 0 ? p0 : p1;
     float q = 0.25f * (p1 - p0);
-    int outer = lo_up != 0 ? (p0 - sa <= q ? 1 : 0) : (sb - p1 <= q ? 1 : 0);
-    if (outer == 0) {
-      rt.found = 0; // the neighbour past pe holds it (or no ball there meets the ray)
-      return rt;
-    }
-    if (!(he > 0.0f)) {
-      rt.found = 0; // the end ball misses the ray: no entry in this piece
-      return rt;
-    }
-    se = pe;
+    at_joint = lo_up != 0 ? (p0 - sa > q ? 1 : 0) : (sb - p1 > q ? 1 : 0);
   }
   float lo = p0;
   float hi = p1;
@@ -85,7 +85,7 @@ FN CurveRoot curve_piece_entry(CurveFrame f, float p0, float p1, float s, float 
     int done = 0;
     for (int k = 0; k < MASQ_ENTRY_STEPS && done == 0; ++k) {
       CurvePoint e = curve_eval(f, s);
-      CurveEnvelope v = curve_envelope(e, f.r);
+      CurveEnvelope v = curve_envelope(e, f.r, zs);
       // Settled when D is below 2^-12 |C'| r: then t is off by about 2^-25 r (the
       // error of s is D / D', that of t is second order in it). Not by the size of a
       // step alone: where the ray grazes a ball, D' is huge and steps are tiny.
@@ -103,14 +103,14 @@ FN CurveRoot curve_piece_entry(CurveFrame f, float p0, float p1, float s, float 
     if (done == 0) return rt;
   }
   CurvePoint e = curve_eval(f, s);
-  CurveEnvelope v = curve_envelope(e, f.r);
+  CurveEnvelope v = curve_envelope(e, f.r, zs);
   if (!(v.h > 0.0f)) return rt;
   if (se < 0.0f && !(v.slope > 0.0f)) return rt; // a maximum of z_in, not the entry
   float w = sqrt(v.h);
-  rt.found = 1;
-  rt.z = e.p.z - w;
+  rt.found = at_joint != 0 ? 2 : 1;
+  rt.z = e.p.z - zs * w;
   rt.s = s;
-  rt.nrm = VEC3(-e.p.x, -e.p.y, -w);
+  rt.nrm = VEC3(-e.p.x, -e.p.y, -zs * w);
   return rt;
 }
 

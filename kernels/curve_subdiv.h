@@ -262,6 +262,7 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
   float wbest = 0.0f; // s-width of the leaf that gave the answer
   float wcur = 0.0f;
   int refined = 0; // the answer came from a coarse leaf, already on the surface
+  int cref = 0;    // cur came from a coarse leaf (on the surface)
   // Passes: 0 entry and containment (the nearest entry at or after zlo, stopping at
   // the first leaf that holds zlo), 1 entry alone (zlo known to be outside), then
   // 2 extension (inside, repeated until cur stays).
@@ -328,27 +329,58 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
           else if (r > rdev && si.zin <= si.zout && si.zin - so.zin <= ttol && so.zout - si.zout <= ttol &&
                    !(so.zin <= zlo && zlo <= si.zin) && !(si.zout <= zlo && zlo <= so.zout))
             leaf = 1; // (and zlo is not in either band: inside or outside is certain)
-          else if (mode <= 1 && dev <= coarse && r > rdev && si.zin <= si.zout && zlo < so.zin &&
-                   cc >= MASQ_COARSE_SIN2 * dot(ch, ch) && dev * dev <= MASQ_COARSE_BOW2 * dot(ch, ch) &&
-                   curve_runs_along(pc, ch) != 0) {
-            // Coarse leaf: the piece surely holds an entry, in [so.zin, si.zin], and the
-            // envelope condition on the curve itself finds its least one (curve_entry.h).
-            // That needs z_in convex on the piece: the ray crosses it at an angle (a ray
-            // nearly along it sees the bends, not the line), it bows by little against
-            // its length (its tangent turns little), and seen along the ray the
-            // piece runs one way along its chord (a fold or cusp doubles back). One
-            // outside that band is not trusted: the piece is split instead.
-            float sg = s0 + so.uin * hs; // (the outer capsule's entry: a start near the answer)
-            cand = curve_piece_entry(f, s0, s0 + hs, sg, sa, sa + sw);
-            if (cand.found == 0) leaf = 2;
-            if (cand.found == 1 && cand.z >= so.zin - ttol && cand.z <= si.zin + ttol && cand.z >= zlo) leaf = 2;
+          else if (dev <= coarse && r > rdev && cc >= MASQ_COARSE_SIN2 * dot(ch, ch) &&
+                   dev * dev <= MASQ_COARSE_BOW2 * dot(ch, ch) && curve_runs_along(pc, ch) != 0) {
+            // A coarse piece: its z_in and z_out are convex and concave, so the least
+            // entry and the greatest exit are where the envelope condition holds on the
+            // curve itself (curve_entry.h). That needs a ray crossing the piece at an
+            // angle (a ray nearly along it sees the bends, not the line), a piece that
+            // bows by little against its length (its tangent turns little), and one that
+            // runs one way along its chord seen along the ray (a fold or cusp doubles
+            // back). An answer outside the band the two capsules leave is not trusted:
+            // the piece is split instead.
+            if (mode <= 1 && si.zin <= si.zout && zlo < so.zin) {
+              // The ray crosses the inner capsule, from before the outer one: the piece
+              // surely holds an entry, in [so.zin, si.zin].
+              cand = curve_piece_entry(f, s0, s0 + hs, s0 + so.uin * hs, sa, sa + sw, 1.0f);
+              // (found 2: an entry at the joint with a neighbour, whose own is lower: a
+              // bound, moved onto the surface by curve_refine if nothing beats it)
+              if (cand.found >= 1 && cand.z >= so.zin - ttol && cand.z <= si.zin + ttol && cand.z >= zlo) leaf = 2;
+            } else if (mode == 2 || zlo >= so.zin) {
+              // The ray starts past the piece's first entries (a secondary ray leaving
+              // or entering this curve), or the merged interval is being extended past
+              // cur: what matters is the piece's greatest exit. If it lies before the
+              // point (zlo, or cur), no ball of the piece reaches it: nothing here. If
+              // the point is inside the inner capsule, the piece's interval holds it and
+              // ends at that exit.
+              float from = mode == 2 ? cur : zlo;
+              cand = curve_piece_entry(f, s0, s0 + hs, s0 + so.uout * hs, sa, sa + sw, -1.0f);
+              if (cand.found >= 1 && cand.z >= so.zin && cand.z <= so.zout + ttol) {
+                if (cand.z < from || (mode == 2 && cand.z <= cur)) keep = 0;
+                else if (mode != 1 && si.zin < from && from < si.zout) leaf = 3;
+              }
+            }
           }
         }
-        if (keep != 0 && leaf == 2) {
-          if (cand.found == 1 && cand.z <= best) {
+        if (keep != 0 && leaf == 3) {
+          // The ray at zlo (mode 0) or cur (mode 2) is inside: the interval ends at the
+          // piece's greatest exit, or later.
+          inside = 1;
+          if (mode == 0 || cand.z > cur) {
+            cur = cand.z;
+            ncur = cand.nrm;
+            scur = cand.s;
+            cref = cand.found == 1 ? 1 : 0; // (2: at a joint; refined if it stays the end)
+            wcur = hs;
+          }
+          if (mode == 0) stop = 1;
+        } else if (keep != 0 && leaf == 2) {
+          if (cand.z <= best) {
             best = cand.z;
             rt = cand;
-            refined = 1;
+            rt.found = 1;
+            refined = cand.found == 1 ? 1 : 0; // (2: at a joint; refined if it stays the answer)
+            wbest = hs;
           }
         } else
         if (keep != 0 && leaf != 0) {
@@ -366,6 +398,7 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
           if (met != 0 && ((mode == 0 && sp.zin < zlo && sp.zout >= zlo) || (mode == 2 && sp.zin <= cur && sp.zout > cur))) {
             inside = 1;
             cur = sp.zout;
+            cref = 0;
             ncur = sp.nout;
             scur = s0 + sp.uout * hs;
             wcur = hs;
@@ -408,7 +441,7 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
     mode = inside != 0 ? 2 : 1;
   }
   if (inside != 0) {
-    refined = 0;
+    refined = cref;
     rt.found = cur <= zmax ? 1 : 0;
     rt.z = cur;
     rt.s = scur;
