@@ -1,11 +1,12 @@
 // peers: masq against Embree 3 (the Debian package; round linear curves for capsules
-// and links, round Bezier curves for cubics, triangles) and the driver's ray query, on
-// the same rays, as ratios measured in the same run.
+// and links, round Bezier curves closed by sphere points for cubics, triangles) and the
+// driver's ray query, on the same rays, as ratios measured in the same run.
 #include "bench/bench_report.h"
 #include "bench/suite.h"
 #include "oracle/oracle.h"
 #include "peers/embree_peer.h"
 #include "masq/error.h"
+#include "scenes/curve_tools.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
 #include <algorithm>
@@ -181,8 +182,59 @@ const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set, bool 
 
 struct PeerScene {
   std::string label;
-  std::string file; // under data_dir; empty: the embedded default bundle
+  std::string file;    // under data_dir; empty: the embedded default bundle
+  bool curves = false; // the strands as table1's cubic curves instead of as loaded
 };
+
+Scene load_peer_scene(const SuiteConfig& cfg, const PeerScene& ps) {
+  if (ps.file.empty()) return make_default_scene();
+  std::string path = (std::filesystem::path(cfg.data_dir) / ps.file).string();
+  if (!ps.curves) return load_scene_file(path);
+  // The cubics of table1's phantom x1 (bench/suite_hair.cpp make_case): the strands as
+  // round cones, chained into Catmull-Rom curves through their points, one Bezier piece
+  // per segment. Embree gets these very fp32 control points (embree_peer.cpp).
+  LoadOptions lo;
+  lo.strand_type = PrimType::RoundCone;
+  return segments_to_curves(load_scene_file(path, lo));
+}
+
+// One Embree scene on one ray set: its time alone, its agreement with masq's best and
+// the oracle's word on where they differ.
+struct EmbreeRun {
+  PeerTimes times;
+  double mrays = 0;
+  Agreement agreement;
+  Arbitration oracle;
+  nlohmann::json json() const {
+    return {{"mrays_per_s", mrays},
+            {"trace_seconds", {{"median", times.median}, {"min", times.min}, {"max", times.max}}},
+            {"hit_miss_disagree", agreement.hit_miss},
+            {"common_hits", agreement.common},
+            {"other_primitive", agreement.other_prim},
+            {"oracle", {{"traced", oracle.traced}, {"masq_right", oracle.a_right}, {"embree_right", oracle.b_right}}}};
+  }
+};
+
+EmbreeRun run_embree(EmbreePeer& peer, const oracle::Oracle& orc, const RayBatch& batch, const BenchRow& best,
+                     const BenchOptions& opt) {
+  EmbreeRun r;
+  std::vector<kernel::Hit> hits(batch.rays.size());
+  r.times = time_embree(peer, batch.rays, hits, best.query, opt);
+  r.mrays = batch.rays.size() / r.times.median * 1e-6;
+  r.agreement = agree(best.hits, hits, best.query);
+  r.oracle = arbitrate(orc, batch.rays, best.hits, hits, r.agreement.differing, best.query);
+  return r;
+}
+
+// The curve scenes' Embree shapes besides the main table's (strand ends): how much the
+// end spheres change the answers and cost Embree.
+struct EndVariant {
+  CurveEnds ends;
+  const char* name;
+};
+constexpr EndVariant kEndVariants[] = {{CurveEnds::Open, "open (no spheres)"},
+                                       {CurveEnds::StrandEnds, "strand ends (main table)"},
+                                       {CurveEnds::EveryEnd, "every curve end"}};
 
 } // namespace
 
@@ -206,6 +258,12 @@ SuiteResult run_peers(SuiteContext& ctx) {
               "masq/Embree", "Embree agreement",
               "oracle: masq / Embree right", "rayquery best", "rayquery/masq", "rayquery agreement"};
   t.left_columns = 3;
+  Table ends;
+  ends.title = "curve ends: Embree's round Bezier curves open, and closed by sphere points of the curve's radius at "
+               "the strand ends (the shape of masq's curves; the table above) or at every curve end";
+  ends.header = {"scene", "rays", "Embree curve ends", "end spheres", "Embree Mrays/s (alone)", "vs open",
+                 "Embree agreement", "oracle: masq / Embree right"};
+  ends.left_columns = 3;
   Table build;
   build.title = "build time and memory";
   build.header = {"scene", "masq ref build ms", "masq ref MiB", "masq masq build ms", "masq masq MiB", "Embree build ms",
@@ -213,11 +271,11 @@ SuiteResult run_peers(SuiteContext& ctx) {
   build.left_columns = 1;
   res.data["scenes"] = nlohmann::json::array();
   for (const PeerScene& ps : {PeerScene{"bear fur (TressFX 3), capsules", "hair/tressfx3_bear.tfx"},
+                              PeerScene{"bear fur (TressFX 3), curves", "hair/tressfx3_bear.tfx", true},
                               PeerScene{"default bundle (N=1000 r=0.002 tilt 45 + ground)", ""}}) {
     Scene scene;
     try {
-      scene = ps.file.empty() ? make_default_scene()
-                              : load_scene_file((std::filesystem::path(ctx.config.data_dir) / ps.file).string());
+      scene = load_peer_scene(ctx.config, ps);
     } catch (const std::exception& e) {
       t.add({ps.label, "-", "unavailable: " + std::string(e.what())});
       continue;
@@ -249,7 +307,28 @@ SuiteResult run_peers(SuiteContext& ctx) {
         embree.reset();
       }
     }
+    // Curve scenes: Embree's other curve ends (kEndVariants), each a scene of its own.
+    std::vector<std::unique_ptr<EmbreePeer>> variants;
+    bool has_curves = std::any_of(scene.geometries.begin(), scene.geometries.end(),
+                                  [](const Geometry& g) { return g.type == PrimType::Curve; });
+    if (embree && has_curves) {
+      try {
+        for (const EndVariant& v : kEndVariants) {
+          if (v.ends == CurveEnds::StrandEnds) {
+            variants.emplace_back(); // the main peer
+            continue;
+          }
+          ctx.say(std::string("peers ") + ps.label + ": Embree build, curve ends " + v.name);
+          variants.push_back(std::make_unique<EmbreePeer>(2));
+          variants.back()->set_scene(scene, ctx.config.mode == Mode::Robust, v.ends);
+        }
+      } catch (const std::exception& e) {
+        ends.add({ps.label, "-", "unavailable: " + std::string(e.what())});
+        variants.clear();
+      }
+    }
     nlohmann::json sj = {{"scene", ps.label}, {"primitives", scene.primitive_count()}};
+    if (embree) sj["embree_end_spheres"] = embree->end_spheres();
     const oracle::Oracle orc(scene); // arbitrates where masq and a peer disagree
     for (const BenchRow& r : rows) sj["results"].push_back(bench_row_json(r));
     for (std::size_t b = 0; b < batches.size(); ++b) {
@@ -269,28 +348,38 @@ SuiteResult run_peers(SuiteContext& ctx) {
       if (!alone_error[b].empty()) {
         line.insert(line.end(), {"unavailable: " + alone_error[b], "-", "-", "-", "-"});
       } else if (embree) {
-        ctx.say("peers " + ps.label + ": Embree " + ray_set_name(batch.set));
-        std::vector<kernel::Hit> hits(batch.rays.size());
-        PeerTimes pt = time_embree(*embree, batch.rays, hits, best->query, opt);
+        ctx.say("peers " + ps.label + ": Embree " + ray_set_name(batch.set) + ", then the oracle on the differing rays");
+        EmbreeRun er = run_embree(*embree, orc, batch, *best, opt);
         const PeerTimes& mt = masq_alone[b];
-        double mrays = batch.rays.size() / pt.median * 1e-6;
         double masq_mrays = batch.rays.size() / mt.median * 1e-6;
-        Agreement g = agree(best->hits, hits, best->query);
         line.push_back(fmt::format("{:.3f}", masq_mrays));
-        line.push_back(fmt::format("{:.3f}", mrays));
-        line.push_back(fmt::format("{:.2f}x", masq_mrays / mrays));
-        line.push_back(g.text());
-        ctx.say("peers " + ps.label + ": oracle on the differing rays");
-        Arbitration arb = arbitrate(orc, batch.rays, best->hits, hits, g.differing, best->query);
-        line.push_back(arb.text());
+        line.push_back(fmt::format("{:.3f}", er.mrays));
+        line.push_back(fmt::format("{:.2f}x", masq_mrays / er.mrays));
+        line.push_back(er.agreement.text());
+        line.push_back(er.oracle.text());
         pj["masq_alone"] = {{"mrays_per_s", masq_mrays},
                             {"trace_seconds", {{"median", mt.median}, {"min", mt.min}, {"max", mt.max}}}};
-        pj["embree"] = {{"mrays_per_s", mrays},
-                        {"trace_seconds", {{"median", pt.median}, {"min", pt.min}, {"max", pt.max}}},
-                        {"hit_miss_disagree", g.hit_miss},
-                        {"common_hits", g.common},
-                        {"other_primitive", g.other_prim},
-                        {"oracle", {{"traced", arb.traced}, {"masq_right", arb.a_right}, {"embree_right", arb.b_right}}}};
+        pj["embree"] = er.json();
+        // The same rays through Embree's other curve ends, beside the main table's.
+        std::vector<EmbreeRun> vr(variants.size());
+        for (std::size_t k = 0; k < variants.size(); ++k)
+          if (variants[k]) {
+            ctx.say(std::string("peers ") + ps.label + ": Embree " + ray_set_name(batch.set) + ", curve ends " +
+                    kEndVariants[k].name);
+            vr[k] = run_embree(*variants[k], orc, batch, *best, opt);
+          } else {
+            vr[k] = er;
+          }
+        for (std::size_t k = 0; k < vr.size(); ++k) {
+          const EmbreePeer& peer = variants[k] ? *variants[k] : *embree;
+          ends.add({ps.label, line[1], kEndVariants[k].name, std::to_string(peer.end_spheres()),
+                    fmt::format("{:.3f}", vr[k].mrays), fmt::format("{:.2f}x", vr[k].mrays / vr[0].mrays),
+                    vr[k].agreement.text(), vr[k].oracle.text()});
+          nlohmann::json vj = vr[k].json();
+          vj["ends"] = kEndVariants[k].name;
+          vj["end_spheres"] = peer.end_spheres();
+          pj["embree_curve_ends"].push_back(vj);
+        }
       } else {
         line.push_back(fmt::format("{:.3f}", batch.rays.size() / masq_alone[b].median * 1e-6));
         line.insert(line.end(), {"unavailable", "-", "-", "-"});
@@ -321,7 +410,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
     res.data["scenes"].push_back(sj);
   }
   t.notes = {embree_why.empty() ? "Embree: " + EmbreePeer::version() + ", 2 threads, rtcIntersect1 per ray (rtcOccluded1 for shadow rays, as masq traces them: any hit, early exit); capsules as "
-                                  "round linear curves, the ground plane as triangles"
+                                  "round linear curves, cubic curves as round Bezier curves closed by sphere points, the "
+                                  "ground plane as triangles"
                                 : "Embree: " + embree_why,
              "oracle: of the differing rays (at most 300, evenly spread), how many masq and Embree answer as the "
              "long-double oracle does",
@@ -330,10 +420,20 @@ SuiteResult run_peers(SuiteContext& ctx) {
              "uploaded again and its warm-up and timed traces run in a row, as Embree's then are (in the lanes each "
              "trace follows another method's, with cold caches); masq/Embree: both alone",
              "rayquery: "
-             "the driver's BVH with masq's intersectors, best of its four methods and two builders"};
+             "the driver's BVH with masq's intersectors, best of its four methods and two builders",
+             "curves: table1's phantom x1 cubics (the strands as round cones chained into Catmull-Rom curves, one "
+             "Bezier piece per segment), traced by masq with the run's curve intersector; Embree gets the same fp32 "
+             "Bezier control points and radius. Embree 3's round Bezier curves sweep a circle and are open at both "
+             "ends (man RTC_GEOMETRY_TYPE_CURVE(3), Round Curves), masq's are the union of balls along the curve; "
+             "sphere points of the curve's radius at every strand end (and at a joint whose next curve is thinner) "
+             "give Embree masq's shape, and a hit on one counts as the curve it closes. The curve ends table "
+             "measures Embree without them and with one at every curve end"};
+  ends.notes = {"vs open: Embree's rate over its rate on open curves (the cost of the spheres); agreement and oracle "
+                "as in the table above, against the same masq best"};
   build.notes = {"masq: host build + upload (first backend), nodes + instances + primitives; Embree: rtcCommitScene, "
                  "memory from Embree's device memory monitor"};
   res.tables = {t, build};
+  if (!ends.rows.empty()) res.tables.push_back(ends);
   res.method = fmt::format("{}x{} camera rays and the shadow and diffuse rays derived from their hits; every tracer gets "
                            "the same rays; median of {} timed traces after {} warm-up; Embree timed by wall clock, after "
                            "masq's fastest tracer of every ray set was timed alone the same way.",
