@@ -149,25 +149,29 @@ PeerTimes time_masq_alone(BackendPool& pool, const BuiltMethods& built, const Be
 }
 
 // Embree on the batch: rtcIntersect1 for closest-hit sets, rtcOccluded1 for occlusion
-// sets (whose hits then only say occluded, prim 0, or not, prim -1).
-PeerTimes time_embree(EmbreePeer& peer, const std::vector<kernel::Ray>& rays, std::vector<kernel::Hit>& hits,
-                      Query query, const BenchOptions& opt) {
-  std::vector<double> t;
+// sets (whose hits then only say occluded, prim 0, or not, prim -1). Several scenes
+// take turns round by round, so that the machine's drift reaches each alike.
+std::vector<PeerTimes> time_embree(const std::vector<EmbreePeer*>& peers, const std::vector<kernel::Ray>& rays,
+                                   std::vector<std::vector<kernel::Hit>>& hits, Query query, int warmup, int rounds) {
+  std::vector<std::vector<double>> t(peers.size());
   std::vector<std::uint8_t> occluded(rays.size());
-  for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
-    if (query == Query::Any) {
-      peer.occluded(rays, occluded);
-    } else {
-      peer.trace(rays, hits);
+  hits.assign(peers.size(), std::vector<kernel::Hit>(rays.size()));
+  for (int i = 0; i < warmup + rounds; ++i)
+    for (std::size_t k = 0; k < peers.size(); ++k) {
+      if (query == Query::Any) {
+        peers[k]->occluded(rays, occluded);
+        for (std::size_t r = 0; r < rays.size(); ++r) {
+          hits[k][r] = kernel::Hit{};
+          hits[k][r].prim = occluded[r] ? 0 : -1;
+        }
+      } else {
+        peers[k]->trace(rays, hits[k]);
+      }
+      if (i >= warmup) t[k].push_back(peers[k]->timing().trace_seconds);
     }
-    if (i >= opt.warmup) t.push_back(peer.timing().trace_seconds);
-  }
-  if (query == Query::Any)
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      hits[i] = kernel::Hit{};
-      hits[i].prim = occluded[i] ? 0 : -1;
-    }
-  return times_of(t);
+  std::vector<PeerTimes> out;
+  for (std::vector<double>& tk : t) out.push_back(times_of(tk));
+  return out;
 }
 
 // The fastest available row of a ray set among masq's tracers, or among rayquery's.
@@ -215,19 +219,26 @@ struct EmbreeRun {
   }
 };
 
-EmbreeRun run_embree(EmbreePeer& peer, const oracle::Oracle& orc, const RayBatch& batch, const BenchRow& best,
-                     const BenchOptions& opt) {
-  EmbreeRun r;
-  std::vector<kernel::Hit> hits(batch.rays.size());
-  r.times = time_embree(peer, batch.rays, hits, best.query, opt);
-  r.mrays = batch.rays.size() / r.times.median * 1e-6;
-  r.agreement = agree(best.hits, hits, best.query);
-  r.oracle = arbitrate(orc, batch.rays, best.hits, hits, r.agreement.differing, best.query);
-  return r;
+// Each of `peers` on one ray set (round by round: time_embree), against masq's best.
+std::vector<EmbreeRun> run_embree(const std::vector<EmbreePeer*>& peers, const oracle::Oracle& orc,
+                                  const RayBatch& batch, const BenchRow& best, int warmup, int rounds) {
+  std::vector<std::vector<kernel::Hit>> hits;
+  std::vector<PeerTimes> times = time_embree(peers, batch.rays, hits, best.query, warmup, rounds);
+  std::vector<EmbreeRun> out(peers.size());
+  for (std::size_t k = 0; k < peers.size(); ++k) {
+    EmbreeRun& r = out[k];
+    r.times = times[k];
+    r.mrays = batch.rays.size() / r.times.median * 1e-6;
+    r.agreement = agree(best.hits, hits[k], best.query);
+    r.oracle = arbitrate(orc, batch.rays, best.hits, hits[k], r.agreement.differing, best.query);
+  }
+  return out;
 }
 
-// The curve scenes' Embree shapes besides the main table's (strand ends): how much the
-// end spheres change the answers and cost Embree.
+// The curve scenes' Embree shapes, the main table's (strand ends) among them: how much
+// the end spheres change the answers and cost Embree. Timed in turn round by round, for
+// kEndRounds x the repetitions (an Embree trace of the quick batch takes milliseconds,
+// where one burst of the shared machine's load swung a median of three by 2x).
 struct EndVariant {
   CurveEnds ends;
   const char* name;
@@ -235,6 +246,7 @@ struct EndVariant {
 constexpr EndVariant kEndVariants[] = {{CurveEnds::Open, "open (no spheres)"},
                                        {CurveEnds::StrandEnds, "strand ends (main table)"},
                                        {CurveEnds::EveryEnd, "every curve end"}};
+constexpr int kEndRounds = 5;
 
 } // namespace
 
@@ -261,8 +273,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
   Table ends;
   ends.title = "curve ends: Embree's round Bezier curves open, and closed by sphere points of the curve's radius at "
                "the strand ends (the shape of masq's curves; the table above) or at every curve end";
-  ends.header = {"scene", "rays", "Embree curve ends", "end spheres", "Embree Mrays/s (alone)", "vs open",
-                 "Embree agreement", "oracle: masq / Embree right"};
+  ends.header = {"scene", "rays", "Embree curve ends", "end spheres", "Embree build ms", "Embree MiB",
+                 "Embree Mrays/s (alone)", "vs open", "Embree agreement", "oracle: masq / Embree right"};
   ends.left_columns = 3;
   Table build;
   build.title = "build time and memory";
@@ -308,7 +320,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
       }
     }
     // Curve scenes: Embree's other curve ends (kEndVariants), each a scene of its own.
-    std::vector<std::unique_ptr<EmbreePeer>> variants;
+    std::vector<std::unique_ptr<EmbreePeer>> variants; // null: the main peer
     bool has_curves = std::any_of(scene.geometries.begin(), scene.geometries.end(),
                                   [](const Geometry& g) { return g.type == PrimType::Curve; });
     if (embree && has_curves) {
@@ -349,7 +361,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
         line.insert(line.end(), {"unavailable: " + alone_error[b], "-", "-", "-", "-"});
       } else if (embree) {
         ctx.say("peers " + ps.label + ": Embree " + ray_set_name(batch.set) + ", then the oracle on the differing rays");
-        EmbreeRun er = run_embree(*embree, orc, batch, *best, opt);
+        EmbreeRun er = run_embree({embree.get()}, orc, batch, *best, opt.warmup, opt.repetitions).front();
         const PeerTimes& mt = masq_alone[b];
         double masq_mrays = batch.rays.size() / mt.median * 1e-6;
         line.push_back(fmt::format("{:.3f}", masq_mrays));
@@ -360,24 +372,24 @@ SuiteResult run_peers(SuiteContext& ctx) {
         pj["masq_alone"] = {{"mrays_per_s", masq_mrays},
                             {"trace_seconds", {{"median", mt.median}, {"min", mt.min}, {"max", mt.max}}}};
         pj["embree"] = er.json();
-        // The same rays through Embree's other curve ends, beside the main table's.
-        std::vector<EmbreeRun> vr(variants.size());
-        for (std::size_t k = 0; k < variants.size(); ++k)
-          if (variants[k]) {
-            ctx.say(std::string("peers ") + ps.label + ": Embree " + ray_set_name(batch.set) + ", curve ends " +
-                    kEndVariants[k].name);
-            vr[k] = run_embree(*variants[k], orc, batch, *best, opt);
-          } else {
-            vr[k] = er;
-          }
+        // The same rays through each of Embree's curve ends, in turn.
+        std::vector<EmbreePeer*> peers;
+        for (const std::unique_ptr<EmbreePeer>& v : variants) peers.push_back(v ? v.get() : embree.get());
+        if (!peers.empty())
+          ctx.say(std::string("peers ") + ps.label + ": Embree " + ray_set_name(batch.set) + ", curve ends in turn");
+        std::vector<EmbreeRun> vr =
+            run_embree(peers, orc, batch, *best, opt.warmup, kEndRounds * opt.repetitions);
         for (std::size_t k = 0; k < vr.size(); ++k) {
-          const EmbreePeer& peer = variants[k] ? *variants[k] : *embree;
+          const EmbreePeer& peer = *peers[k];
           ends.add({ps.label, line[1], kEndVariants[k].name, std::to_string(peer.end_spheres()),
-                    fmt::format("{:.3f}", vr[k].mrays), fmt::format("{:.2f}x", vr[k].mrays / vr[0].mrays),
+                    fmt::format("{:.1f}", peer.timing().build_seconds * 1e3),
+                    fmt::format("{:.2f}", peer.bytes() / 1048576.0), fmt::format("{:.3f}", vr[k].mrays), fmt::format("{:.2f}x", vr[k].mrays / vr[0].mrays),
                     vr[k].agreement.text(), vr[k].oracle.text()});
           nlohmann::json vj = vr[k].json();
           vj["ends"] = kEndVariants[k].name;
           vj["end_spheres"] = peer.end_spheres();
+          vj["build_seconds"] = peer.timing().build_seconds;
+          vj["bytes"] = peer.bytes();
           pj["embree_curve_ends"].push_back(vj);
         }
       } else {
@@ -428,8 +440,11 @@ SuiteResult run_peers(SuiteContext& ctx) {
              "sphere points of the curve's radius at every strand end (and at a joint whose next curve is thinner) "
              "give Embree masq's shape, and a hit on one counts as the curve it closes. The curve ends table "
              "measures Embree without them and with one at every curve end"};
-  ends.notes = {"vs open: Embree's rate over its rate on open curves (the cost of the spheres); agreement and oracle "
-                "as in the table above, against the same masq best"};
+  ends.notes = {fmt::format("the three Embree scenes traced in turn round by round, median of {} rounds after {} "
+                            "warm-up (so the strand ends' rate differs from the table above's); vs open: Embree's rate "
+                            "over its rate on open curves (the cost of the spheres); agreement and oracle as in the "
+                            "table above, against the same masq best",
+                            kEndRounds * opt.repetitions, opt.warmup)};
   build.notes = {"masq: host build + upload (first backend), nodes + instances + primitives; Embree: rtcCommitScene, "
                  "memory from Embree's device memory monitor"};
   res.tables = {t, build};
