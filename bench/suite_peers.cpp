@@ -1,11 +1,12 @@
 // peers: masq against Embree 3 (the Debian package; round linear curves for capsules
-// and links, round Bezier curves for cubics, triangles) and the driver's ray query, on
-// the same rays, as ratios measured in the same run.
+// and links, round Bezier curves closed by sphere points for cubics, triangles) and the
+// driver's ray query, on the same rays, as ratios measured in the same run.
 #include "bench/bench_report.h"
 #include "bench/suite.h"
 #include "oracle/oracle.h"
 #include "peers/embree_peer.h"
 #include "masq/error.h"
+#include "scenes/curve_tools.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
 #include <algorithm>
@@ -148,25 +149,29 @@ PeerTimes time_masq_alone(BackendPool& pool, const BuiltMethods& built, const Be
 }
 
 // Embree on the batch: rtcIntersect1 for closest-hit sets, rtcOccluded1 for occlusion
-// sets (whose hits then only say occluded, prim 0, or not, prim -1).
-PeerTimes time_embree(EmbreePeer& peer, const std::vector<kernel::Ray>& rays, std::vector<kernel::Hit>& hits,
-                      Query query, const BenchOptions& opt) {
-  std::vector<double> t;
+// sets (whose hits then only say occluded, prim 0, or not, prim -1). Several scenes
+// take turns round by round, so that the machine's drift reaches each alike.
+std::vector<PeerTimes> time_embree(const std::vector<EmbreePeer*>& peers, const std::vector<kernel::Ray>& rays,
+                                   std::vector<std::vector<kernel::Hit>>& hits, Query query, int warmup, int rounds) {
+  std::vector<std::vector<double>> t(peers.size());
   std::vector<std::uint8_t> occluded(rays.size());
-  for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
-    if (query == Query::Any) {
-      peer.occluded(rays, occluded);
-    } else {
-      peer.trace(rays, hits);
+  hits.assign(peers.size(), std::vector<kernel::Hit>(rays.size()));
+  for (int i = 0; i < warmup + rounds; ++i)
+    for (std::size_t k = 0; k < peers.size(); ++k) {
+      if (query == Query::Any) {
+        peers[k]->occluded(rays, occluded);
+        for (std::size_t r = 0; r < rays.size(); ++r) {
+          hits[k][r] = kernel::Hit{};
+          hits[k][r].prim = occluded[r] ? 0 : -1;
+        }
+      } else {
+        peers[k]->trace(rays, hits[k]);
+      }
+      if (i >= warmup) t[k].push_back(peers[k]->timing().trace_seconds);
     }
-    if (i >= opt.warmup) t.push_back(peer.timing().trace_seconds);
-  }
-  if (query == Query::Any)
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      hits[i] = kernel::Hit{};
-      hits[i].prim = occluded[i] ? 0 : -1;
-    }
-  return times_of(t);
+  std::vector<PeerTimes> out;
+  for (std::vector<double>& tk : t) out.push_back(times_of(tk));
+  return out;
 }
 
 // The fastest available row of a ray set among masq's tracers, or among rayquery's.
@@ -181,8 +186,72 @@ const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set, bool 
 
 struct PeerScene {
   std::string label;
-  std::string file; // under data_dir; empty: the embedded default bundle
+  std::string file;    // under data_dir; empty: the embedded default bundle
+  bool curves = false; // the strands as table1's cubic curves instead of as loaded
 };
+
+Scene load_peer_scene(const SuiteConfig& cfg, const PeerScene& ps) {
+  if (ps.file.empty()) return make_default_scene();
+  std::string path = (std::filesystem::path(cfg.data_dir) / ps.file).string();
+  if (!ps.curves) return load_scene_file(path);
+  // The cubics of table1's phantom x1 (bench/suite_hair.cpp make_case): the strands as
+  // round cones, chained into Catmull-Rom curves through their points, one Bezier piece
+  // per segment. Embree gets these very fp32 control points (embree_peer.cpp).
+  LoadOptions lo;
+  lo.strand_type = PrimType::RoundCone;
+  return segments_to_curves(load_scene_file(path, lo));
+}
+
+// One Embree scene on one ray set: its time alone, its agreement with masq's best and
+// the oracle's word on where they differ.
+struct EmbreeRun {
+  PeerTimes times;
+  double mrays = 0;
+  Agreement agreement;
+  Arbitration oracle;
+  nlohmann::json json() const {
+    return {{"mrays_per_s", mrays},
+            {"trace_seconds", {{"median", times.median}, {"min", times.min}, {"max", times.max}}},
+            {"hit_miss_disagree", agreement.hit_miss},
+            {"common_hits", agreement.common},
+            {"other_primitive", agreement.other_prim},
+            {"oracle", {{"traced", oracle.traced}, {"masq_right", oracle.a_right}, {"embree_right", oracle.b_right}}}};
+  }
+};
+
+// Each of `peers` on one ray set (round by round: time_embree), against masq's best;
+// the oracle traces at most oracle_cap of the differing rays of each.
+std::vector<EmbreeRun> run_embree(const std::vector<EmbreePeer*>& peers, const oracle::Oracle& orc,
+                                  const RayBatch& batch, const BenchRow& best, int warmup, int rounds,
+                                  std::size_t oracle_cap = 300) {
+  std::vector<std::vector<kernel::Hit>> hits;
+  std::vector<PeerTimes> times = time_embree(peers, batch.rays, hits, best.query, warmup, rounds);
+  std::vector<EmbreeRun> out(peers.size());
+  for (std::size_t k = 0; k < peers.size(); ++k) {
+    EmbreeRun& r = out[k];
+    r.times = times[k];
+    r.mrays = batch.rays.size() / r.times.median * 1e-6;
+    r.agreement = agree(best.hits, hits[k], best.query);
+    r.oracle = arbitrate(orc, batch.rays, best.hits, hits[k], r.agreement.differing, best.query, oracle_cap);
+  }
+  return out;
+}
+
+// The curve scenes' Embree shapes, the main table's (strand ends) among them: how much
+// the end spheres change the answers and cost Embree. Timed in turn round by round, for
+// kEndRounds x the repetitions (an Embree trace of the quick batch takes milliseconds,
+// where one burst of the shared machine's load swung a median of three by 2x).
+struct EndVariant {
+  CurveEnds ends;
+  const char* name;
+};
+constexpr EndVariant kEndVariants[] = {{CurveEnds::Open, "open (no spheres)"},
+                                       {CurveEnds::StrandEnds, "strand ends (main table)"},
+                                       {CurveEnds::EveryEnd, "every curve end"}};
+constexpr int kEndRounds = 5;
+// The oracle takes about 0.2 s a ray on the bear's 144k curves, and open ends differ on
+// hundreds of rays per set: quick runs arbitrate fewer of them.
+constexpr std::size_t kEndOracleCapQuick = 50;
 
 } // namespace
 
@@ -206,6 +275,12 @@ SuiteResult run_peers(SuiteContext& ctx) {
               "masq/Embree", "Embree agreement",
               "oracle: masq / Embree right", "rayquery best", "rayquery/masq", "rayquery agreement"};
   t.left_columns = 3;
+  Table ends;
+  ends.title = "curve ends: Embree's round Bezier curves open, and closed by sphere points of the curve's radius at "
+               "the strand ends (the shape of masq's curves; the table above) or at every curve end";
+  ends.header = {"scene", "rays", "Embree curve ends", "end spheres", "Embree build ms", "Embree MiB",
+                 "Embree Mrays/s (alone)", "vs open", "Embree agreement", "oracle: masq / Embree right"};
+  ends.left_columns = 3;
   Table build;
   build.title = "build time and memory";
   build.header = {"scene", "masq ref build ms", "masq ref MiB", "masq masq build ms", "masq masq MiB", "Embree build ms",
@@ -213,11 +288,11 @@ SuiteResult run_peers(SuiteContext& ctx) {
   build.left_columns = 1;
   res.data["scenes"] = nlohmann::json::array();
   for (const PeerScene& ps : {PeerScene{"bear fur (TressFX 3), capsules", "hair/tressfx3_bear.tfx"},
+                              PeerScene{"bear fur (TressFX 3), curves", "hair/tressfx3_bear.tfx", true},
                               PeerScene{"default bundle (N=1000 r=0.002 tilt 45 + ground)", ""}}) {
     Scene scene;
     try {
-      scene = ps.file.empty() ? make_default_scene()
-                              : load_scene_file((std::filesystem::path(ctx.config.data_dir) / ps.file).string());
+      scene = load_peer_scene(ctx.config, ps);
     } catch (const std::exception& e) {
       t.add({ps.label, "-", "unavailable: " + std::string(e.what())});
       continue;
@@ -249,7 +324,28 @@ SuiteResult run_peers(SuiteContext& ctx) {
         embree.reset();
       }
     }
+    // Curve scenes: Embree's other curve ends (kEndVariants), each a scene of its own.
+    std::vector<std::unique_ptr<EmbreePeer>> variants; // null: the main peer
+    bool has_curves = std::any_of(scene.geometries.begin(), scene.geometries.end(),
+                                  [](const Geometry& g) { return g.type == PrimType::Curve; });
+    if (embree && has_curves) {
+      try {
+        for (const EndVariant& v : kEndVariants) {
+          if (v.ends == CurveEnds::StrandEnds) {
+            variants.emplace_back(); // the main peer
+            continue;
+          }
+          ctx.say(std::string("peers ") + ps.label + ": Embree build, curve ends " + v.name);
+          variants.push_back(std::make_unique<EmbreePeer>(2));
+          variants.back()->set_scene(scene, ctx.config.mode == Mode::Robust, v.ends);
+        }
+      } catch (const std::exception& e) {
+        ends.add({ps.label, "-", "unavailable: " + std::string(e.what())});
+        variants.clear();
+      }
+    }
     nlohmann::json sj = {{"scene", ps.label}, {"primitives", scene.primitive_count()}};
+    if (embree) sj["embree_end_spheres"] = embree->end_spheres();
     const oracle::Oracle orc(scene); // arbitrates where masq and a peer disagree
     for (const BenchRow& r : rows) sj["results"].push_back(bench_row_json(r));
     for (std::size_t b = 0; b < batches.size(); ++b) {
@@ -269,28 +365,39 @@ SuiteResult run_peers(SuiteContext& ctx) {
       if (!alone_error[b].empty()) {
         line.insert(line.end(), {"unavailable: " + alone_error[b], "-", "-", "-", "-"});
       } else if (embree) {
-        ctx.say("peers " + ps.label + ": Embree " + ray_set_name(batch.set));
-        std::vector<kernel::Hit> hits(batch.rays.size());
-        PeerTimes pt = time_embree(*embree, batch.rays, hits, best->query, opt);
+        ctx.say("peers " + ps.label + ": Embree " + ray_set_name(batch.set) + ", then the oracle on the differing rays");
+        EmbreeRun er = run_embree({embree.get()}, orc, batch, *best, opt.warmup, opt.repetitions).front();
         const PeerTimes& mt = masq_alone[b];
-        double mrays = batch.rays.size() / pt.median * 1e-6;
         double masq_mrays = batch.rays.size() / mt.median * 1e-6;
-        Agreement g = agree(best->hits, hits, best->query);
         line.push_back(fmt::format("{:.3f}", masq_mrays));
-        line.push_back(fmt::format("{:.3f}", mrays));
-        line.push_back(fmt::format("{:.2f}x", masq_mrays / mrays));
-        line.push_back(g.text());
-        ctx.say("peers " + ps.label + ": oracle on the differing rays");
-        Arbitration arb = arbitrate(orc, batch.rays, best->hits, hits, g.differing, best->query);
-        line.push_back(arb.text());
+        line.push_back(fmt::format("{:.3f}", er.mrays));
+        line.push_back(fmt::format("{:.2f}x", masq_mrays / er.mrays));
+        line.push_back(er.agreement.text());
+        line.push_back(er.oracle.text());
         pj["masq_alone"] = {{"mrays_per_s", masq_mrays},
                             {"trace_seconds", {{"median", mt.median}, {"min", mt.min}, {"max", mt.max}}}};
-        pj["embree"] = {{"mrays_per_s", mrays},
-                        {"trace_seconds", {{"median", pt.median}, {"min", pt.min}, {"max", pt.max}}},
-                        {"hit_miss_disagree", g.hit_miss},
-                        {"common_hits", g.common},
-                        {"other_primitive", g.other_prim},
-                        {"oracle", {{"traced", arb.traced}, {"masq_right", arb.a_right}, {"embree_right", arb.b_right}}}};
+        pj["embree"] = er.json();
+        // The same rays through each of Embree's curve ends, in turn.
+        std::vector<EmbreePeer*> peers;
+        for (const std::unique_ptr<EmbreePeer>& v : variants) peers.push_back(v ? v.get() : embree.get());
+        if (!peers.empty())
+          ctx.say(std::string("peers ") + ps.label + ": Embree " + ray_set_name(batch.set) + ", curve ends in turn");
+        std::vector<EmbreeRun> vr =
+            run_embree(peers, orc, batch, *best, opt.warmup, kEndRounds * opt.repetitions,
+                       quick ? kEndOracleCapQuick : std::size_t(300));
+        for (std::size_t k = 0; k < vr.size(); ++k) {
+          const EmbreePeer& peer = *peers[k];
+          ends.add({ps.label, line[1], kEndVariants[k].name, std::to_string(peer.end_spheres()),
+                    fmt::format("{:.1f}", peer.timing().build_seconds * 1e3),
+                    fmt::format("{:.2f}", peer.bytes() / 1048576.0), fmt::format("{:.3f}", vr[k].mrays), fmt::format("{:.2f}x", vr[k].mrays / vr[0].mrays),
+                    vr[k].agreement.text(), vr[k].oracle.text()});
+          nlohmann::json vj = vr[k].json();
+          vj["ends"] = kEndVariants[k].name;
+          vj["end_spheres"] = peer.end_spheres();
+          vj["build_seconds"] = peer.timing().build_seconds;
+          vj["bytes"] = peer.bytes();
+          pj["embree_curve_ends"].push_back(vj);
+        }
       } else {
         line.push_back(fmt::format("{:.3f}", batch.rays.size() / masq_alone[b].median * 1e-6));
         line.insert(line.end(), {"unavailable", "-", "-", "-"});
@@ -321,7 +428,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
     res.data["scenes"].push_back(sj);
   }
   t.notes = {embree_why.empty() ? "Embree: " + EmbreePeer::version() + ", 2 threads, rtcIntersect1 per ray (rtcOccluded1 for shadow rays, as masq traces them: any hit, early exit); capsules as "
-                                  "round linear curves, the ground plane as triangles"
+                                  "round linear curves, cubic curves as round Bezier curves closed by sphere points, the "
+                                  "ground plane as triangles"
                                 : "Embree: " + embree_why,
              "oracle: of the differing rays (at most 300, evenly spread), how many masq and Embree answer as the "
              "long-double oracle does",
@@ -330,10 +438,23 @@ SuiteResult run_peers(SuiteContext& ctx) {
              "uploaded again and its warm-up and timed traces run in a row, as Embree's then are (in the lanes each "
              "trace follows another method's, with cold caches); masq/Embree: both alone",
              "rayquery: "
-             "the driver's BVH with masq's intersectors, best of its four methods and two builders"};
+             "the driver's BVH with masq's intersectors, best of its four methods and two builders",
+             "curves: table1's phantom x1 cubics (the strands as round cones chained into Catmull-Rom curves, one "
+             "Bezier piece per segment), traced by masq with the run's curve intersector; Embree gets the same fp32 "
+             "Bezier control points and radius. Embree 3's round Bezier curves sweep a circle and are open at both "
+             "ends (man RTC_GEOMETRY_TYPE_CURVE(3), Round Curves), masq's are the union of balls along the curve; "
+             "sphere points of the curve's radius at every strand end (and at a joint whose next curve is thinner) "
+             "give Embree masq's shape, and a hit on one counts as the curve it closes. The curve ends table "
+             "measures Embree without them and with one at every curve end"};
+  ends.notes = {fmt::format("the three Embree scenes traced in turn round by round, median of {} rounds after {} "
+                            "warm-up (so the strand ends' rate differs from the table above's); vs open: Embree's rate "
+                            "over its rate on open curves (the cost of the spheres); agreement and oracle as in the "
+                            "table above, against the same masq best, the oracle on at most {} of the differing rays",
+                            kEndRounds * opt.repetitions, opt.warmup, quick ? kEndOracleCapQuick : 300)};
   build.notes = {"masq: host build + upload (first backend), nodes + instances + primitives; Embree: rtcCommitScene, "
                  "memory from Embree's device memory monitor"};
   res.tables = {t, build};
+  if (!ends.rows.empty()) res.tables.push_back(ends);
   res.method = fmt::format("{}x{} camera rays and the shadow and diffuse rays derived from their hits; every tracer gets "
                            "the same rays; median of {} timed traces after {} warm-up; Embree timed by wall clock, after "
                            "masq's fastest tracer of every ray set was timed alone the same way.",

@@ -10,7 +10,8 @@
 //    reports that ball alone; 100% agreement on the generator's contained cones).
 //  - Round Bezier curves are open tubes: Embree's sweep has no end balls, so rays that
 //    hit masq's round curve ends miss, or enter the open end and hit the inside wall.
-//    Away from the ends the surfaces agree (the test counts end rays apart).
+//    Away from the ends the surfaces agree. Sphere points close the ends (CurveEnds in
+//    embree_peer.h); they live in the curve's sub-scene as geometry 1.
 //  - For hits inside instances, Ng comes back in the instance's object space.
 #include "peers/embree_peer.h"
 #include "masq/error.h"
@@ -73,6 +74,22 @@ void parallel_chunks(std::size_t n, int threads, Fn fn) {
 
 } // namespace
 
+bool curve_end_covered(const std::vector<CurvePrim>& curves, std::size_t i, int end) {
+  const CurvePrim& c = curves[i];
+  std::size_t j = end == 0 ? i - 1 : i + 1; // the neighbour (wraps for i = 0: caught below)
+  if (j >= curves.size()) return false;
+  const CurvePrim& o = curves[j];
+  // This curve's end point and its tangent pointing along the strand, and the
+  // neighbour's, both in the same direction when the two continue each other.
+  glm::vec3 p = end == 0 ? c.p[0] : c.p[3], q = end == 0 ? o.p[3] : o.p[0];
+  if (p != q || o.radius < c.radius) return false;
+  glm::dvec3 a = end == 0 ? glm::dvec3(c.p[1]) - glm::dvec3(c.p[0]) : glm::dvec3(c.p[3]) - glm::dvec3(c.p[2]);
+  glm::dvec3 b = end == 0 ? glm::dvec3(o.p[3]) - glm::dvec3(o.p[2]) : glm::dvec3(o.p[1]) - glm::dvec3(o.p[0]);
+  double la = glm::length(a), lb = glm::length(b);
+  if (!(la > 0.0 && lb > 0.0)) return false;
+  return glm::dot(a, b) > 0.0 && glm::length(glm::cross(a, b)) <= 1e-3 * la * lb;
+}
+
 std::string EmbreePeer::version() {
 #if MASQ_HAVE_EMBREE
   return std::string("Embree ") + RTC_VERSION_STRING;
@@ -112,6 +129,9 @@ struct EmbreePeer::Impl {
   std::vector<int> inst_geom;        // masq instance -> masq geometry
   std::vector<glm::dmat3> inst_nrm;  // masq instance -> inverse transpose of its linear part
   std::vector<PrimType> geom_type;   // masq geometry -> type
+  std::vector<std::vector<int>> caps; // masq geometry -> its end spheres' 2 * curve + end
+  CurveEnds ends = CurveEnds::StrandEnds;
+  std::size_t end_spheres = 0;
   std::atomic<long long> live_bytes{0};
   std::size_t scene_bytes = 0;
   PeerTiming timing;
@@ -149,8 +169,11 @@ struct EmbreePeer::Impl {
     inst_geom.clear();
     inst_nrm.clear();
     geom_type.clear();
+    caps.clear();
+    end_spheres = 0;
   }
   RTCGeometry make_geometry(const Geometry& g);
+  RTCGeometry make_end_caps(const Geometry& g, std::vector<int>& owner);
 };
 
 namespace {
@@ -233,6 +256,25 @@ RTCGeometry EmbreePeer::Impl::make_geometry(const Geometry& g) {
   throw Error("embree: unknown primitive type");
 }
 
+// Sphere points closing a curve geometry's ends (CurveEnds); owner[k] = 2 * curve + end
+// of sphere k. nullptr when there are none.
+RTCGeometry EmbreePeer::Impl::make_end_caps(const Geometry& g, std::vector<int>& owner) {
+  owner.clear();
+  if (g.type != PrimType::Curve || ends == CurveEnds::Open) return nullptr;
+  for (std::size_t i = 0; i < g.curves.size(); ++i)
+    for (int e = 0; e < 2; ++e)
+      if (ends == CurveEnds::EveryEnd || !curve_end_covered(g.curves, i, e)) owner.push_back(int(2 * i) + e);
+  if (owner.empty()) return nullptr;
+  RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, owner.size(), 4);
+  if (v == nullptr) return geo;
+  for (std::size_t k = 0; k < owner.size(); ++k) {
+    const CurvePrim& c = g.curves[std::size_t(owner[k] / 2)];
+    put4(v + 4 * k, owner[k] % 2 == 0 ? c.p[0] : c.p[3], c.radius);
+  }
+  return geo;
+}
+
 EmbreePeer::EmbreePeer(int threads) : impl_(std::make_unique<Impl>()) {
   if (threads < 1) throw Error("embree: thread count must be at least 1 (got " + std::to_string(threads) + ")");
   impl_->threads = threads;
@@ -249,12 +291,13 @@ EmbreePeer::~EmbreePeer() {
   rtcReleaseDevice(impl_->device);
 }
 
-void EmbreePeer::set_scene(const Scene& scene, bool robust) {
+void EmbreePeer::set_scene(const Scene& scene, bool robust, CurveEnds ends) {
   Impl& m = *impl_;
   bool empty = scene.instances.empty() || scene.primitive_count() == 0;
   if (!empty) validate_scene(scene);
   m.release_scene();
   m.robust = robust;
+  m.ends = ends;
   m.check("before set_scene");
   auto t0 = std::chrono::steady_clock::now();
   RTCSceneFlags flags = robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE;
@@ -262,6 +305,7 @@ void EmbreePeer::set_scene(const Scene& scene, bool robust) {
     for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
       const Geometry& g = scene.geometries[gi];
       m.geom_type.push_back(g.type);
+      m.caps.emplace_back();
       RTCScene sub = rtcNewScene(m.device);
       m.subs.push_back(sub);
       rtcSetSceneFlags(sub, flags);
@@ -270,6 +314,12 @@ void EmbreePeer::set_scene(const Scene& scene, bool robust) {
         rtcCommitGeometry(geo);
         rtcAttachGeometryByID(sub, geo, 0);
         rtcReleaseGeometry(geo);
+        if (RTCGeometry caps = m.make_end_caps(g, m.caps.back())) {
+          rtcCommitGeometry(caps);
+          rtcAttachGeometryByID(sub, caps, 1);
+          rtcReleaseGeometry(caps);
+          m.end_spheres += m.caps.back().size();
+        }
       }
       rtcCommitScene(sub);
       m.check(("building geometry " + std::to_string(gi)).c_str());
@@ -331,6 +381,8 @@ void EmbreePeer::trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit>
       int geom = m.inst_geom[std::size_t(inst)];
       h.t = rh.ray.tfar;
       h.prim = int(rh.hit.primID);
+      bool cap = rh.hit.geomID == 1; // an end sphere: report the curve it closes
+      if (cap) h.prim = m.caps[std::size_t(geom)][rh.hit.primID] / 2;
       h.geom = geom;
       h.inst = inst;
       glm::dvec3 n = m.inst_nrm[std::size_t(inst)] * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
@@ -340,7 +392,7 @@ void EmbreePeer::trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit>
       switch (m.geom_type[std::size_t(geom)]) {
         case PrimType::Triangle: h.u = rh.hit.u; h.v = rh.hit.v; break;
         case PrimType::Sphere: break;
-        default: h.u = rh.hit.u; break;
+        default: h.u = cap ? float(m.caps[std::size_t(geom)][rh.hit.primID] % 2) : rh.hit.u; break;
       }
     }
   });
@@ -373,6 +425,7 @@ void EmbreePeer::occluded(std::span<const kernel::Ray> rays, std::span<std::uint
 
 PeerTiming EmbreePeer::timing() const { return impl_->timing; }
 std::size_t EmbreePeer::bytes() const { return impl_->scene_bytes; }
+std::size_t EmbreePeer::end_spheres() const { return impl_->end_spheres; }
 
 std::string EmbreePeer::description() const {
   const Impl& m = *impl_;
@@ -392,7 +445,7 @@ std::string EmbreePeer::description() const {
     types += name;
   };
   add(linear, "round linear curves");
-  add(bezier, "round Bezier curves");
+  add(bezier, m.end_spheres > 0 ? "round Bezier curves + end spheres" : "round Bezier curves");
   add(spheres, "sphere points");
   add(triangles, "triangles");
   return types.empty() ? d : d + ", " + types;
@@ -404,11 +457,12 @@ struct EmbreePeer::Impl {};
 
 EmbreePeer::EmbreePeer(int /*threads*/) { throw Error(unavailable_reason()); }
 EmbreePeer::~EmbreePeer() = default;
-void EmbreePeer::set_scene(const Scene&, bool) { throw Error(unavailable_reason()); }
+void EmbreePeer::set_scene(const Scene&, bool, CurveEnds) { throw Error(unavailable_reason()); }
 void EmbreePeer::trace(std::span<const kernel::Ray>, std::span<kernel::Hit>) { throw Error(unavailable_reason()); }
 void EmbreePeer::occluded(std::span<const kernel::Ray>, std::span<std::uint8_t>) { throw Error(unavailable_reason()); }
 PeerTiming EmbreePeer::timing() const { return {}; }
 std::size_t EmbreePeer::bytes() const { return 0; }
+std::size_t EmbreePeer::end_spheres() const { return 0; }
 std::string EmbreePeer::description() const { return version(); }
 
 #endif

@@ -9,8 +9,10 @@
 //   capsule    -> round linear curve, radius at both vertices, no neighbours (flags 0)
 //   round cone -> round linear curve with per-vertex radii (Embree's segment is the
 //                 convex hull of its two end balls, as masq's round cone)
-//   curve      -> round Bezier curve, constant radius (NB: Embree 3 leaves its ends open,
-//                 masq closes them with the end balls; see embree_peer.cpp)
+//   curve      -> round Bezier curve, the same four control points (Bezier basis in both)
+//                 and the curve's radius at each; Embree 3's cubic round curves are open
+//                 tubes, masq's are closed by the end balls, so by default (CurveEnds) a
+//                 second geometry of sphere points closes every end no neighbour covers
 //   sphere     -> sphere point
 //   triangle   -> triangle
 #pragma once
@@ -21,8 +23,27 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace masq {
+
+// What closes the ends of round Bezier curves. Embree 3 sweeps a circle along a cubic
+// (RTC_GEOMETRY_TYPE_CURVE(3), "Round Curves"; its neighbour flags are for the linear
+// basis only), so each cubic is a tube open at both ends; masq's curve is the union of
+// the balls B(C(s), r), closed by the balls at s = 0 and 1. Sphere points of radius r at
+// the ends give Embree masq's shape: the union of balls along a C1 curve is the union
+// of its normal disks (what the tube bounds) and its two end balls.
+enum class CurveEnds {
+  Open,       // Embree's curves alone: open tubes
+  StrandEnds, // a sphere at every curve end that no neighbour covers (masq's shape)
+  EveryEnd,   // a sphere at both ends of every curve (the same shape, more spheres)
+};
+
+// An end is covered when the neighbouring curve of the same geometry (index i-1 before
+// the start, i+1 after the end) starts or ends at exactly that point, continues with the
+// same tangent direction (within 1e-3 rad) and has a radius at least as large: the ball
+// there then lies in the union of the two tubes' disks.
+bool curve_end_covered(const std::vector<CurvePrim>& curves, std::size_t i, int end);
 
 struct PeerTiming {
   double build_seconds = 0; // last set_scene: geometry upload and every BVH build
@@ -46,8 +67,9 @@ class EmbreePeer {
   // Builds Embree's BVHs for the scene (replacing any previous one). robust ->
   // RTC_SCENE_FLAG_ROBUST on every scene. Throws masq::Error for invalid scenes and for
   // any Embree error (with Embree's message). A scene with no instances or no
-  // primitives is allowed: every ray misses.
-  void set_scene(const Scene& scene, bool robust);
+  // primitives is allowed: every ray misses. ends: how curves are closed (above); a hit
+  // on an end sphere is reported as the curve it closes (u = 0 or 1).
+  void set_scene(const Scene& scene, bool robust, CurveEnds ends = CurveEnds::StrandEnds);
 
   // Closest hit of each ray (hits.size() >= rays.size()), masq's conventions:
   // miss: t = +inf, prim = geom = inst = -1, normal and u, v zero. Hit: t in units of
@@ -65,8 +87,11 @@ class EmbreePeer {
   // Bytes Embree holds for the current scene (its memory monitor after the build:
   // vertex/index buffers and BVHs).
   std::size_t bytes() const;
+  // Sphere points the current scene's curves got (CurveEnds), over all geometries.
+  std::size_t end_spheres() const;
   // "Embree 3.13.5, 2 threads, rtcIntersect1, round linear curves/round Bezier
-  // curves/triangles" (the Embree types of the current scene).
+  // curves/triangles" (the Embree types of the current scene; end spheres of curves
+  // as "round Bezier curves + end spheres").
   std::string description() const;
 
  private:
