@@ -35,6 +35,7 @@ void measure_variant(ErrorRow& row, Backend& be, const Scene& scene, const std::
   AccelOptions ao = opt.accel;
   ao.mode = v.mode;
   ao.curve_iters = v.curve_iters;
+  ao.curve_isect = v.curve_isect;
   say(opt, row.backend + " " + v.name);
   be.set_scene(build_accel(s, Method::Masq, ao));
   std::vector<kernel::Hit> hits(rays.size());
@@ -97,6 +98,9 @@ std::vector<ErrorVariant> default_error_variants() {
     for (int k : {1, 2, 4, 8}) v.push_back({fmt::format("cubic {} it24 x{}", mode_name(m), k), m, 24, k, 0});
   for (int it : {2, 4, 8, 12}) v.push_back({fmt::format("cubic robust it{} x1", it), Mode::Robust, it, 1, 0});
   for (int n : {1, 2, 4, 8, 16}) v.push_back({fmt::format("linear x{} robust", n), Mode::Robust, 24, 1, n});
+  // Roving capsules (kernels/curve_roving.h) on the same cubics, in both modes.
+  for (Mode m : {Mode::Robust, Mode::Fast})
+    v.push_back({fmt::format("roving {} x1", mode_name(m)), m, 24, 1, 0, CurveIsect::Roving});
   return v;
 }
 
@@ -144,8 +148,9 @@ Table error_table(const std::vector<ErrorRow>& rows) {
            fmt::format("{:.1f} ({:.1f}-{:.1f})", r.median_s * 1e3, r.min_s * 1e3, r.max_s * 1e3), fmt::format("{:.2e}", r.rate()),
            fmt::format("{:.2e}", r.mean_dt), fmt::format("{:.2e}", r.max_dt), r.pareto ? "*" : ""});
   }
-  t.notes = {"cubic <mode> it<N> x<k>: phantom curves, N iterations, each cubic pre-split into k; linear xN: each curve as N "
-             "capsules",
+  t.notes = {"cubic <mode> it<N> x<k>: phantom curves, N iterations, each cubic pre-split into k (robust mode: the certified "
+             "subdivision, which has no iteration limit); roving <mode> x1: roving capsules on the same cubics; linear xN: "
+             "each curve as N capsules",
              "pareto *: no other variant on that backend is at once faster, fewer disagreements and smaller mean |dt|/r"};
   return t;
 }
@@ -155,7 +160,8 @@ nlohmann::json error_json(const std::vector<ErrorRow>& rows) {
   for (const ErrorRow& r : rows) {
     nlohmann::json e{{"backend", r.backend},       {"variant", r.variant.name},
                      {"mode", mode_name(r.variant.mode)}, {"curve_iters", r.variant.curve_iters},
-                     {"subdivisions", r.variant.subdivisions}, {"segments", r.variant.segments}};
+                     {"subdivisions", r.variant.subdivisions}, {"segments", r.variant.segments},
+                     {"curve_isect", curve_isect_name(r.variant.curve_isect)}};
     if (!r.unavailable.empty()) {
       e["unavailable"] = r.unavailable;
     } else {

@@ -19,6 +19,7 @@ struct ErrorVariant {
   int curve_iters = 24;
   int subdivisions = 1; // cubic pieces per curve
   int segments = 0;     // > 0: curves replaced by this many capsules each
+  CurveIsect curve_isect = CurveIsect::Phantom;
 };
 
 struct ErrorRow {
