@@ -17,7 +17,7 @@
 namespace masq {
 
 struct SuiteConfig {
-  bool quick = false;                 // the < 5 minute variant: fewer cells, scenes and rays
+  bool quick = false;                 // the small variant: fewer cells, scenes and rays (docs/results.md: run time)
   std::string data_dir;               // ../shared/data (hair, meshes, ...)
   std::string out_dir;                // images are written here ("" : none)
   std::vector<std::string> backends = backend_names();

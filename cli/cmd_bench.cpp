@@ -261,7 +261,7 @@ Action add_bench(CLI::App& app) {
                   "Reproduce the papers' tables: " + suite_table.help() +
                       "; or all; writes OUT/RESULTS.md and OUT/results.json")
       ->check(CLI::IsMember(suites));
-  cmd->add_flag("--quick", c->quick, "Suites: the small variant (< 5 minutes on 2 cores)");
+  cmd->add_flag("--quick", c->quick, "Suites: the small variant (fewer cases, fewer rays; docs/results.md gives its run time)");
   cmd->add_option("--out", c->out_dir, "Suites: output directory of RESULTS.md, results.json and images (default: "
                                         "bench/results, with --quick bench/results-quick)");
   cmd->add_option("--data", c->data_dir, "Suites: directory of the shared scenes (default: $MASQ_DATA or " MASQ_DATA_DIR ")");
@@ -273,7 +273,7 @@ Action add_bench(CLI::App& app) {
               "  masq bench --error --json error.json         run time against error of the curve variants\n"
               "  masq bench --builder sah,sbvh,sah+reinsert,sbvh+reinsert --method ref,masq --backend cpu,opencl\n"
               "                                               the BVH builders side by side (SAH cost, refs/prim, speed)\n"
-              "  masq bench --suite all --quick               the papers' tables in < 5 minutes -> bench/results-quick/\n"
+              "  masq bench --suite all --quick               the papers' tables, small variant -> bench/results-quick/\n"
               "  masq bench --device vulkan=1,opencl=nvidia   choose the devices (indices and names: masq info)\n"
               "  bash scripts/results.sh                      the full results document with plots");
   return [c] {
