@@ -133,26 +133,27 @@ Scene make_scene(const SceneOptions& opt) {
   return s;
 }
 
-std::vector<CurveIsect> curve_isects(const SceneOptions& opt) {
-  std::vector<CurveIsect> out;
-  for (const std::string& n : opt.curve_isects) {
-    CurveIsect c = parse_curve_isect(n);
-    if (std::find(out.begin(), out.end(), c) != out.end()) throw Error("--curve-isect: '" + n + "' is given twice");
-    out.push_back(c);
+namespace {
+// A list option's names as values of its table: each once, at least one.
+template <class T, class Table>
+std::vector<T> parse_unique(const std::vector<std::string>& names, const Table& table, const std::string& option) {
+  std::vector<T> out;
+  for (const std::string& n : names) {
+    T v = table.parse(n);
+    if (std::find(out.begin(), out.end(), v) != out.end()) throw Error(option + ": '" + n + "' is given twice");
+    out.push_back(v);
   }
-  if (out.empty()) throw Error("--curve-isect: no curve intersector given");
+  if (out.empty()) throw Error(option + ": none given (expected " + table.choices() + ")");
   return out;
+}
+} // namespace
+
+std::vector<CurveIsect> curve_isects(const SceneOptions& opt) {
+  return parse_unique<CurveIsect>(opt.curve_isects, curve_isect_table, "--curve-isect");
 }
 
 std::vector<NodeFormat> node_formats(const SceneOptions& opt) {
-  std::vector<NodeFormat> out;
-  for (const std::string& n : opt.nodes) {
-    NodeFormat f = parse_node_format(n);
-    if (std::find(out.begin(), out.end(), f) != out.end()) throw Error("--nodes: '" + n + "' is given twice");
-    out.push_back(f);
-  }
-  if (out.empty()) throw Error("--nodes: no node format given (expected " + node_format_table.choices() + ")");
-  return out;
+  return parse_unique<NodeFormat>(opt.nodes, node_format_table, "--nodes");
 }
 
 AccelOptions accel_options(const SceneOptions& opt) {
