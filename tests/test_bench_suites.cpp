@@ -228,6 +228,42 @@ TEST(Bench, NodeFormatsSideBySide) {
   EXPECT_EQ(bench_row_json(rows[2])["build"]["node_bytes"], rows[2].build.node_bytes);
 }
 
+// Both curve intersectors in one bench run on a curve bundle: each (method, intersector)
+// gets its row on the same rays, the traversal counters are the same (only the
+// intersector differs), the hits agree, and the side-by-side table names each.
+TEST(Bench, CurveIntersectorsSideBySide) {
+  BundleParams bp;
+  bp.count = 100;
+  bp.prim = PrimType::Curve;
+  Scene scene = make_default_scene(bp);
+  BenchOptions opt;
+  opt.backends = {"cpu"};
+  opt.methods = {Method::Ref, Method::Masq};
+  opt.ray_sets = {RaySet::Primary};
+  opt.curve_isects = {CurveIsect::Phantom, CurveIsect::Roving};
+  opt.width = 48;
+  opt.height = 48;
+  opt.warmup = 0;
+  opt.repetitions = 1;
+  std::vector<BenchRow> rows = run_bench(scene, opt);
+  ASSERT_EQ(rows.size(), 4u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_TRUE(rows[i].unavailable.empty()) << rows[i].unavailable;
+    EXPECT_EQ(rows[i].method, i < 2 ? Method::Ref : Method::Masq);
+    EXPECT_EQ(rows[i].curve_isect, i % 2 == 0 ? CurveIsect::Phantom : CurveIsect::Roving);
+    EXPECT_EQ(rows[i].rays, rows[0].rays);
+  }
+  for (std::size_t i : {1u, 3u}) {
+    EXPECT_EQ(rows[i].isect_calls, rows[i - 1].isect_calls);
+    EXPECT_EQ(rows[i].blas_nodes, rows[i - 1].blas_nodes);
+    EXPECT_NEAR(rows[i].hit_fraction, rows[i - 1].hit_fraction, 1e-3); // (ties on the silhouette)
+  }
+  EXPECT_GT(rows[0].hit_fraction, 0.0);
+  EXPECT_EQ(method_label(rows[3]), "masq (roving)");
+  EXPECT_EQ(bench_curve_isect_ratios(rows).rows.size(), 4u);
+  EXPECT_EQ(bench_row_json(rows[1])["curve_isect"], "roving");
+}
+
 namespace {
 
 // A row whose time follows given prices exactly: ns/ray = 7 + 3 node + 5 transform + 11 isect.

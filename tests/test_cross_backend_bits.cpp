@@ -233,6 +233,42 @@ TEST_P(CrossBackendBits, RobustHitsEqualTheCpusBits) { expect_cpu_bits(GetParam(
 // The second curve intersector (kernels/curve_roving.h) on the same curves and rays.
 TEST(CrossBackendBitsRoving, RobustCurveHitsEqualTheCpusBits) { expect_cpu_bits(PrimType::Curve, CurveIsect::Roving); }
 
+// The intersector switch reaches every backend's kernel: on each backend, roving's hits
+// are phantom's up to rounding (the same surface), yet some differ in their last bits
+// (two different searches), which a switch that never left the host could not give.
+TEST(CrossBackendBitsRoving, EachBackendRunsTheChosenCurveIntersector) {
+  const Scene s = instanced_scene(PrimType::Curve);
+  const std::vector<kernel::Ray> rays = rays_at_primitives(s, 6000, 7 + int(PrimType::Curve));
+  AccelOptions po, ro;
+  ro.curve_isect = CurveIsect::Roving;
+  const PackedScene phantom = build_accel(s, Method::Masq, po), roving = build_accel(s, Method::Masq, ro);
+  for (const std::string& name : backend_names()) {
+    std::unique_ptr<Backend> be = test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
+    if (!be) continue;
+    SCOPED_TRACE(name);
+    std::vector<kernel::Hit> a(rays.size()), b(rays.size());
+    be->set_scene(phantom);
+    be->trace(rays, a, {});
+    be->set_scene(roving);
+    be->trace(rays, b, {});
+    int hits = 0, hit_miss = 0, t_bits = 0;
+    double max_rel = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      if ((a[i].prim >= 0) != (b[i].prim >= 0)) hit_miss++;
+      if (a[i].prim < 0 || b[i].prim < 0) continue;
+      hits++;
+      t_bits += !same_bits(a[i].t, b[i].t);
+      max_rel = std::max(max_rel, std::fabs(double(a[i].t) - double(b[i].t)) / double(a[i].t));
+    }
+    std::printf("[ %-8s ] phantom vs roving: %d hits, %d hit/miss, %d differ in t's bits, max |dt|/t %.3g\n",
+                name.c_str(), hits, hit_miss, t_bits, max_rel);
+    EXPECT_GT(hits, int(rays.size() / 2));
+    EXPECT_LE(hit_miss, hits / 1000);
+    EXPECT_GT(t_bits, 0) << "roving gave phantom's bits on every hit: was it run?";
+    EXPECT_LT(max_rel, 1e-3);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Types, CrossBackendBits,
                          ::testing::Values(PrimType::Triangle, PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere,
                                            PrimType::Curve),
