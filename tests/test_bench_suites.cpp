@@ -229,8 +229,8 @@ TEST(Bench, NodeFormatsSideBySide) {
 }
 
 // Both curve intersectors in one bench run on a curve bundle: each (method, intersector)
-// gets its row on the same rays, the traversal counters are the same (only the
-// intersector differs), the hits agree, and the side-by-side table names each.
+// gets its row on the same rays, the traversal counters are the same up to the cut-offs
+// (only the intersector differs), the hits agree, and the side-by-side table names each.
 TEST(Bench, CurveIntersectorsSideBySide) {
   BundleParams bp;
   bp.count = 100;
@@ -254,8 +254,9 @@ TEST(Bench, CurveIntersectorsSideBySide) {
     EXPECT_EQ(rows[i].rays, rows[0].rays);
   }
   for (std::size_t i : {1u, 3u}) {
-    EXPECT_EQ(rows[i].isect_calls, rows[i - 1].isect_calls);
-    EXPECT_EQ(rows[i].blas_nodes, rows[i - 1].blas_nodes);
+    // (a hit's t may differ in its last bits, which may move the traversal's cut-off)
+    EXPECT_NEAR(rows[i].isect_calls, rows[i - 1].isect_calls, 1e-2 * rows[i - 1].isect_calls);
+    EXPECT_NEAR(rows[i].blas_nodes, rows[i - 1].blas_nodes, 1e-2 * rows[i - 1].blas_nodes);
     EXPECT_NEAR(rows[i].hit_fraction, rows[i - 1].hit_fraction, 1e-3); // (ties on the silhouette)
   }
   EXPECT_GT(rows[0].hit_fraction, 0.0);
