@@ -52,6 +52,10 @@ inline float i2f_(int i) { return float(i); }
 
 #elif defined(__OPENCL_VERSION__)
 // ---------------------------------------------------------------- OpenCL C 1.2
+// OpenCL C lets the compiler fuse a*b + c within an expression (FP_CONTRACT defaults to
+// ON; PoCL does fuse on FMA hardware): off for the rest of the program, before any of
+// its code (every kernel header includes this one first; see "Contraction" below).
+#pragma OPENCL FP_CONTRACT OFF
 #define MASQ_LANG_OPENCL 1
 #define FN inline
 #define STRUCT_BEGIN(N) typedef struct N {
@@ -96,8 +100,8 @@ typedef float3 vec3;
 #endif
 
 // Contraction: none, on every backend (docs/robustness.md, "Float semantics"). Every
-// a*b + c rounds twice as written: C++ is compiled with -ffp-contract=off, the OpenCL
-// entries (trace.cl, trace_bv.cl) say `#pragma OPENCL FP_CONTRACT OFF`, and the Vulkan
+// a*b + c rounds twice as written: C++ is compiled with -ffp-contract=off, OpenCL C gets
+// `#pragma OPENCL FP_CONTRACT OFF` (above, before any kernel code), and the Vulkan
 // backends decorate every float operation of the SPIR-V NoContraction at pipeline
 // creation (host/vulkan/spirv_float_controls.h). That pass covers every expression, so
 // the kernels carry no GLSL `precise` (a MASQ_PRECISE macro marked a few expressions

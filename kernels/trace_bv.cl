@@ -2,13 +2,7 @@
 // hierarchy of MASQ_BV_TYPE nodes (-D at build time, as the other switches). The scene
 // arrays come first, in the order of kernels/scene_array_table.h; params.tlas_root
 // carries the node count, as in trace_bv.comp.
-//
-// One contraction policy on every backend (docs/robustness.md, "Float semantics"):
-// OpenCL C lets the compiler fuse a*b + c within an expression (FP_CONTRACT defaults
-// to ON; PoCL does fuse on FMA hardware), where the cpu (-ffp-contract=off) and Vulkan
-// (NoContraction on every operation) round twice. Off for the whole program, before
-// any code: only the kernels' explicit fma() fuses.
-#pragma OPENCL FP_CONTRACT OFF
+// Contraction is off for the whole program: kernels/shim.h, "Contraction".
 #include "bv_traverse.h"
 
 __kernel void trace_bv(MASQ_CL_SCENE_PARAMS __global const Ray* rays, __global Hit* hits, __global RayStats* stats,
