@@ -9,6 +9,7 @@ int node_format_id(NodeFormat f) {
     case NodeFormat::W4: return MASQ_NODES_W4;
     case NodeFormat::W8: return MASQ_NODES_W8;
     case NodeFormat::Q8: return MASQ_NODES_Q8;
+    case NodeFormat::O4: return MASQ_NODES_O4;
   }
   return MASQ_NODES_W4;
 }
@@ -18,6 +19,7 @@ std::size_t node_format_bytes(NodeFormat f) {
     case NodeFormat::W4: return sizeof(kernel::WideNode);
     case NodeFormat::W8: return sizeof(kernel::WideNode8);
     case NodeFormat::Q8: return sizeof(kernel::QuantNode8);
+    case NodeFormat::O4: return sizeof(kernel::OrientedNode4);
   }
   return 0;
 }
@@ -26,6 +28,7 @@ const void* PackedScene::node_data() const {
   switch (features.nodes) {
     case NodeFormat::W8: return nodes8.data();
     case NodeFormat::Q8: return qnodes.data();
+    case NodeFormat::O4: return onodes.data();
     default: return nodes.data();
   }
 }
@@ -34,6 +37,7 @@ std::size_t PackedScene::node_count() const {
   switch (features.nodes) {
     case NodeFormat::W8: return nodes8.size();
     case NodeFormat::Q8: return qnodes.size();
+    case NodeFormat::O4: return onodes.size();
     default: return nodes.size();
   }
 }

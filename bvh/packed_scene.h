@@ -54,6 +54,7 @@ struct BuildStats {
   std::size_t tlas_nodes = 0;  // wide nodes
   std::size_t blas_nodes = 0;  // wide nodes, all BLAS
   std::size_t node_bytes = 0;  // TLAS and BLAS nodes in the scene's node format
+  std::size_t oriented_nodes = 0; // o4: nodes with a rotated frame (the others axis aligned)
   std::size_t tlas_leaves = 0;
   std::size_t blas_leaves = 0;
   std::size_t instances = 0;   // TLAS entries
@@ -84,10 +85,11 @@ struct BuildStats {
 struct PackedScene {
   Method method = Method::Ref;
   Builder builder = Builder::Sah;
-  // TLAS and all BLAS nodes: one of the three arrays, by features.nodes (the others empty).
-  std::vector<kernel::WideNode> nodes;     // w4
-  std::vector<kernel::WideNode8> nodes8;   // w8
-  std::vector<kernel::QuantNode8> qnodes;  // q8
+  // TLAS and all BLAS nodes: one of the four arrays, by features.nodes (the others empty).
+  std::vector<kernel::WideNode> nodes;        // w4
+  std::vector<kernel::WideNode8> nodes8;      // w8
+  std::vector<kernel::QuantNode8> qnodes;     // q8
+  std::vector<kernel::OrientedNode4> onodes;  // o4
   // Leaf references: prim ids (BLAS); TLAS entries: r >= 0 is instances[r], r < 0 the
   // compact masquerade entry masq_instances[~r] (kernels/layout.h, MasqInstance).
   std::vector<std::int32_t> refs;

@@ -16,6 +16,7 @@ struct StressCli {
   std::vector<std::string> types;
   std::vector<std::string> modes;
   std::vector<std::string> curve_isects;
+  std::string nodes;
   std::string json_path;
   std::string device; // --device (cli/device_option.h)
   bool quiet = false;
@@ -31,14 +32,15 @@ int stress_run(StressCli& c) {
     c.opt.sweep.curve_isects.clear();
     for (const std::string& n : c.curve_isects) c.opt.sweep.curve_isects.push_back(parse_curve_isect(n));
   }
+  if (!c.nodes.empty()) c.opt.nodes = parse_node_format(c.nodes);
   if (!c.modes.empty()) {
     c.opt.modes.clear();
     for (const std::string& m : c.modes) c.opt.modes.push_back(parse_mode(m));
   }
   if (!c.quiet) c.opt.progress = [](const std::string& line) { fmt::print(stderr, "\r\033[K  {}", line); };
-  fmt::print("stress: {} rays per cell, {} sweep, long-double oracle; rays with oracle clearance below "
-             "4u(1+(D+L)/r) are ambiguous (counted, not compared)\n",
-             c.opt.sweep.rays_per_cell, c.opt.sweep.quick ? "quick" : "full");
+  fmt::print("stress: {} rays per cell, {} sweep, node format {}, long-double oracle; rays with oracle clearance "
+             "below 4u(1+(D+L)/r) are ambiguous (counted, not compared)\n",
+             c.opt.sweep.rays_per_cell, c.opt.sweep.quick ? "quick" : "full", node_format_name(c.opt.nodes));
   stress::StressReport r = stress::run_stress(c.opt);
   if (!c.quiet) fmt::print(stderr, "\r\033[K");
   for (const auto& [b, why] : r.unavailable) fmt::print("{} unavailable: {}\n", b, why);
@@ -85,6 +87,10 @@ Action add_stress(CLI::App& app) {
       ->check(CLI::IsMember(mode_table.names()));
   cmd->add_option("--curve-isect", c->curve_isects, "Curve cells, one per intersector (default: all): " + curve_isect_table.help())
       ->check(CLI::IsMember(curve_isect_table.names()));
+  cmd->add_option("--nodes", c->nodes,
+                  "Node format of every structure: " + node_format_table.help() +
+                      " (o4 rotates every BLAS node; ref's false culls are then counted against the w4 ref)")
+      ->check(CLI::IsMember(node_format_table.names()));
   cmd->add_option("--seed", c->opt.sweep.seed, "Random seed")->capture_default_str();
   cmd->add_option("--json", c->json_path, "Write every figure as JSON to this file");
   cmd->add_flag("--check", c->check, "Exit 1 unless robust mode meets the acceptance bounds on every cell");
@@ -92,6 +98,7 @@ Action add_stress(CLI::App& app) {
   cmd->footer("Examples:\n  masq stress --quick\n  masq stress --prim curve --backend cpu --rays 4096\n"
               "  masq stress --json stress.json --check\n"
               "  masq stress --quick --backend vulkan --device 0\n"
+              "  masq stress --quick --nodes o4      # every BLAS node rotated: 0 false culls expected\n"
               "  masq stress --prim capsule --sweep length camera --backend cpu --mode robust");
   return [c] {
     apply_device_option(c->device, c->opt.backends.empty() ? backend_names() : c->opt.backends);

@@ -16,8 +16,9 @@ LAYOUT_NS_BEGIN
 #define MASQ_NODES_W4 0
 #define MASQ_NODES_W8 1
 #define MASQ_NODES_Q8 2
+#define MASQ_NODES_O4 3
 
-#define MASQ_NODE_FORMAT_COUNT 3 // the cpu units of MASQ_NODE_FORMAT (kernels/variant_table.h) cover them all
+#define MASQ_NODE_FORMAT_COUNT 4 // the cpu units of MASQ_NODE_FORMAT (kernels/variant_table.h) cover them all
 
 // Cubic-curve intersectors (the MASQ_CURVE_ISECT switch; host: CurveIsect).
 #define MASQ_CURVE_PHANTOM 0
@@ -83,6 +84,19 @@ STRUCT_BEGIN(QuantNode8)
   uint qhi_z[2];
 STRUCT_END(QuantNode8)
 
+// The oriented 4-wide node (format o4, after Woop et al. 2014 and Kern et al. 2025's
+// DOBB-BVH): a WideNode whose child boxes are in the node's own frame x' = M x, with M
+// stored as nine signed 8-bit entries q (M = q / 128, exact in fp32; M need not be
+// orthonormal, only the one the host fitted the boxes with). rot: byte j of word j / 4
+// is entry (j / 3, j % 3), row-major. oriented == 0: an axis-aligned node (M is the
+// identity, rot unused): tested exactly as a w4 node. The kernels pad the rotated test
+// by the fp32 error of M o and M d (kernels/node_formats.h, docs/robustness.md). 144 B.
+STRUCT_BEGIN(OrientedNode4)
+  WideNode boxes;
+  uint rot[3];
+  uint oriented;
+STRUCT_END(OrientedNode4)
+
 // Word offsets of the node formats read as raw words (kernels/node_formats.h; GLSL
 // binds the node array once, as words). Checked against the structs below.
 #define MASQ_W8_WORDS 64
@@ -106,6 +120,9 @@ STRUCT_END(QuantNode8)
 #define MASQ_Q8_QHI_Y 14
 #define MASQ_Q8_QLO_Z 16
 #define MASQ_Q8_QHI_Z 18
+#define MASQ_O4_WORDS 36
+#define MASQ_O4_ROT 32 // the boxes: WideNode's words 0..31
+#define MASQ_O4_ORIENTED 35
 
 // One entry of the top-level structure (what a hardware TLAS instance is).
 // world_to_object is a row-major 3x4 affine map (rows 0..2: x, y, z; column 3 the
@@ -261,6 +278,7 @@ STRUCT_END(TraceParams)
 STATIC_ASSERT(sizeof(WideNode) == 128, wide_node_size);
 STATIC_ASSERT(sizeof(WideNode8) == 4 * MASQ_W8_WORDS, wide_node8_size);
 STATIC_ASSERT(sizeof(QuantNode8) == 4 * MASQ_Q8_WORDS, quant_node8_size);
+STATIC_ASSERT(sizeof(OrientedNode4) == 4 * MASQ_O4_WORDS, oriented_node4_size);
 STATIC_ASSERT(sizeof(Instance) == 64, instance_size);
 STATIC_ASSERT(sizeof(MasqInstance) == 32, masq_instance_size);
 STATIC_ASSERT(sizeof(MasqOwner) == 16, masq_owner_size);

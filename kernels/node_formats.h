@@ -1,7 +1,8 @@
-// The 8-wide node formats (w8: float boxes; q8: 8-bit quantised boxes) and the one
-// entry the traversal calls for every format. Both are read from the node array as raw
-// words (KD(node_words); GLSL binds that array once, under two names), at the word
-// offsets that kernels/layout.h checks against the structs.
+// The node formats read as raw words (w8: 8-wide float boxes; q8: 8-bit quantised
+// boxes; o4: 4-wide float boxes in the node's own rotated frame) and the one entry the
+// traversal calls for every format. They are read from the node array as raw words
+// (KD(node_words); GLSL binds that array once, under two names), at the word offsets
+// that kernels/layout.h defines and the host checks against the structs.
 #ifndef MASQ_KERNEL_NODE_FORMATS_H
 #define MASQ_KERNEL_NODE_FORMATS_H
 #include "box.h"
@@ -180,14 +181,78 @@ FN WideHits hits_w4(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad,
                      : intersect_wide_node(n, o, inv_d, tmin, tmax);
 }
 
+// The w4 box layout (WideNode's words) at word b of the node array.
+// Slots 4..7 are left unset: node_width() is 4 for this layout.
+FN WideHits hits_box4_words(KD_PARAM int b, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  WideHits r;
+#if defined(MASQ_LANG_CPP)
+  const uint* w = KD(node_words) + b;
+  const WideNode* n = (const WideNode*)w;
+  simd::slab_hits4(n->lo_x, n->hi_x, n->lo_y, n->hi_y, n->lo_z, n->hi_z, n->count, o, inv_d, padded, pad, tmin, tmax,
+                   r.tnear, r.tfar);
+  for (int i = 0; i < MASQ_WIDTH; ++i) {
+    r.child[i] = n->child[i];
+    r.count[i] = n->count[i];
+  }
+#else
+  // Word offsets of WideNode: lo_x 0, hi_x 4, lo_y 8, hi_y 12, lo_z 16, hi_z 20, child 24, count 28.
+  for (int i = 0; i < MASQ_WIDTH; ++i) {
+    r.child[i] = u2i_(KD(node_words)[b + 24 + i]);
+    r.count[i] = u2i_(KD(node_words)[b + 28 + i]);
+    r.tnear[i] = inf_();
+    r.tfar[i] = 0.0f;
+    if (r.count[i] < 0) continue;
+    vec3 lo = VEC3(node_word_f(KD_ARG b + i), node_word_f(KD_ARG b + 8 + i), node_word_f(KD_ARG b + 16 + i));
+    vec3 hi = VEC3(node_word_f(KD_ARG b + 4 + i), node_word_f(KD_ARG b + 12 + i), node_word_f(KD_ARG b + 20 + i));
+    SlabHit h = slab_hit(lo, hi, o, inv_d, padded, pad, tmin, tmax);
+    r.tnear[i] = h.tn;
+    r.tfar[i] = h.tf;
+  }
+#endif
+  return r;
+}
+
+// Entry e (row e / 3, column e % 3) of an o4 node's frame: a signed byte over 128.
+FN float o4_entry(KD_PARAM int b, int e) {
+  int q = u2i_((KD(node_words)[b + MASQ_O4_ROT + (e >> 2)] >> ((e & 3) * 8)) & 255u);
+  return i2f_(q > 127 ? q - 256 : q) * 0.0078125f;
+}
+
+// An o4 node: the ray goes into the node's frame (o' = M o, d' = M d) and the boxes are
+// padded by that product's fp32 error, which grows with t: t_bound is the exit distance
+// of this node's box in its parent (no hit below it lies farther), as transform_pad
+// bounds a cluster's ray. An incoming pad (the ray itself transformed: cluster BLAS)
+// carries over through |M|. Axis-aligned nodes are tested as w4 nodes.
+FN WideHits hits_o4(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax,
+                    float t_bound) {
+  int b = node * MASQ_O4_WORDS;
+  if (KD(node_words)[b + MASQ_O4_ORIENTED] == 0u) return hits_box4_words(KD_ARG b, o, inv_d, padded, pad, tmin, tmax);
+  Affine m;
+  m.r0 = VEC3(o4_entry(KD_ARG b, 0), o4_entry(KD_ARG b, 1), o4_entry(KD_ARG b, 2));
+  m.r1 = VEC3(o4_entry(KD_ARG b, 3), o4_entry(KD_ARG b, 4), o4_entry(KD_ARG b, 5));
+  m.r2 = VEC3(o4_entry(KD_ARG b, 6), o4_entry(KD_ARG b, 7), o4_entry(KD_ARG b, 8));
+  m.t = VEC3(0.0f, 0.0f, 0.0f);
+  vec3 mo = affine_vector(m, o);
+  vec3 md = affine_vector(m, d);
+  vec3 mpad = transform_pad(m, o, d, t_bound);
+  if (padded != 0)
+    mpad = mpad + VEC3(dot(vabs_(m.r0), pad), dot(vabs_(m.r1), pad), dot(vabs_(m.r2), pad)) * (1.0f + 8.0f * MASQ_U);
+  return hits_box4_words(KD_ARG b, mo, safe_rcp3(md), 1, mpad, tmin, tmax);
+}
+
 // The node test of the scene's format: child entry distances and the decoded slots.
-FN WideHits node_hits(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+// d and t_bound serve the o4 format's rotation (the other formats test with inv_d).
+FN WideHits node_hits(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax,
+                      float t_bound) {
   if (MASQ_NODE_FORMAT == MASQ_NODES_W8) return hits_w8(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
   if (MASQ_NODE_FORMAT == MASQ_NODES_Q8) return hits_q8(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
+  if (MASQ_NODE_FORMAT == MASQ_NODES_O4) return hits_o4(KD_ARG node, o, d, inv_d, padded, pad, tmin, tmax, t_bound);
   return hits_w4(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
 }
 
-FN int node_width() { return MASQ_NODE_FORMAT == MASQ_NODES_W4 ? MASQ_WIDTH : MASQ_WIDTH8; }
+FN int node_width() {
+  return (MASQ_NODE_FORMAT == MASQ_NODES_W4 || MASQ_NODE_FORMAT == MASQ_NODES_O4) ? MASQ_WIDTH : MASQ_WIDTH8;
+}
 
 KERNEL_NS_END
 #endif

@@ -17,7 +17,7 @@
 //     declares every row; a backend uploads the rows its kernel reads and binds an empty
 //     buffer (or nothing, on Vulkan) for the others.
 //   source: SCENE = the PackedScene member of the same name (bvh/packed_scene.h);
-//     NODES = PackedScene::node_data(), the node array of the scene's format (w8 and q8
+//     NODES = PackedScene::node_data(), the node array of the scene's format (w8, q8 and o4
 //     nodes are read as words through the node_words view below); BV = the BvScene
 //     member of the same name (bvh/bv/bv_scene.h).
 // Comments inside the macro are /* */ ones: a // comment would swallow the line splice.
@@ -46,6 +46,6 @@
 // Views: a second element type over a row's buffer (GLSL cannot reinterpret a buffer,
 // so it declares the block twice at one binding; C++ and OpenCL cast the pointer).
 // X(element type, name, the row it views)
-#define MASQ_SCENE_ARRAY_VIEWS(X) X(uint, node_words, nodes) /* node formats w8 and q8 */
+#define MASQ_SCENE_ARRAY_VIEWS(X) X(uint, node_words, nodes) /* node formats w8, q8 and o4 */
 
 #endif

@@ -116,8 +116,12 @@ FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id
 // intersected with. They are the same ray for an ordinary BLAS instance; for a cluster
 // instance (o, d) is in the cluster's frame and (po, pd) in the scene instance's, and
 // padded != 0 grows every box by pad (the error bound of the fp32 transform to (o, d)).
+// root_tbound: no primitive of the tree is hit beyond it (the exit distance of the
+// tree's box in the TLAS); the o4 format's rotated nodes pad by it (node_hits), and
+// each node passes its children's exit distances on, held with them on the stack.
 FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, vec3 d, int padded, vec3 pad,
-                         vec3 po, vec3 pd, float tmin, Nearest nearest) {
+                         vec3 po, vec3 pd, float tmin, float root_tbound, Nearest nearest) {
+  const bool tbounds = MASQ_NODE_FORMAT == MASQ_NODES_O4;
   BlasOut res;
   res.nearest = nearest;
   res.nodes = 0;
@@ -126,22 +130,25 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
   vec3 inv_d = safe_rcp3(d);
   int stack_node[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
   float stack_t[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
+  float stack_tf[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
   int sp = 0;
   // The node visited next is held here, not pushed and popped: the nearest inner child
   // of the node just visited (the one the stack would pop next), else the stack's top.
   int node = root;
   float node_t = tmin;
+  float node_tf = root_tbound;
   bool held = true;
   while (held || sp > 0) {
     if (!held) {
       sp = sp - 1;
       node = stack_node[sp];
       node_t = stack_t[sp];
+      if (tbounds) node_tf = stack_tf[sp];
     }
     held = false;
     if (node_t > res.nearest.t) continue;
     if (MASQ_STATS) res.nodes = res.nodes + 1;
-    WideHits wh = node_hits(KD_ARG node, o, inv_d, padded, pad, tmin, res.nearest.t);
+    WideHits wh = node_hits(KD_ARG node, o, d, inv_d, padded, pad, tmin, res.nearest.t, node_tf);
 #if defined(MASQ_LANG_CPP)
     {
       // cpu: the visits of the loops below, in their order, without their scan of every
@@ -163,10 +170,12 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
         if (held && sp < MASQ_BLAS_STACK) {
           stack_node[sp] = node;
           stack_t[sp] = node_t;
+          if (tbounds) stack_tf[sp] = node_tf;
           sp = sp + 1;
         }
         node = wh.child[slot[k]];
         node_t = wh.tnear[slot[k]];
+        node_tf = wh.tfar[slot[k]];
         held = true;
       }
       continue;
@@ -188,10 +197,12 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
       if (held && sp < MASQ_BLAS_STACK) {
         stack_node[sp] = node;
         stack_t[sp] = node_t;
+        if (tbounds) stack_tf[sp] = node_tf;
         sp = sp + 1;
       }
       node = wh.child[i];
       node_t = wh.tnear[i];
+      node_tf = wh.tfar[i];
       held = true;
     }
   }
@@ -251,7 +262,7 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
   if (MASQ_SINGLE_BLAS) {
     Instance only = KD(instances)[0];
     BlasOut bo = traverse_blas(KD_ARG only.blas_root, only.geom, only.scene_inst, wo, wd, 0, VEC3(0.0f, 0.0f, 0.0f), wo,
-                               wd, tmin, best);
+                               wd, tmin, ray.tmax, best);
     if (MASQ_STATS) {
       res.stats.blas_nodes = bo.nodes;
       res.stats.isect_calls = bo.isect_calls;
@@ -260,22 +271,26 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
     return res;
   }
   vec3 inv_d = safe_rcp3(wd);
+  const bool tbounds = MASQ_NODE_FORMAT == MASQ_NODES_O4;
   int stack_node[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
   float stack_t[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
+  float stack_tf[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
   int sp = 0;
-  int node = tlas_root; // held, as in traverse_blas
+  int node = tlas_root; // held, as in traverse_blas, with its exit bound
   float node_t = tmin;
+  float node_tf = ray.tmax;
   bool held = true;
   while (held || sp > 0) {
     if (!held) {
       sp = sp - 1;
       node = stack_node[sp];
       node_t = stack_t[sp];
+      if (tbounds) node_tf = stack_tf[sp];
     }
     held = false;
     if (node_t > best.t) continue;
     if (MASQ_STATS) res.stats.tlas_nodes = res.stats.tlas_nodes + 1;
-    WideHits wh = node_hits(KD_ARG node, wo, inv_d, 0, VEC3(0.0f, 0.0f, 0.0f), tmin, best.t);
+    WideHits wh = node_hits(KD_ARG node, wo, wd, inv_d, 0, VEC3(0.0f, 0.0f, 0.0f), tmin, best.t, node_tf);
     ChildOrder co = order_children(wh, node_width());
     for (int k = 0; k < co.n; ++k) {
       int i = co.slot[k];
@@ -320,7 +335,7 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
           }
           int padded = (cluster && MASQ_ROBUST) ? 1 : 0;
           BlasOut bo = traverse_blas(KD_ARG blas_root, geom, scene_inst, oo, od, padded, pad, po, pd,
-                                     tmin, best);
+                                     tmin, wh.tfar[i], best);
           best = bo.nearest;
           if (MASQ_STATS) {
             res.stats.blas_nodes = res.stats.blas_nodes + bo.nodes;
@@ -355,10 +370,12 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
       if (held && sp < MASQ_TLAS_STACK) {
         stack_node[sp] = node;
         stack_t[sp] = node_t;
+        if (tbounds) stack_tf[sp] = node_tf;
         sp = sp + 1;
       }
       node = wh.child[i];
       node_t = wh.tnear[i];
+      node_tf = wh.tfar[i];
       held = true;
     }
   }

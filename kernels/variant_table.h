@@ -48,7 +48,7 @@
   X(MASQ_CURVE_ITERS,    curve_iters, int,  24,    8,  0, FEATURES(curve_iters)) /* phantom limit */ \
   X(MASQ_ANY_HIT,        any_hit,     bool, false, 9,  0, TRACE(any_hit))     /* occlusion query */  \
   X(MASQ_SINGLE_BLAS,    single_blas, bool, false, 10, 0, FEATURES(single_blas)) /* no TLAS stage */ \
-  X(MASQ_NODE_FORMAT,    node_format, int,  0,     11, 3, FEATURES(nodes))    /* MASQ_NODES_* */ \
+  X(MASQ_NODE_FORMAT,    node_format, int,  0,     11, 4, FEATURES(nodes))    /* MASQ_NODES_* */ \
   X(MASQ_TLAS_STACK,     tlas_stack,  int,  64,    12, 1, FEATURES(tlas_stack)) /* entries */      \
   X(MASQ_BLAS_STACK,     blas_stack,  int,  64,    13, 1, FEATURES(blas_stack)) /* entries */      \
   X(MASQ_CURVE_ISECT,    curve_isect, int,  0,     14, 0, FEATURES(curve_isect)) /* MASQ_CURVE_* */

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <memory>
 
 namespace masq::stress {
@@ -195,14 +196,23 @@ StressReport run_stress(const StressOptions& opt) {
     cell.spec = spec;
     for (Mode mode : opt.modes) {
       std::map<Method, PackedScene> built;
-      for (Method method : {Method::Ref, Method::Masq}) {
-        AccelOptions ao;
-        ao.mode = mode;
-        ao.curve_isect = spec.curve_isect;
-        built[method] = build_accel(cell.scene, method, ao);
-      }
+      AccelOptions ao;
+      ao.mode = mode;
+      ao.curve_isect = spec.curve_isect;
+      const bool baseline = opt.nodes != NodeFormat::W4;
+      std::optional<PackedScene> w4_ref;
+      if (baseline) w4_ref = build_accel(cell.scene, Method::Ref, ao);
+      ao.nodes = opt.nodes;
+      if (opt.nodes == NodeFormat::O4) ao.oriented_gain = INFINITY;
+      for (Method method : {Method::Ref, Method::Masq}) built[method] = build_accel(cell.scene, method, ao);
       for (auto& [name, be] : backends) {
         std::map<Method, std::vector<kernel::Hit>> hits;
+        std::vector<kernel::Hit> w4_hits;
+        if (baseline) {
+          w4_hits.resize(cell.rays.size());
+          be->set_scene(*w4_ref);
+          be->trace(cell.rays, w4_hits, {});
+        }
         for (Method method : {Method::Ref, Method::Masq}) {
           CellResult res;
           res.spec = spec;
@@ -216,6 +226,7 @@ StressReport run_stress(const StressOptions& opt) {
           res.m = compare(cell, truth, cond, h);
           res.m.trace_seconds = be->timing().trace_seconds;
           if (method == Method::Masq) res.m.false_culls = false_culls(cell, hits[Method::Ref], h);
+          if (method == Method::Ref && baseline) res.m.false_culls = false_culls(cell, w4_hits, h);
           report.results.push_back(std::move(res));
         }
       }

@@ -16,7 +16,9 @@ struct Metrics {
   std::size_t compared = 0;   // rays - ambiguous
   std::size_t disagree = 0;   // hit/miss differs, or a different surface (|dt| > r)
   std::size_t self_hits = 0;  // surface-start rays that re-hit their origin (|t d| < r/100)
-  std::size_t false_culls = 0; // masq: ref hits on the same backend and mode, masq does not
+  // masq: ref hits on the same backend and mode, masq does not; with a node format other
+  // than w4, ref too: the w4 ref structure hits, this one does not
+  std::size_t false_culls = 0;
   // |dt| * |d| / r and normal error over agreeing, well-conditioned hits (origin
   // perturbations within the band move the hit by less than r / 1000).
   double max_dt = 0, sum_dt = 0;
@@ -42,6 +44,10 @@ struct StressOptions {
   SweepOptions sweep;
   std::vector<std::string> backends;            // empty: all
   std::vector<Mode> modes = {Mode::Robust, Mode::Fast};
+  // The node format of both methods' structures. o4 rotates every BLAS node (gain +inf:
+  // the format's numerical worst case), and the w4 ref is traced as well, as the
+  // baseline of ref's false culls.
+  NodeFormat nodes = NodeFormat::W4;
   std::function<void(const std::string&)> progress; // may be empty
 };
 

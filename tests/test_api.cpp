@@ -106,7 +106,7 @@ TEST(Api, NodeFormatsGiveTheSameHitsInFewerBytes) {
   Context ctx("cpu");
   Accel w4 = Accel::build(scene, {.method = Method::Masq, .mode = Mode::Robust, .nodes = NodeFormat::W4});
   std::vector<Hit> expected = ctx.trace(w4, rays);
-  for (NodeFormat f : {NodeFormat::W8, NodeFormat::Q8}) {
+  for (NodeFormat f : node_format_table.values()) {
     Accel a = Accel::build(scene, {.method = Method::Masq, .mode = Mode::Robust, .nodes = f});
     EXPECT_EQ(a.options().nodes, f);
     std::vector<Hit> hits = ctx.trace(a, rays);

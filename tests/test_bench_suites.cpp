@@ -205,20 +205,20 @@ TEST(Bench, NodeFormatsSideBySide) {
   opt.backends = {"cpu"};
   opt.methods = {Method::Ref, Method::Masq};
   opt.ray_sets = {RaySet::Primary};
-  opt.node_formats = {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8};
+  opt.node_formats = node_format_table.values();
+  const std::size_t formats = opt.node_formats.size();
   opt.width = 48;
   opt.height = 48;
   opt.warmup = 0;
   opt.repetitions = 1;
   std::vector<BenchRow> rows = run_bench(scene, opt);
-  ASSERT_EQ(rows.size(), 6u);
-  const NodeFormat want[] = {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8};
+  ASSERT_EQ(rows.size(), 2 * formats);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     ASSERT_TRUE(rows[i].unavailable.empty()) << rows[i].unavailable;
-    EXPECT_EQ(rows[i].method, i < 3 ? Method::Ref : Method::Masq);
-    EXPECT_EQ(rows[i].nodes, want[i % 3]);
+    EXPECT_EQ(rows[i].method, i < formats ? Method::Ref : Method::Masq);
+    EXPECT_EQ(rows[i].nodes, opt.node_formats[i % formats]);
     EXPECT_EQ(rows[i].rays, rows[0].rays);
-    EXPECT_EQ(rows[i].hit_fraction, rows[i - i % 3].hit_fraction);
+    EXPECT_EQ(rows[i].hit_fraction, rows[i - i % formats].hit_fraction);
     EXPECT_GT(rows[i].build.node_bytes, 0u);
   }
   EXPECT_LT(rows[1].blas_nodes, rows[0].blas_nodes); // ref: 8-wide BLAS, fewer visits

@@ -188,6 +188,35 @@ TEST_P(EveryPrimitive, InstancedWithMeshRobustAndFast) {
   }
 }
 
+// Oriented wide nodes (node format o4) with every BLAS node rotated, the format's
+// numerical worst case (each node test rotates the ray and pads by the rotation's fp32
+// error): every backend and method against the oracle, robust mode, no false cull.
+TEST_P(EveryPrimitive, EveryNodeRotated) {
+  PrimType type = GetParam();
+  std::mt19937_64 rng(61 + int(type));
+  Scene s;
+  s.name = std::string("random ") + prim_type_key(type) + ", o4 every node rotated";
+  s.geometries.push_back(make_random_geometry(type, 200, 0.004f, 0.05f, 1.0, 71 + int(type)));
+  s.geometries.push_back(make_random_mesh(128, 1.0, 43));
+  for (int i = 0; i < 2; ++i) s.instances.push_back({0, random_affine(rng)});
+  s.instances.push_back({1, random_affine(rng)});
+  AccelOptions opt;
+  opt.nodes = NodeFormat::O4;
+  opt.oriented_gain = INFINITY;
+  PackedScene ps = build_accel(s, Method::Ref, opt);
+  ASSERT_EQ(ps.stats.oriented_nodes, ps.stats.blas_nodes) << "every BLAS node is rotated";
+  check_all_backends(s, random_rays(rng, 3072), opt);
+}
+
+// The o4 format as users build it (nodes rotated where the SAH gains) on the default scene.
+TEST(CrossBackend, DefaultSceneCameraOrientedNodes) {
+  Scene s = make_default_scene();
+  AccelOptions opt;
+  opt.nodes = NodeFormat::O4;
+  EXPECT_GT(build_accel(s, Method::Ref, opt).stats.oriented_nodes, 0u);
+  check_all_backends(s, make_camera_rays(s.camera, 96, 72), opt);
+}
+
 TEST_P(EveryPrimitive, BundleCamera) {
   BundleParams p;
   p.count = 300;
@@ -288,7 +317,7 @@ TEST(CrossBackend, ComputeBackendsVisitWhatTheCpuVisits) {
   rays.insert(rays.end(), extra.begin(), extra.end());
   std::unique_ptr<Backend> cpu = make_backend("cpu");
   int compared = 0;
-  for (NodeFormat f : {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8})
+  for (NodeFormat f : node_format_table.values())
     for (Method m : {Method::Ref, Method::Masq, Method::Cluster}) {
       AccelOptions o;
       o.nodes = f;

@@ -199,22 +199,34 @@ bool contains(const Aabb& outer, const Aabb& inner) {
 }
 
 // Walks one BLAS through node_slots (the kernels' decode): each primitive once, and
-// inside the box of its leaf slot and of every inner slot above it. (q8 boxes need not
-// nest: a node's children are quantised in its own frame, the node's slot in its
-// parent's; both enclose the exact boxes, which is what the traversal relies on.)
-void check_blas(const PackedScene& ps, int root, const std::vector<Aabb>& prim_boxes) {
-  std::vector<int> seen(prim_boxes.size(), 0);
+// inside the box of its leaf slot and of every inner slot above it, each box in its
+// node's frame (o4), where the primitive's extent along the frame's rows is exact in
+// double. (q8 boxes need not nest: a node's children are quantised in its own frame,
+// the node's slot in its parent's; both enclose the exact boxes, which is what the
+// traversal relies on.)
+// support(prim, dir): the primitive's greatest extent along dir.
+using Support = std::function<double(int, const glm::dvec3&)>;
+void check_blas(const PackedScene& ps, int root, std::size_t prims, const Support& support) {
+  std::vector<int> seen(prims, 0);
   int misses = 0;
-  std::vector<Aabb> above;
+  std::vector<NodeSlot> above;
   std::function<void(int)> walk = [&](int node) {
     for (const NodeSlot& s : node_slots(ps, node)) {
       if (s.count < 0) continue;
-      above.push_back(s.box);
+      above.push_back(s);
       if (s.count == 0) walk(s.child);
       for (int j = 0; j < s.count; ++j) {
         int prim = ps.refs.at(std::size_t(s.child + j));
         ++seen.at(std::size_t(prim));
-        for (const Aabb& b : above) misses += !contains(b, prim_boxes[std::size_t(prim)]);
+        for (const NodeSlot& a : above) {
+          Aabb b;
+          for (int k = 0; k < 3; ++k) {
+            const glm::dvec3 m = a.frame.row(k);
+            b.lo[k] = -support(prim, -m);
+            b.hi[k] = support(prim, m);
+          }
+          misses += !contains(a.box, b);
+        }
       }
       above.pop_back();
     }
@@ -236,16 +248,12 @@ TEST_P(EveryFormat, EveryPrimitiveOnceInsideItsBoxes) {
   EXPECT_EQ(ps.features.nodes, GetParam());
   EXPECT_EQ(ps.stats.node_bytes, ps.node_count() * node_format_bytes(GetParam()));
   EXPECT_EQ(ps.stats.node_bytes, ps.node_bytes());
-  std::vector<Aabb> boxes;
-  for (const CapsulePrim& c : s.geometries[0].capsules) {
-    Aabb b;
-    b.grow(glm::dvec3(c.a) - glm::dvec3(c.radius));
-    b.grow(glm::dvec3(c.a) + glm::dvec3(c.radius));
-    b.grow(glm::dvec3(c.b) - glm::dvec3(c.radius));
-    b.grow(glm::dvec3(c.b) + glm::dvec3(c.radius));
-    boxes.push_back(b);
-  }
-  check_blas(ps, 0, boxes); // the BLAS is appended first, its root at 0
+  std::vector<BallHull> hulls;
+  for (std::size_t p = 0; p < s.geometries[0].capsules.size(); ++p) hulls.push_back(ball_hull(s.geometries[0], p));
+  // the BLAS is appended first, its root at 0
+  check_blas(ps, 0, hulls.size(), [&](int p, const glm::dvec3& d) { return hulls[std::size_t(p)].support(d); });
+  // o4 must rotate some nodes of long thin capsules, or the format is not exercised.
+  if (GetParam() == NodeFormat::O4) EXPECT_GT(ps.stats.oriented_nodes, ps.stats.blas_nodes / 20);
 }
 
 // The deepest stack the kernels' discipline reaches on this tree (all inner children
@@ -356,7 +364,7 @@ TEST_P(EveryFormat, DeepTreesGetFewerInnerChildrenPerNode) {
   PackedScene ps;
   ps.features.nodes = GetParam();
   WideBvhInfo info = append_bvh_nodes(bvh, ids, GetParam(), ps);
-  EXPECT_LT(info.max_inner, GetParam() == NodeFormat::W4 ? 4 : 8);
+  EXPECT_LT(info.max_inner, (GetParam() == NodeFormat::W4 || GetParam() == NodeFormat::O4) ? 4 : 8);
   EXPECT_LE(simulated_stack(ps, info.root), info.stack_need);
   EXPECT_LE(info.stack_need, MASQ_STACK_MAX);
   EXPECT_EQ(simulated_kernel_stack(ps, info.root), info.kernel_stack);
@@ -364,7 +372,11 @@ TEST_P(EveryFormat, DeepTreesGetFewerInnerChildrenPerNode) {
   std::vector<Aabb> boxes(ids.size());
   for (const BinaryNode& n : bvh.nodes)
     for (int i = n.first; i < n.first + n.count; ++i) boxes[std::size_t(bvh.order[std::size_t(i)])] = n.box;
-  check_blas(ps, info.root, boxes);
+  check_blas(ps, info.root, boxes.size(), [&](int p, const glm::dvec3& d) {
+    const Aabb& b = boxes[std::size_t(p)];
+    return std::max(d.x * b.lo.x, d.x * b.hi.x) + std::max(d.y * b.lo.y, d.y * b.hi.y) +
+           std::max(d.z * b.lo.z, d.z * b.hi.z);
+  });
 }
 
 // A path of 200 nodes, each with a second inner child: no collapse fits 64 entries.
@@ -407,7 +419,7 @@ TEST_P(EveryFormat, TreesNoCollapseFitsAreRejected) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Formats, EveryFormat, ::testing::Values(NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8),
+INSTANTIATE_TEST_SUITE_P(Formats, EveryFormat, ::testing::ValuesIn(node_format_table.values()),
                          [](const ::testing::TestParamInfo<NodeFormat>& i) { return node_format_name(i.param); });
 
 TEST(NodeFormats, EightWideNodesHoldUpToEightChildren) {
@@ -429,11 +441,12 @@ TEST(NodeFormats, EightWideNodesHoldUpToEightChildren) {
 }
 
 TEST(NodeFormats, NamesParseAndBadOnesAreRejected) {
-  for (NodeFormat f : {NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8}) EXPECT_EQ(parse_node_format(node_format_name(f)), f);
+  for (NodeFormat f : node_format_table.values()) EXPECT_EQ(parse_node_format(node_format_name(f)), f);
   EXPECT_THROW(parse_node_format("w16"), Error);
   EXPECT_EQ(node_format_bytes(NodeFormat::W4), 128u);
   EXPECT_EQ(node_format_bytes(NodeFormat::W8), 256u);
   EXPECT_EQ(node_format_bytes(NodeFormat::Q8), 80u);
+  EXPECT_EQ(node_format_bytes(NodeFormat::O4), 144u);
 }
 
 } // namespace

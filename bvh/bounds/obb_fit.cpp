@@ -6,10 +6,6 @@
 
 namespace masq {
 
-namespace {
-
-// Eigenvectors of a symmetric 3x3 matrix by cyclic Jacobi rotations (columns of the
-// result; orthonormal to rounding).
 glm::dmat3 symmetric_eigenvectors(glm::dmat3 a) {
   glm::dmat3 v(1.0);
   for (int sweep = 0; sweep < 32; ++sweep) {
@@ -32,6 +28,8 @@ glm::dmat3 symmetric_eigenvectors(glm::dmat3 a) {
   }
   return v;
 }
+
+namespace {
 
 // Orthonormal frame with first axis `e` and second axis as close as possible to `n`.
 bool frame_from(glm::dvec3 e, glm::dvec3 n, glm::dmat3& out) {

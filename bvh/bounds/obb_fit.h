@@ -16,6 +16,10 @@ struct Interval {
 };
 Interval hull_extent(std::span<const BallHull> hulls, const glm::dvec3& axis);
 
+// Eigenvectors of a symmetric 3x3 matrix by cyclic Jacobi rotations (columns of the
+// result; orthonormal to rounding).
+glm::dmat3 symmetric_eigenvectors(glm::dmat3 a);
+
 // The fitted box (axes: orthonormal columns). Empty input gives half = 0 at the origin.
 ObbFrame fit_obb(std::span<const BallHull> hulls);
 

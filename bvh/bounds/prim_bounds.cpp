@@ -96,6 +96,17 @@ BallHull ball_hull(const PackedScene& s, int geom, int prim) {
               " has no ball hull");
 }
 
+BallHull prim_hull(const PackedScene& s, int geom, int prim) {
+  const kernel::Geometry& g = s.geoms.at(std::size_t(geom));
+  if (g.type != MASQ_PRIM_TRIANGLE) return ball_hull(s, geom, prim);
+  const kernel::Triangle& t = s.triangles.at(std::size_t(g.first + prim));
+  BallHull h;
+  const float* v[3] = {t.v0, t.v1, t.v2};
+  for (int k = 0; k < 3; ++k) h.centre[std::size_t(k)] = glm::dvec3(v3(v[k]));
+  h.count = 3;
+  return h;
+}
+
 Aabb hull_box(const BallHull& h) {
   Aabb b;
   for (int i = 0; i < h.count; ++i) {

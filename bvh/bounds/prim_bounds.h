@@ -24,6 +24,9 @@ struct BallHull {
 BallHull ball_hull(const Geometry& g, std::size_t prim);
 // The same from the fp32 copy a PackedScene holds (what the kernels intersect).
 BallHull ball_hull(const PackedScene& s, int geom, int prim);
+// Any primitive of a PackedScene as a hull: a triangle is its three vertices (balls of
+// radius 0), the others their ball_hull.
+BallHull prim_hull(const PackedScene& s, int geom, int prim);
 
 // Exact AABB of the hull in object space, and of its image under an affine map (the
 // image of a ball is an ellipsoid with support r * |row_k(L)| on axis k).

@@ -1,8 +1,11 @@
 #include "bvh/nodes/wide_bvh.h"
+#include "bvh/nodes/node_frame.h"
 #include "bvh/nodes/quant_node.h"
 #include "kernels/variants.h"
 #include "masq/error.h"
 #include <algorithm>
+#include <optional>
+#include <type_traits>
 
 namespace masq {
 
@@ -72,12 +75,27 @@ struct Common {
   }
 };
 
-// w4 and w8: float boxes rounded outward, children emitted depth first.
+// The float boxes of a node: the node itself (w4, w8) or, for o4, its WideNode part.
+kernel::WideNode& boxes_of(kernel::WideNode& n) { return n; }
+kernel::WideNode8& boxes_of(kernel::WideNode8& n) { return n; }
+kernel::WideNode& boxes_of(kernel::OrientedNode4& n) { return n.boxes; }
+
+// The o4 node's frame words (kernels/layout.h OrientedNode4).
+void set_frame(kernel::OrientedNode4& w, const NodeFrame& f) {
+  w.oriented = f.oriented ? 1u : 0u;
+  for (int j = 0; j < 9; ++j)
+    w.rot[j / 4] |= std::uint32_t(std::uint8_t(f.q[std::size_t(j)])) << (8 * (j % 4));
+}
+
+// w4, w8 and o4: float boxes rounded outward, children emitted depth first. o4 nodes
+// take the framer's choice; without a framer every o4 node is axis aligned.
 template <class Node, int Width>
 struct FloatCollapser : Common {
   std::vector<Node>& nodes;
+  const NodeFramer* framer = nullptr;
 
-  static void set_box(Node& w, int slot, const Aabb& b) {
+  template <class Boxes>
+  static void set_box(Boxes& w, int slot, const Aabb& b) {
     w.lo_x[slot] = round_down(b.lo.x);
     w.lo_y[slot] = round_down(b.lo.y);
     w.lo_z[slot] = round_down(b.lo.z);
@@ -91,13 +109,23 @@ struct FloatCollapser : Common {
     int index = int(nodes.size());
     nodes.push_back({});
     count_node(box, depth);
-    Node w{};
+    Node node{};
+    auto& w = boxes_of(node);
+    std::optional<NodeFramer::Choice> framed;
+    if constexpr (std::is_same_v<Node, kernel::OrientedNode4>) {
+      if (framer) framed = framer->choose(kids);
+      if (framed) set_frame(node, framed->frame);
+      if (framed && framed->frame.oriented) {
+        ++info.oriented;
+        if (depth == 1) info.root_oriented = true;
+      }
+    }
     for (int s = 0; s < Width; ++s) w.count[s] = -1;
     int inner = 0;
     StackNeedOf deepest;
     for (int s = 0; s < int(kids.size()); ++s) {
       const BinaryNode& c = bvh.nodes[kids[s]];
-      set_box(w, s, c.box);
+      set_box(w, s, framed && framed->frame.oriented ? framed->boxes[std::size_t(s)] : c.box);
       if (c.is_leaf()) {
         w.child[s] = emit_leaf_refs(c);
         w.count[s] = c.count;
@@ -109,7 +137,7 @@ struct FloatCollapser : Common {
         deepest = deeper(deepest, need);
       }
     }
-    nodes[index] = w;
+    nodes[index] = node;
     return {index, stack_need(inner, deepest)};
   }
 };
@@ -164,8 +192,9 @@ void check_stack(WideBvhInfo& info, StackNeedOf need) {
 // One collapse with at most max_inner inner children per node; {info, stack need}.
 template <class Node, int Width>
 WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
-                           std::vector<std::int32_t>& refs, int max_inner, StackNeedOf& need) {
-  FloatCollapser<Node, Width> c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
+                           std::vector<std::int32_t>& refs, int max_inner, StackNeedOf& need,
+                           const NodeFramer* framer = nullptr) {
+  FloatCollapser<Node, Width> c{{bvh, max_inner, ref_ids, refs, {}}, nodes, framer};
   const BinaryNode& root = bvh.nodes[0];
   c.root_area = std::max(root.box.area(), 1e-300);
   // A root that is itself a leaf becomes a wide node with one leaf slot.
@@ -215,10 +244,18 @@ WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, std::vector<N
 
 template <class Node, int Width>
 WideBvhInfo append_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
-                         std::vector<std::int32_t>& refs) {
+                         std::vector<std::int32_t>& refs, const NodeFramer* framer = nullptr) {
   return collapse_within_stack(bvh, Width, nodes, refs, [&](int max_inner, StackNeedOf& need) {
-    return collapse_float<Node, Width>(bvh, ref_ids, nodes, refs, max_inner, need);
+    return collapse_float<Node, Width>(bvh, ref_ids, nodes, refs, max_inner, need, framer);
   });
+}
+
+WideBvhInfo append_oriented(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, PackedScene& ps,
+                            const NodeFraming* framing) {
+  std::optional<NodeFramer> framer;
+  if (framing && framing->hull_of && !bvh.nodes.empty()) framer.emplace(bvh, ref_ids, *framing);
+  return append_float<kernel::OrientedNode4, MASQ_WIDTH>(bvh, ref_ids, ps.onodes, ps.refs,
+                                                          framer ? &*framer : nullptr);
 }
 
 WideBvhInfo append_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
@@ -229,13 +266,14 @@ WideBvhInfo append_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& 
 }
 
 template <class Node, int Width>
-void float_slots(const Node& n, std::vector<NodeSlot>& out) {
+void float_slots(const Node& n, std::vector<NodeSlot>& out, const NodeFrame& frame = {}) {
   for (int s = 0; s < Width; ++s) {
     NodeSlot slot;
     slot.child = n.child[s];
     slot.count = n.count[s];
     slot.box.lo = {n.lo_x[s], n.lo_y[s], n.lo_z[s]};
     slot.box.hi = {n.hi_x[s], n.hi_y[s], n.hi_z[s]};
+    slot.frame = frame;
     out.push_back(slot);
   }
 }
@@ -248,8 +286,9 @@ WideBvhInfo append_wide_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t
 }
 
 WideBvhInfo append_bvh_nodes(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, NodeFormat format,
-                             PackedScene& ps) {
+                             PackedScene& ps, const NodeFraming* framing) {
   switch (format) {
+    case NodeFormat::O4: return append_oriented(bvh, ref_ids, ps, framing);
     case NodeFormat::W8: return append_float<kernel::WideNode8, MASQ_WIDTH8>(bvh, ref_ids, ps.nodes8, ps.refs);
     case NodeFormat::Q8: return append_quant(bvh, ref_ids, ps.qnodes, ps.refs);
     case NodeFormat::W4: break;
@@ -263,6 +302,14 @@ std::vector<NodeSlot> node_slots(const PackedScene& ps, std::int32_t node) {
   switch (ps.features.nodes) {
     case NodeFormat::W4: float_slots<kernel::WideNode, MASQ_WIDTH>(ps.nodes.at(i), out); break;
     case NodeFormat::W8: float_slots<kernel::WideNode8, MASQ_WIDTH8>(ps.nodes8.at(i), out); break;
+    case NodeFormat::O4: {
+      const kernel::OrientedNode4& n = ps.onodes.at(i);
+      NodeFrame f;
+      f.oriented = n.oriented != 0;
+      for (int j = 0; j < 9; ++j) f.q[std::size_t(j)] = std::int8_t((n.rot[j / 4] >> (8 * (j % 4))) & 255u);
+      float_slots<kernel::WideNode, MASQ_WIDTH>(n.boxes, out, f);
+      break;
+    }
     case NodeFormat::Q8: {
       const kernel::QuantNode8& n = ps.qnodes.at(i);
       auto byte = [](const std::uint32_t* words, int s) { return (words[s / 4] >> (8 * (s % 4))) & 255u; };

@@ -3,6 +3,7 @@
 // array shared by the TLAS and every BLAS.
 #pragma once
 #include "bvh/build/binned_sah.h"
+#include "bvh/nodes/node_frame.h"
 #include "bvh/packed_scene.h"
 #include "kernels/layout.h"
 #include <cstdint>
@@ -19,14 +20,18 @@ struct WideBvhInfo {
   int stack_need = 0;      // worst-case stack entries if every inner child were pushed (<= MASQ_STACK_MAX)
   int kernel_stack = 0;    // worst-case entries the kernels push (they hold the nearest child): <= stack_need - 1
   int max_inner = 0;       // inner children per node the collapse allowed (< width: capped to fit the stack)
+  std::size_t oriented = 0; // o4: nodes with a rotated frame
+  bool root_oriented = false; // o4: the root among them (its padding needs a bound from above: a TLAS)
 };
 
-// Appends to the array of `format` in `ps` (ps.nodes, ps.nodes8 or ps.qnodes) and leaf
-// references to ps.refs as ref_ids[order[i]] (e.g. primitive or instance ids). Throws
+// Appends to the array of `format` in `ps` (ps.nodes, ps.nodes8, ps.qnodes or
+// ps.onodes) and leaf references to ps.refs as ref_ids[order[i]] (e.g. primitive or
+// instance ids). o4: the framing gives each reference's hull, from which each node's
+// frame is chosen (bvh/nodes/node_frame.h); without it every node stays axis aligned. Throws
 // masq::Error if traversal would need more than the kernel's fixed stack even with two
 // inner children per node, or (q8) a leaf holds more than MASQ_Q8_MAX_LEAF references.
 WideBvhInfo append_bvh_nodes(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, NodeFormat format,
-                             PackedScene& ps);
+                             PackedScene& ps, const NodeFraming* framing = nullptr);
 
 // The w4 case on bare arrays.
 WideBvhInfo append_wide_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
@@ -38,7 +43,8 @@ WideBvhInfo append_wide_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t
 struct NodeSlot {
   std::int32_t child = -1;
   std::int32_t count = -1;
-  Aabb box; // the box the kernels test (q8: decoded)
+  Aabb box; // the box the kernels test (q8: decoded; o4: in the node's frame)
+  NodeFrame frame; // o4: the frame the box is in (x' = M x); else the identity
 };
 std::vector<NodeSlot> node_slots(const PackedScene& ps, std::int32_t node);
 

@@ -169,6 +169,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
 
   // The ordinary BLAS of each geometry over the primitives its plan keeps there.
   std::vector<int> blas_root(scene.geometries.size(), -1);
+  bool blas_root_oriented = false; // o4: a rotated BLAS root needs the TLAS's exit bound
   std::vector<Aabb> blas_box(scene.geometries.size());
   ps.geometry_leaf_order.resize(scene.geometries.size());
   for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
@@ -188,7 +189,9 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     SahOptions blas_sah = opt.sah;
     if (builder_prices_isect(opt.builder.kind)) blas_sah.intersection_cost *= blas_isect_price(kernel_type(g.type));
     BinaryBvh bvh = build_blas_binary(boxes, clip, blas_sah, opt.builder, &references);
-    WideBvhInfo info = append_bvh_nodes(bvh, ids, opt.nodes, ps);
+    const NodeFraming framing{[&](std::int32_t p) { return prim_hull(ps, int(gi), p); }, opt.oriented_gain};
+    WideBvhInfo info = append_bvh_nodes(bvh, ids, opt.nodes, ps, &framing);
+    blas_root_oriented = blas_root_oriented || info.root_oriented;
     blas_root[gi] = info.root;
     blas_box[gi] = bvh.nodes[0].box;
     ps.stats.blas_references += references;
@@ -202,6 +205,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
         ps.geometry_leaf_order[gi].push_back(ids[std::size_t(i)]);
       }
     ps.stats.blas_nodes += info.nodes;
+    ps.stats.oriented_nodes += info.oriented;
     ps.stats.blas_leaves += info.leaves;
     ps.stats.blas_sah_cost += info.sah_cost;
     ps.stats.max_depth = std::max(ps.stats.max_depth, info.depth);
@@ -282,8 +286,10 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   // A single BLAS under an identity instance: the kernels skip the TLAS stage and the
   // ray transform (the TLAS is still built, for the rayquery backend and the stats).
   // Not for a cluster instance: its transform is the cluster's frame, not the scene's.
+  // Not for a rotated o4 root: its padding grows with t, and the TLAS box's exit
+  // distance is what bounds t (kernels/traverse.h).
   ps.features.single_blas = ps.instances.size() == 1 && ps.masq_instances.empty() && ps.instances[0].blas_root >= 0 &&
-                            ps.instances[0].prim != MASQ_INST_CLUSTER &&
+                            ps.instances[0].prim != MASQ_INST_CLUSTER && !blas_root_oriented &&
                             scene.instances[ps.instances[0].scene_inst].object_to_world.is_identity();
   ps.stats.node_bytes = ps.node_bytes();
   StructureCost sc = structure_cost(ps, opt.prices);

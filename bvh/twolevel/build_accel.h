@@ -11,6 +11,7 @@
 #include "bvh/build/builder.h"
 #include "bvh/twolevel/method_plan.h"
 #include "bvh/bounds/obb.h"
+#include "bvh/nodes/node_frame.h"
 #include "bvh/packed_scene.h"
 #include "scenes/scene.h"
 #include <array>
@@ -35,6 +36,9 @@ struct AccelOptions {
   CostPrices prices;                    // auto: the whole-structure cost model's prices
   AutoSelect auto_select = AutoSelect::WholeStructure;
   NodeFormat nodes = NodeFormat::W4;    // BVH node layout of the TLAS and every BLAS
+  // o4: a BLAS node is rotated when that costs at most this fraction of its axis-aligned
+  // children's SAH (bvh/nodes/node_frame.h); +inf rotates every node.
+  double oriented_gain = kOrientedGain;
   MasqInstances masq_instances = MasqInstances::Compact;
   // Compact entries name their (geometry, scene instance) pair by a 16-bit owner index;
   // the masquerade primitives of pairs beyond this many get 64-byte Instances (tests

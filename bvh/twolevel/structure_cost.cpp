@@ -33,9 +33,10 @@ double mapped_area(const glm::dmat3& l, const glm::dvec3& e) {
   return 2.0 * (glm::length(glm::cross(a, b)) + glm::length(glm::cross(b, c)) + glm::length(glm::cross(c, a)));
 }
 
-// Slots of any node format, with the boxes the kernels test (bvh/nodes/wide_bvh.h).
+// Slots of any node format, with the boxes the kernels test (bvh/nodes/wide_bvh.h); an
+// o4 slot's box is in its node's frame, mapped back first.
 double slot_area(const NodeSlot& s, const glm::dmat3& l) {
-  return mapped_area(l, glm::max(s.box.hi - s.box.lo, glm::dvec3(0.0)));
+  return mapped_area(l * s.frame.box_to_space(), glm::max(s.box.hi - s.box.lo, glm::dvec3(0.0)));
 }
 
 struct Walker {

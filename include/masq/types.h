@@ -92,12 +92,13 @@ inline constexpr NameTable curve_isect_table{"curve intersector", curve_isect_ro
 
 /// How the BVH nodes of the TLAS and every BLAS are stored (same hits either way). Each
 /// value's name and layout: node_format_table.
-enum class NodeFormat { W4, W8, Q8 };
+enum class NodeFormat { W4, W8, Q8, O4 };
 
 inline constexpr NameRow<NodeFormat> node_format_rows[] = {
     {NodeFormat::W4, "w4", "4 children, float boxes, 128 B per node"},
     {NodeFormat::W8, "w8", "8 children, float boxes, 256 B per node"},
     {NodeFormat::Q8, "q8", "8 children, boxes quantised conservatively to 8 bits per plane, 80 B per node"},
+    {NodeFormat::O4, "o4", "4 children, float boxes in the node's own rotated frame (8-bit rotation), 144 B per node"},
 };
 inline constexpr NameTable node_format_table{"node format", node_format_rows};
 
