@@ -178,8 +178,8 @@ SuiteResult run_fig3(SuiteContext& ctx) {
       "orthographic rays along +z, {} mode; per cell and backend the same rays through ref (one AABB BLAS), masq (one "
       "instance per capsule), cluster (one instance per oriented cluster) and auto (docs/methods.md); median of {} timed traces after {} warm-up.",
       side, side, mode_name(ctx.config.mode), opt.repetitions, opt.warmup);
-  res.images.push_back({"fig3_speedup.png", "Speedup masq/ref per cell and backend beside the RT model's prediction "
-                                            "(scripts/plot_results.py)"});
+  res.images.push_back({"fig3_speedup.png", "Speedup masq/ref per cell and backend beside the paper's (RTX 8000) and "
+                                            "the RT model's prediction (scripts/plot_results.py)"});
   if (!ctx.config.out_dir.empty()) {
     Scene scene = fig3_scene(kCalibration);
     res.images.push_back(write_call_heatmaps(ctx, scene, "heatmap_bundle.png",
