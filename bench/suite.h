@@ -45,6 +45,7 @@ struct SuiteResult {
 struct HairCase {
   std::string scene;    // "bear fur (TressFX 3)"
   std::string variant;  // "capsule", "link", "phantom x4"
+  std::string stands_for; // the masquerade paper's Table 1 model this scene stands for ("": none)
   std::size_t primitives = 0;
   std::vector<BenchRow> rows;
   // Table 2: total bytes (primitives + acceleration data) of ref, masq and cluster per

@@ -4,10 +4,13 @@
 #include "bench/bench_report.h"
 #include "bench/heatmap.h"
 #include "bench/method_compare.h"
+#include "bench/paper_tables.h"
 #include "bench/suite.h"
 #include "scenes/generators.h"
+#include <algorithm>
 #include <chrono>
 #include <fmt/format.h>
+#include <optional>
 
 namespace masq {
 
@@ -19,34 +22,29 @@ struct Cell {
   double tilt;
 };
 
-// The RTX speedups of the paper's Fig. 3 that our sources state (the brief quotes the
-// grid's extremes; the full figure is not in this repository's sources).
-struct PaperCell {
-  int n;
-  float r;
-  double tilt; // < 0: not stated
-  double speedup;
-};
-constexpr PaperCell kPaper[] = {{1000, 0.002f, 15.0, 3.83}, {10, 0.01f, -1.0, 1.03}};
+// The cell that calibrates the RT model: the paper's largest speedup (bench/paper_figures.h).
+constexpr Cell kCalibration = {1000, 0.002f, 15.0};
 
 std::string paper_speedup(const Cell& c) {
-  for (const PaperCell& p : kPaper)
-    if (p.n == c.n && p.r == c.r) {
-      if (p.tilt == c.tilt) return fmt::format("{:.2f}x", p.speedup);
-      if (p.tilt < 0) return fmt::format("{:.2f}x*", p.speedup);
-    }
-  return "-";
+  std::optional<double> p = paper_fig3_speedup(c.n, c.r, c.tilt);
+  return p ? fmt::format("{:.2f}x", *p) : "-";
 }
 
 Scene fig3_scene(const Cell& c) { return fig3_bundle_scene(c.n, c.r, c.tilt); }
 
+// quick: the paper's four (N, r) columns, so every cell has the paper's figure beside
+// it; full: those and the 3 x 3 grid of N in {10, 100, 1000} x r in {0.01, 0.005, 0.002}.
 std::vector<Cell> fig3_cells(bool quick) {
-  std::vector<std::pair<int, float>> pairs = {{10, 0.01f}, {100, 0.005f}, {1000, 0.002f}};
-  if (!quick) pairs = {{10, 0.01f}, {10, 0.005f}, {10, 0.002f}, {100, 0.01f}, {100, 0.005f},
-                       {100, 0.002f}, {1000, 0.01f}, {1000, 0.005f}, {1000, 0.002f}};
+  std::vector<std::pair<int, float>> pairs;
+  for (const PaperFig3Column& p : paper_fig3()) pairs.push_back({p.n, p.r});
+  if (!quick)
+    for (int n : {10, 100, 1000})
+      for (float r : {0.01f, 0.005f, 0.002f})
+        if (!paper_fig3_speedup(n, r, 0.0)) pairs.push_back({n, r});
+  std::sort(pairs.begin(), pairs.end(), [](auto a, auto b) { return a.first != b.first ? a.first < b.first : a.second > b.second; });
   std::vector<Cell> cells;
   for (auto [n, r] : pairs)
-    for (double tilt : {0.0, 15.0, 30.0, 45.0}) cells.push_back({n, r, tilt});
+    for (double tilt : kPaperFig3Tilts) cells.push_back({n, r, tilt});
   return cells;
 }
 
@@ -97,14 +95,14 @@ SuiteResult run_fig3(SuiteContext& ctx) {
     Scene scene = fig3_scene(c);
     measured.push_back(run_bench(scene, opt, ctx.pool));
   }
-  // Calibrate the RT model's intersector price on the paper's one fully stated cell.
+  // Calibrate the RT model's intersector price on the paper's largest speedup.
+  const double calibration_target = *paper_fig3_speedup(kCalibration.n, kCalibration.r, kCalibration.tilt);
   for (std::size_t i = 0; i < cells.size(); ++i) {
-    const PaperCell& p = kPaper[0];
-    if (cells[i].n != p.n || cells[i].r != p.r || cells[i].tilt != p.tilt) continue;
+    if (cells[i].n != kCalibration.n || cells[i].r != kCalibration.r || cells[i].tilt != kCalibration.tilt) continue;
     const BenchRow* ref = counter_row(measured[i], Method::Ref);
     const BenchRow* masq = counter_row(measured[i], Method::Masq);
     if (!ref || !masq) break;
-    double price = rt_calibrate_isect(*ref, *masq, p.speedup);
+    double price = rt_calibrate_isect(*ref, *masq, calibration_target);
     if (price > 0) {
       ctx.rt_model.isect = price;
       ctx.rt_model_calibrated = true;
@@ -112,10 +110,11 @@ SuiteResult run_fig3(SuiteContext& ctx) {
   }
   Table t;
   t.title = fmt::format("speedup masq/ref and intersector-call ratio ref/masq per backend ({}x{} orthographic primary rays)", side, side);
-  t.header = {"N", "r", "tilt", "paper RTX", "RT model", "calls ref/masq"};
+  t.header = {"N", "r", "tilt", "paper RTX 8000", "RT model", "calls ref/masq"};
   for (const std::string& b : opt.backends) t.header.push_back(b);
   t.left_columns = 0;
   res.data["cells"] = nlohmann::json::array();
+  std::vector<Fig3Measured> grid;
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const Cell& c = cells[i];
     const std::vector<BenchRow>& rows = measured[i];
@@ -128,21 +127,31 @@ SuiteResult run_fig3(SuiteContext& ctx) {
     for (const std::string& b : opt.backends)
       line.push_back(ratio_cell(find_row(rows, b, Method::Ref, RaySet::Primary), find_row(rows, b, Method::Masq, RaySet::Primary)));
     t.add(line);
-    nlohmann::json cell = {{"n", c.n}, {"r", c.r}, {"tilt_deg", c.tilt}, {"paper_rtx_speedup", paper_speedup(c)},
-                           {"rt_model_speedup", ref && masq ? rt_predicted_speedup(*ref, *masq, ctx.rt_model) : 0.0}};
+    Fig3Measured g{c.n, c.r, c.tilt, ref && masq ? rt_predicted_speedup(*ref, *masq, ctx.rt_model) : 0.0, {}};
+    for (const std::string& b : opt.backends) {
+      const BenchRow* br = find_row(rows, b, Method::Ref, RaySet::Primary);
+      const BenchRow* bm = find_row(rows, b, Method::Masq, RaySet::Primary);
+      if (br && bm) g.speedup[b] = bm->mrays_per_s() / br->mrays_per_s();
+    }
+    grid.push_back(g);
+    std::optional<double> paper = paper_fig3_speedup(c.n, c.r, c.tilt);
+    nlohmann::json cell = {{"n", c.n}, {"r", c.r}, {"tilt_deg", c.tilt},
+                           {"paper_rtx_speedup", paper ? nlohmann::json(*paper) : nlohmann::json()},
+                           {"rt_model_speedup", g.rt_model}};
     for (const BenchRow& r : rows) cell["results"].push_back(bench_row_json(r));
     res.data["cells"].push_back(cell);
   }
   t.notes = {"each backend: speedup / intersector-call ratio (rayquery counts the driver's candidate calls)",
-             "paper RTX: the masquerade paper's measured speedup on an RTX GPU; * the brief quotes 1.03x for N=10, r=0.01 "
-             "without its tilt; the paper's other cells are not in our sources (-)",
+             "paper RTX 8000: the masquerade paper's Fig. 3, measured with OptiX 7 on an RTX 8000; '-': a cell outside "
+             "its grid",
              ctx.rt_model_calibrated
                  ? fmt::format("RT model: predicted RT-hardware speedup with an intersector call priced at {:.1f} node visits, "
-                               "calibrated so that the N=1000, r=0.002, tilt 15 cell predicts the paper's 3.83x",
-                               ctx.rt_model.isect)
+                               "calibrated so that the N={}, r={:g}, tilt {:g} cell predicts the paper's {:.2f}x",
+                               ctx.rt_model.isect, kCalibration.n, kCalibration.r, kCalibration.tilt, calibration_target)
                  : fmt::format("RT model: predicted RT-hardware speedup with an intersector call priced at {:g} node visits "
                                "(not calibrated: the calibration cell did not run)", ctx.rt_model.isect)};
   res.tables.push_back(t);
+  res.tables.push_back(fig3_paper_grid(grid, opt.backends));
   // The issue-7 methods on the same rays: oriented clusters, and the automatic choice.
   Table mt;
   mt.title = "cluster and auto on the same rays";
@@ -169,10 +178,10 @@ SuiteResult run_fig3(SuiteContext& ctx) {
       "orthographic rays along +z, {} mode; per cell and backend the same rays through ref (one AABB BLAS), masq (one "
       "instance per capsule), cluster (one instance per oriented cluster) and auto (docs/methods.md); median of {} timed traces after {} warm-up.",
       side, side, mode_name(ctx.config.mode), opt.repetitions, opt.warmup);
-  res.images.push_back({"fig3_speedup.png", "Speedup masq/ref per cell and backend beside the RT model's prediction "
-                                            "(scripts/plot_results.py)"});
+  res.images.push_back({"fig3_speedup.png", "Speedup masq/ref per cell and backend beside the paper's (RTX 8000) and "
+                                            "the RT model's prediction (scripts/plot_results.py)"});
   if (!ctx.config.out_dir.empty()) {
-    Scene scene = fig3_scene({1000, 0.002f, 15.0});
+    Scene scene = fig3_scene(kCalibration);
     res.images.push_back(write_call_heatmaps(ctx, scene, "heatmap_bundle.png",
                                              "Intersector calls per pixel, ref (left) vs masq (right), bundle N=1000 r=0.002 tilt 15"));
   }

@@ -4,6 +4,7 @@
 #include "bench/bench_report.h"
 #include "bench/heatmap.h"
 #include "bench/method_compare.h"
+#include "bench/paper_tables.h"
 #include "bench/suite.h"
 #include "scenes/curve_tools.h"
 #include "masq/error.h"
@@ -22,15 +23,19 @@ struct HairScene {
   std::string file; // under data_dir; empty: generated
   HairSurface surface = HairSurface::Head;
   int strands = 0;
+  // The masquerade paper's Table 1 model of the same kind (bench/paper_figures.h): its
+  // models are not available here, so animal fur stands for autumn's and head hair for
+  // curly hair; none of these scenes is curled like single curl or franck's wool.
+  std::string stands_for;
 };
 
 std::vector<HairScene> hair_scenes(bool quick) {
-  std::vector<HairScene> s = {{"bear fur (TressFX 3)", "hair/tressfx3_bear.tfx"}};
+  std::vector<HairScene> s = {{"bear fur (TressFX 3)", "hair/tressfx3_bear.tfx", HairSurface::Head, 0, "autumn"}};
   if (quick) return s;
-  s.push_back({"Ratboy mohawk (TressFX 4)", "hair/tressfx4_Ratboy_mohawk.tfx"});
-  s.push_back({"TestHair1 (TressFX 3)", "hair/tressfx3_TestHair1.tfx"});
-  s.push_back({"generated hair 10k strands", "", HairSurface::Head, 10000});
-  s.push_back({"generated fur 40k strands", "", HairSurface::Body, 40000});
+  s.push_back({"Ratboy mohawk (TressFX 4)", "hair/tressfx4_Ratboy_mohawk.tfx", HairSurface::Head, 0, "curly hair"});
+  s.push_back({"TestHair1 (TressFX 3)", "hair/tressfx3_TestHair1.tfx", HairSurface::Head, 0, "curly hair"});
+  s.push_back({"generated hair 10k strands", "", HairSurface::Head, 10000, "curly hair"});
+  s.push_back({"generated fur 40k strands", "", HairSurface::Body, 40000, "autumn"});
   return s;
 }
 
@@ -146,6 +151,7 @@ void collect_hair_measurements(SuiteContext& ctx, bool timed) {
       HairCase hc;
       hc.scene = hs.label;
       hc.variant = v.name;
+      hc.stands_for = hs.stands_for;
       opt.progress = [&](const std::string& line) { ctx.say(fmt::format("table1 {}/{} {} {}: {}", step, steps, hs.label, v.name, line)); };
       try {
         Scene s = make_case(ctx.config, hs, v);
@@ -217,9 +223,11 @@ SuiteResult table1_result(const SuiteContext& ctx) {
                              "Catmull-Rom cubics through the same points",
                              "shadow: rays from the primary hits to a point light; diffuse: cosine-weighted bounces from "
                              "the primary hits (incoherent)"};
+  res.tables.push_back(table1_beside_paper(ctx.hair, backends));
   res.data["cases"] = nlohmann::json::array();
   for (const HairCase& c : ctx.hair) {
-    nlohmann::json j = {{"scene", c.scene}, {"variant", c.variant}, {"primitives", c.primitives}};
+    nlohmann::json j = {{"scene", c.scene}, {"variant", c.variant}, {"primitives", c.primitives},
+                        {"stands_for", c.stands_for}};
     for (const BenchRow& r : c.rows) j["results"].push_back(bench_row_json(r));
     res.data["cases"].push_back(j);
   }
@@ -286,6 +294,7 @@ SuiteResult table2_result(const SuiteContext& ctx) {
   nf.notes = {"total = primitives + acceleration data, each method built in each node format (docs/kernels.md); the "
               "issue-7 targets: masq at most 1.5x ref, cluster at most 1.2x"};
   if (!nf.rows.empty()) res.tables.push_back(nf);
+  res.tables.push_back(table2_beside_paper(ctx.hair));
   res.images.push_back({"memory.png", "Memory per method: common data and acceleration data (scripts/plot_results.py)"});
   res.method = "Byte counts of the packed scenes each method uploads (host-side sizes of the GPU arrays), and the device "
                "memory the rayquery backend holds after the driver's acceleration-structure builds.";

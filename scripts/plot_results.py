@@ -4,7 +4,7 @@
 usage: /usr/bin/python3 scripts/plot_results.py OUT   (Debian python3-matplotlib)
 
 Writes, next to RESULTS.md, one PNG per suite that ran:
-  fig3_speedup.png   speedup masq/ref per cell and backend, beside the RT model and the call ratio
+  fig3_speedup.png   speedup masq/ref per cell and backend, beside the paper's, the RT model and the call ratio
   table1_speedup.png speedup masq/ref per hair scene x intersector, backend and ray set
   memory.png         table2: ref and masq totals (common + acceleration data) per case
   error_vs_time.png  run time against error of the curve intersector variants
@@ -62,7 +62,9 @@ def plot_fig3(suite, out):
             rows.append(key)
     tilts = sorted({c["tilt_deg"] for c in cells})
     backends = backends_of(cells)
-    panels = [("RT model", lambda c: c["rt_model_speedup"] or float("nan"))]
+    # The paper's own Fig. 3 first (null outside its grid; older results hold text).
+    paper = lambda c: c.get("paper_rtx_speedup") if isinstance(c.get("paper_rtx_speedup"), (int, float)) else float("nan")
+    panels = [("paper (RTX 8000)", paper), ("RT model", lambda c: c["rt_model_speedup"] or float("nan"))]
     for b in backends:
         panels.append((b, lambda c, b=b: speedup(c["results"], b) or float("nan")))
     fig, axes = plt.subplots(1, len(panels), figsize=(2.6 * len(panels) + 1, 0.45 * len(rows) + 2.2), squeeze=False)
