@@ -238,6 +238,19 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   std::vector<Aabb> compact_boxes;
   std::vector<Mat3x4f> compact_unit_to_world;
   std::map<std::pair<int, int>, std::uint32_t> owner_of; // (geometry, scene instance) -> owner
+  // Room for every entry at once: growing arrays of a million masquerade entries by
+  // doubling cost as much as filling them.
+  std::size_t entries = scene.instances.size();
+  for (const Instance& inst : scene.instances) entries += plans[inst.geometry].masq_prims.size();
+  inst_boxes.reserve(entries);
+  ps.instance_object_to_world.reserve(entries);
+  if (opt.masq_instances == MasqInstances::Compact) {
+    compact_boxes.reserve(entries);
+    compact_unit_to_world.reserve(entries);
+    ps.masq_instances.reserve(entries);
+  } else {
+    ps.instances.reserve(entries);
+  }
   const std::size_t owner_limit = std::size_t(std::clamp(opt.masq_owner_limit, 0, MASQ_MAX_OWNERS));
   for (std::size_t si = 0; si < scene.instances.size(); ++si) {
     const Instance& inst = scene.instances[si];
