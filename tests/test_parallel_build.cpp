@@ -5,6 +5,7 @@
 #include "bvh/twolevel/build_accel.h"
 #include "bvh/build/binned_sah.h"
 #include "bvh/build/parallel.h"
+#include "bvh/build/partition_in_chunks.h"
 #include "masq/error.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
@@ -184,6 +185,25 @@ TEST(ParallelBuild, BinnedSahTiesSameTree) {
   ASSERT_EQ(serial.nodes.size(), parallel.nodes.size());
   EXPECT_EQ(serial.order, parallel.order);
   EXPECT_EQ(0, std::memcmp(serial.nodes.data(), parallel.nodes.data(), serial.nodes.size() * sizeof(BinaryNode)));
+}
+
+// The chunked partition the binned SAH uses on long ranges gives std::partition's own
+// (unstable) order: random ranges, predicates, chunk sizes and thread counts.
+TEST(ParallelBuild, ChunkedPartitionIsStdPartition) {
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 200; ++trial) {
+    int n = int(rng() % 3000), first = int(rng() % 50), chunk = 1 + int(rng() % 300);
+    std::vector<int> order(std::size_t(first + n + 17));
+    for (int& v : order) v = int(rng() % 1000);
+    int cut = int(rng() % 1001); // 0 and 1000: nothing or everything goes left
+    auto goes_left = [&](int v) { return v < cut; };
+    std::vector<int> want = order, got = order;
+    int want_mid = int(std::partition(want.begin() + first, want.begin() + first + n, goes_left) - want.begin());
+    int got_mid = 0;
+    run_with_build_threads(1 + trial % 3, [&] { got_mid = partition_in_chunks(got, first, n, chunk, goes_left); });
+    ASSERT_EQ(want_mid, got_mid) << "trial " << trial;
+    ASSERT_EQ(want, got) << "trial " << trial << ": n " << n << ", chunk " << chunk;
+  }
 }
 
 TEST(ParallelBuild, NegativeThreadCountIsAnError) {

@@ -1,5 +1,6 @@
 #include "bvh/build/binned_sah.h"
 #include "bvh/build/parallel.h"
+#include "bvh/build/partition_in_chunks.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <string>
@@ -176,12 +177,15 @@ NodeSplit split_node(const Input& in, std::vector<int>& order, int first, int co
   double split_cost = area > 0.0 ? opt.traversal_cost + opt.intersection_cost * s.cost / area : leaf_cost;
   if (s.axis >= 0 && (split_cost < leaf_cost || count > opt.max_leaf_size)) {
     double lo = cbox.lo[s.axis], ext = cbox.hi[s.axis] - lo;
-    auto begin = order.begin() + first;
-    // std::partition's own (unstable) order: it decides the leaf order, so every
-    // thread count must use the same algorithm on the same range.
-    auto it = std::partition(begin, begin + count,
-                             [&](int p) { return bin_of(in.centers[p], s.axis, lo, ext, opt.bins) <= s.bin; });
-    out.mid = int(it - order.begin());
+    auto goes_left = [&](int p) { return bin_of(in.centers[p], s.axis, lo, ext, opt.bins) <= s.bin; };
+    // std::partition's own (unstable) order decides the leaf order: a long range gets the
+    // same order from partition_in_chunks.
+    if (count < 2 * kChunk) {
+      auto begin = order.begin() + first;
+      out.mid = int(std::partition(begin, begin + count, goes_left) - order.begin());
+    } else {
+      out.mid = partition_in_chunks(order, first, count, kChunk, goes_left);
+    }
   } else if (count > opt.max_leaf_size) {
     out.mid = first + count / 2; // coincident centroids: no plane separates them, split by count
   }
