@@ -39,6 +39,7 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
   ao.builder.kind = options.builder;
   ao.nodes = options.nodes;
   ao.masq_instances = options.compact_masquerade ? masq::MasqInstances::Compact : masq::MasqInstances::Full;
+  ao.build_threads = options.build_threads;
   auto impl = std::make_shared<Impl>();
   impl->packed = build_accel(s, options.method, ao);
   impl->options = o;

@@ -77,6 +77,11 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->delimiter(',')
       ->capture_default_str()
       ->check(CLI::IsMember(builder_table.names()));
+  cmd.add_option("--build-threads", opt.build_threads,
+                 "Threads of the host BVH build: 0 every hardware thread, 1 serial; the structure is the same with "
+                 "any count (docs/builders.md)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd.add_option("--sbvh-budget", opt.sbvh_budget, "sbvh: at most this many BLAS references per primitive (>= 1)")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 64.0));
@@ -172,6 +177,7 @@ AccelOptions accel_options(const SceneOptions& opt) {
   a.builder.kind = builders.empty() ? Builder::Sah : builders.front();
   a.builder.sbvh.max_refs = opt.sbvh_budget;
   a.builder.sbvh.alpha = opt.sbvh_alpha;
+  a.build_threads = opt.build_threads;
   return a;
 }
 

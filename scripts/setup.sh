@@ -42,7 +42,7 @@ packages=(
   libvulkan-dev vulkan-tools vulkan-validationlayers glslang-tools spirv-tools
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
-  libopenimageio-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev libembree-dev
+  libopenimageio-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev libembree-dev libtbb-dev
   python3-matplotlib
   clang libclang-rt-dev doxygen
 )

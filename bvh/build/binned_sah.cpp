@@ -1,9 +1,12 @@
 #include "bvh/build/binned_sah.h"
+#include "bvh/build/parallel.h"
+#include "bvh/build/partition_in_chunks.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <string>
 #include <array>
 #include <cmath>
+#include <memory>
 
 namespace masq {
 
@@ -18,37 +21,120 @@ float round_up(double x) {
 
 namespace {
 
+// A range this long is bounded and binned in chunks of this many primitives, the
+// chunks possibly at once. The chunks' results are merged in chunk order: glm::min/max
+// keep the earlier of equal values (+0 and -0 alike), so that merge gives the same bits
+// as one pass over the range, whatever the chunking.
+constexpr int kChunk = 16384;
+// A node with at least this many primitives builds its two children as separate tasks;
+// below it a subtree is built by one thread in the serial order.
+constexpr int kSubtreeTask = 4096;
+
 struct Split {
   int axis = -1;
   int bin = 0; // primitives in bins [0, bin] go left
   double cost = std::numeric_limits<double>::infinity();
 };
 
-struct Job {
-  int node;
-  int first;
-  int count;
-};
-
 double blocks(int n, const SahOptions& opt) { return double((n + opt.leaf_block - 1) / opt.leaf_block); }
 
-Split find_split(const std::vector<Aabb>& boxes, const std::vector<int>& order, int first, int count,
-                 const Aabb& cbox, const SahOptions& opt) {
+// What every node of one build reads: the boxes, their centroids (computed once, as
+// Aabb::center computes them), the options.
+struct Input {
+  const std::vector<Aabb>& boxes;
+  std::vector<glm::dvec3> centers;
+  const SahOptions& opt;
+};
+
+// Per axis nb bins: box and primitive count of the centroids that fall in each; and the
+// sweep's suffix areas and counts. Kept by a thread from node to node (no allocation
+// per node).
+struct Bins {
+  std::vector<Aabb> box;
+  std::vector<int> count;
+  std::vector<double> right_area;
+  std::vector<int> right_count;
+  explicit Bins(int nb) : box(3 * std::size_t(nb)), count(3 * std::size_t(nb), 0), right_area(nb), right_count(nb) {}
+  void clear() {
+    std::fill(box.begin(), box.end(), Aabb{});
+    std::fill(count.begin(), count.end(), 0);
+  }
+  void merge(const Bins& o) {
+    for (std::size_t i = 0; i < box.size(); ++i) {
+      box[i].grow(o.box[i]);
+      count[i] += o.count[i];
+    }
+  }
+};
+
+int bin_of(const glm::dvec3& center, int axis, double lo, double ext, int nb) {
+  return std::min(nb - 1, int(nb * (center[axis] - lo) / ext));
+}
+
+// Calls body(lo, hi, chunk) on the chunks of [first, first + count), possibly at once;
+// the caller merges the chunk results in chunk order.
+template <class Body>
+void for_chunks(int first, int count, Body body) {
+  int chunks = (count + kChunk - 1) / kChunk;
+  parallel_chunks(std::size_t(chunks), 1, [&](std::size_t c0, std::size_t c1) {
+    for (std::size_t c = c0; c < c1; ++c) {
+      int lo = first + int(c) * kChunk;
+      body(lo, std::min(first + count, lo + kChunk), int(c));
+    }
+  });
+}
+
+void bounds_of(const Input& in, const std::vector<int>& order, int first, int count, Aabb& box, Aabb& cbox) {
+  auto pass = [&](int lo, int hi, Aabb& b, Aabb& c) {
+    for (int i = lo; i < hi; ++i) {
+      b.grow(in.boxes[order[i]]);
+      c.grow(in.centers[order[i]]);
+    }
+  };
+  if (count < 2 * kChunk) return pass(first, first + count, box, cbox);
+  std::vector<Aabb> b((count + kChunk - 1) / kChunk), c(b.size());
+  for_chunks(first, count, [&](int lo, int hi, int k) { pass(lo, hi, b[k], c[k]); });
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    box.grow(b[k]);
+    cbox.grow(c[k]);
+  }
+}
+
+// Fills bins with the range's primitives, every axis whose centroid extent is positive
+// in one pass over them (each bin grows in primitive order, as three passes would).
+void bin_range(const Input& in, const std::vector<int>& order, int first, int count, const Aabb& cbox, Bins& bins) {
+  const int nb = in.opt.bins;
+  int axes[3], n_axes = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    if (cbox.hi[axis] - cbox.lo[axis] > 0.0) axes[n_axes++] = axis;
+  auto pass = [&](int lo_i, int hi_i, Bins& out) {
+    for (int i = lo_i; i < hi_i; ++i) {
+      const Aabb& b = in.boxes[order[i]];
+      const glm::dvec3& c = in.centers[order[i]];
+      for (int a = 0; a < n_axes; ++a) {
+        int axis = axes[a];
+        std::size_t k = std::size_t(axis * nb + bin_of(c, axis, cbox.lo[axis], cbox.hi[axis] - cbox.lo[axis], nb));
+        out.box[k].grow(b);
+        ++out.count[k];
+      }
+    }
+  };
+  bins.clear();
+  if (count < 2 * kChunk) return pass(first, first + count, bins);
+  std::vector<Bins> part((count + kChunk - 1) / kChunk, Bins(nb));
+  for_chunks(first, count, [&](int lo, int hi, int k) { pass(lo, hi, part[k]); });
+  for (const Bins& p : part) bins.merge(p);
+}
+
+Split find_split(Bins& bins, const Aabb& cbox, const SahOptions& opt) {
   Split best;
   const int nb = opt.bins;
+  std::vector<double>& right_area = bins.right_area;
+  std::vector<int>& right_count = bins.right_count;
   for (int axis = 0; axis < 3; ++axis) {
-    double lo = cbox.lo[axis], ext = cbox.hi[axis] - lo;
-    if (!(ext > 0.0)) continue;
-    std::vector<Aabb> bin_box(nb);
-    std::vector<int> bin_count(nb, 0);
-    for (int i = first; i < first + count; ++i) {
-      const Aabb& b = boxes[order[i]];
-      int k = std::min(nb - 1, int(nb * (b.center()[axis] - lo) / ext));
-      bin_box[k].grow(b);
-      ++bin_count[k];
-    }
-    std::vector<double> right_area(nb, 0.0);
-    std::vector<int> right_count(nb, 0);
+    if (!(cbox.hi[axis] - cbox.lo[axis] > 0.0)) continue;
+    const Aabb* bin_box = &bins.box[std::size_t(axis * nb)];
+    const int* bin_count = &bins.count[std::size_t(axis * nb)];
     Aabb acc;
     int n = 0;
     for (int k = nb - 1; k > 0; --k) {
@@ -70,6 +156,131 @@ Split find_split(const std::vector<Aabb>& boxes, const std::vector<int>& order, 
   return best;
 }
 
+// One node's decision: its box, and where its range splits (mid < 0: a leaf).
+struct NodeSplit {
+  Aabb box;
+  int mid = -1;
+};
+
+NodeSplit split_node(const Input& in, std::vector<int>& order, int first, int count, Bins& bins) {
+  const SahOptions& opt = in.opt;
+  NodeSplit out;
+  Aabb cbox;
+  bounds_of(in, order, first, count, out.box, cbox);
+  if (count <= 1) return out;
+  bin_range(in, order, first, count, cbox, bins);
+  Split s = find_split(bins, cbox, opt);
+  // SAH in units of this node's area: leaf = C_i * b(n), split = C_t + C_i * (A_l b(n_l) + A_r b(n_r)) / A,
+  // b(n) the leaf's blocks (n itself with the default block of 1).
+  double area = out.box.area();
+  double leaf_cost = opt.intersection_cost * blocks(count, opt);
+  double split_cost = area > 0.0 ? opt.traversal_cost + opt.intersection_cost * s.cost / area : leaf_cost;
+  if (s.axis >= 0 && (split_cost < leaf_cost || count > opt.max_leaf_size)) {
+    double lo = cbox.lo[s.axis], ext = cbox.hi[s.axis] - lo;
+    auto goes_left = [&](int p) { return bin_of(in.centers[p], s.axis, lo, ext, opt.bins) <= s.bin; };
+    // std::partition's own (unstable) order decides the leaf order: a long range gets the
+    // same order from partition_in_chunks.
+    if (count < 2 * kChunk) {
+      auto begin = order.begin() + first;
+      out.mid = int(std::partition(begin, begin + count, goes_left) - order.begin());
+    } else {
+      out.mid = partition_in_chunks(order, first, count, kChunk, goes_left);
+    }
+  } else if (count > opt.max_leaf_size) {
+    out.mid = first + count / 2; // coincident centroids: no plane separates them, split by count
+  }
+  return out;
+}
+
+// The serial build of one subtree: nodes[0] is its root, the rest in the order the
+// serial builder allocates them (both children of a node at once, when the node is
+// split; the right subtree is finished before the left one is started).
+std::vector<BinaryNode> build_serial(const Input& in, std::vector<int>& order, int first, int count) {
+  struct Job {
+    int node, first, count;
+  };
+  std::vector<BinaryNode> nodes(1);
+  nodes.reserve(2 * std::size_t(count));
+  std::vector<Job> jobs{{0, first, count}};
+  Bins bins(in.opt.bins);
+  while (!jobs.empty()) {
+    Job job = jobs.back();
+    jobs.pop_back();
+    NodeSplit s = split_node(in, order, job.first, job.count, bins);
+    nodes[job.node].box = s.box;
+    if (s.mid < 0) {
+      nodes[job.node].first = job.first;
+      nodes[job.node].count = job.count;
+      continue;
+    }
+    int left = int(nodes.size());
+    nodes.push_back({});
+    nodes.push_back({});
+    nodes[job.node].left = left;
+    nodes[job.node].right = left + 1;
+    jobs.push_back({left, job.first, s.mid - job.first});
+    jobs.push_back({left + 1, s.mid, job.first + job.count - s.mid});
+  }
+  return nodes;
+}
+
+// A subtree built by tasks: either serial (nodes as build_serial gives them) or a split
+// root (nodes = {root}) whose children were built as separate tasks.
+struct Subtree {
+  std::vector<BinaryNode> nodes;
+  std::unique_ptr<Subtree> left, right;
+  std::size_t size = 0; // nodes in the whole subtree
+};
+
+Subtree build_tasks(const Input& in, std::vector<int>& order, int first, int count) {
+  Subtree t;
+  if (count < kSubtreeTask) {
+    t.nodes = build_serial(in, order, first, count);
+    t.size = t.nodes.size();
+    return t;
+  }
+  Bins bins(in.opt.bins);
+  NodeSplit s = split_node(in, order, first, count, bins);
+  t.nodes.resize(1);
+  t.nodes[0].box = s.box;
+  t.size = 1;
+  if (s.mid < 0) {
+    t.nodes[0].first = first;
+    t.nodes[0].count = count;
+    return t;
+  }
+  t.left = std::make_unique<Subtree>();
+  t.right = std::make_unique<Subtree>();
+  parallel_pair([&] { *t.left = build_tasks(in, order, first, s.mid - first); },
+                [&] { *t.right = build_tasks(in, order, s.mid, first + count - s.mid); });
+  t.size += t.left->size + t.right->size;
+  return t;
+}
+
+// Writes subtree t with its root at out[at] and the nodes below it from out[below] on,
+// numbered as the serial builder numbers them: a split root's children at below and
+// below + 1, then the right child's subtree, then the left child's.
+void place(const Subtree& t, std::vector<BinaryNode>& out, std::size_t at, std::size_t below) {
+  if (!t.left) {
+    auto moved = [&](BinaryNode n) {
+      if (!n.is_leaf()) {
+        n.left = int(below) + n.left - 1;
+        n.right = int(below) + n.right - 1;
+      }
+      return n;
+    };
+    out[at] = moved(t.nodes[0]);
+    for (std::size_t i = 1; i < t.nodes.size(); ++i) out[below + i - 1] = moved(t.nodes[i]);
+    return;
+  }
+  out[at] = t.nodes[0];
+  out[at].left = int(below);
+  out[at].right = int(below + 1);
+  std::size_t right_below = below + 2, left_below = right_below + t.right->size - 1;
+  parallel_pair([&] { place(*t.right, out, below + 1, right_below); },
+                [&] { place(*t.left, out, below, left_below); });
+}
+
 } // namespace
 
 BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt) {
@@ -84,56 +295,17 @@ BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt
         throw Error("bvh: box " + std::to_string(i) + " of " + std::to_string(n) + " is empty or not finite");
   bvh.order.resize(n);
   for (int i = 0; i < n; ++i) bvh.order[i] = i;
-  bvh.nodes.reserve(2 * std::size_t(n));
-  bvh.nodes.push_back({});
-  std::vector<Job> jobs{{0, 0, n}};
-  while (!jobs.empty()) {
-    Job job = jobs.back();
-    jobs.pop_back();
-    Aabb box, cbox;
-    for (int i = job.first; i < job.first + job.count; ++i) {
-      box.grow(boxes[bvh.order[i]]);
-      cbox.grow(boxes[bvh.order[i]].center());
-    }
-    bvh.nodes[job.node].box = box;
-    auto make_leaf = [&] {
-      bvh.nodes[job.node].first = job.first;
-      bvh.nodes[job.node].count = job.count;
-    };
-    if (job.count <= 1) {
-      make_leaf();
-      continue;
-    }
-    Split s = find_split(boxes, bvh.order, job.first, job.count, cbox, opt);
-    // SAH in units of this node's area: leaf = C_i * b(n), split = C_t + C_i * (A_l b(n_l) + A_r b(n_r)) / A,
-    // b(n) the leaf's blocks (n itself with the default block of 1).
-    double area = box.area();
-    double leaf_cost = opt.intersection_cost * blocks(job.count, opt);
-    double split_cost = area > 0.0 ? opt.traversal_cost + opt.intersection_cost * s.cost / area : leaf_cost;
-    int mid;
-    if (s.axis >= 0 && (split_cost < leaf_cost || job.count > opt.max_leaf_size)) {
-      double lo = cbox.lo[s.axis], ext = cbox.hi[s.axis] - lo;
-      auto begin = bvh.order.begin() + job.first;
-      auto it = std::partition(begin, begin + job.count, [&](int p) {
-        int k = std::min(opt.bins - 1, int(opt.bins * (boxes[p].center()[s.axis] - lo) / ext));
-        return k <= s.bin;
-      });
-      mid = int(it - bvh.order.begin());
-    } else if (job.count > opt.max_leaf_size) {
-      // Coincident centroids: no plane separates them, split by count.
-      mid = job.first + job.count / 2;
-    } else {
-      make_leaf();
-      continue;
-    }
-    int left = int(bvh.nodes.size());
-    bvh.nodes.push_back({});
-    bvh.nodes.push_back({});
-    bvh.nodes[job.node].left = left;
-    bvh.nodes[job.node].right = left + 1;
-    jobs.push_back({left, job.first, mid - job.first});
-    jobs.push_back({left + 1, mid, job.first + job.count - mid});
+  Input in{boxes, std::vector<glm::dvec3>(boxes.size()), opt};
+  parallel_chunks(boxes.size(), 8192, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) in.centers[i] = boxes[i].center();
+  });
+  if (build_concurrency() == 1 || n < kSubtreeTask) {
+    bvh.nodes = build_serial(in, bvh.order, 0, n);
+    return bvh;
   }
+  Subtree root = build_tasks(in, bvh.order, 0, n);
+  bvh.nodes.resize(root.size);
+  place(root, bvh.nodes, 0, 1);
   return bvh;
 }
 

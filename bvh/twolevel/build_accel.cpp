@@ -1,7 +1,9 @@
 #include "bvh/twolevel/build_accel.h"
 #include "bvh/build/builder.h"
+#include "bvh/build/parallel.h"
 #include "bvh/bounds/clip_bounds.h"
 #include "bvh/twolevel/cluster_blas.h"
+#include "bvh/twolevel/masq_fits.h"
 #include "bvh/nodes/compact_instance.h"
 #include "bvh/bounds/obb.h"
 #include "bvh/bounds/prim_bounds.h"
@@ -12,6 +14,8 @@
 #include <chrono>
 #include <cstring>
 #include <map>
+#include <optional>
+#include <span>
 #include <utility>
 
 namespace masq {
@@ -129,6 +133,27 @@ void note_feature(KernelFeatures& f, PrimType t) {
   }
 }
 
+// The binary BLAS of geometry g over the primitives ids (item i is ids[i]); `references`
+// gets its leaf reference count. Nothing for an empty ids.
+void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids, const AccelOptions& opt,
+                         BinaryBvh& bvh, std::size_t& references) {
+  if (ids.empty()) return;
+  std::vector<Aabb> boxes(ids.size());
+  parallel_chunks(ids.size(), 4096, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      std::size_t p = std::size_t(ids[i]);
+      boxes[i] = g.type == PrimType::Triangle ? triangle_box(g, g.triangles[p]) : hull_box(ball_hull(g, p));
+    }
+  });
+  // Spatial splits clip the primitive itself (object space), item i being ids[i].
+  PrimClipper clip = [&](int item, int axis, double lo, double hi) {
+    return clip_primitive(g, std::size_t(ids[std::size_t(item)]), axis, lo, hi);
+  };
+  SahOptions blas_sah = opt.sah;
+  if (builder_prices_isect(opt.builder.kind)) blas_sah.intersection_cost *= blas_isect_price(kernel_type(g.type));
+  bvh = build_blas_binary(boxes, clip, blas_sah, opt.builder, &references);
+}
+
 // One method's structure; for Method::Auto the per-cluster mix of bvh/twolevel/method_plan.cpp.
 PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt) {
   auto start = std::chrono::steady_clock::now();
@@ -163,32 +188,30 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   std::vector<std::vector<int>> insts_of(scene.geometries.size());
   for (std::size_t si = 0; si < scene.instances.size(); ++si) insts_of[scene.instances[si].geometry].push_back(int(si));
   std::vector<GeometryPlan> plans(scene.geometries.size());
-  for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
-    if (!insts_of[gi].empty() && scene.geometries[gi].primitive_count() > 0)
-      plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt);
+  parallel_chunks(scene.geometries.size(), 1, [&](std::size_t g0, std::size_t g1) {
+    for (std::size_t gi = g0; gi < g1; ++gi)
+      if (!insts_of[gi].empty() && scene.geometries[gi].primitive_count() > 0)
+        plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt);
+  });
 
   // The ordinary BLAS of each geometry over the primitives its plan keeps there.
   std::vector<int> blas_root(scene.geometries.size(), -1);
   bool blas_root_oriented = false; // o4: a rotated BLAS root needs the TLAS's exit bound
   std::vector<Aabb> blas_box(scene.geometries.size());
   ps.geometry_leaf_order.resize(scene.geometries.size());
+  // The binary BLAS of all geometries at once (each in its own slot), then their wide
+  // nodes appended in geometry order (the collapse appends to the shared arrays).
+  std::vector<BinaryBvh> blas(scene.geometries.size());
+  std::vector<std::size_t> blas_refs(scene.geometries.size(), 0);
+  parallel_chunks(scene.geometries.size(), 1, [&](std::size_t g0, std::size_t g1) {
+    for (std::size_t gi = g0; gi < g1; ++gi)
+      build_geometry_blas(scene.geometries[gi], plans[gi].blas_prims, opt, blas[gi], blas_refs[gi]);
+  });
   for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
-    const Geometry& g = scene.geometries[gi];
     const std::vector<std::int32_t>& ids = plans[gi].blas_prims;
     if (ids.empty()) continue;
-    std::vector<Aabb> boxes;
-    boxes.reserve(ids.size());
-    for (std::int32_t p : ids)
-      boxes.push_back(g.type == PrimType::Triangle ? triangle_box(g, g.triangles[std::size_t(p)])
-                                                   : hull_box(ball_hull(g, std::size_t(p))));
-    // Spatial splits clip the primitive itself (object space), item i being ids[i].
-    PrimClipper clip = [&](int item, int axis, double lo, double hi) {
-      return clip_primitive(g, std::size_t(ids[std::size_t(item)]), axis, lo, hi);
-    };
-    std::size_t references = 0;
-    SahOptions blas_sah = opt.sah;
-    if (builder_prices_isect(opt.builder.kind)) blas_sah.intersection_cost *= blas_isect_price(kernel_type(g.type));
-    BinaryBvh bvh = build_blas_binary(boxes, clip, blas_sah, opt.builder, &references);
+    const BinaryBvh& bvh = blas[gi];
+    const std::size_t references = blas_refs[gi];
     const NodeFraming framing{[&](std::int32_t p) { return prim_hull(ps, int(gi), p); }, opt.oriented_gain};
     WideBvhInfo info = append_bvh_nodes(bvh, ids, opt.nodes, ps, &framing);
     blas_root_oriented = blas_root_oriented || info.root_oriented;
@@ -219,6 +242,19 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   std::vector<Aabb> compact_boxes;
   std::vector<Mat3x4f> compact_unit_to_world;
   std::map<std::pair<int, int>, std::uint32_t> owner_of; // (geometry, scene instance) -> owner
+  // Room for every entry at once: growing arrays of a million masquerade entries by
+  // doubling cost as much as filling them.
+  std::size_t entries = scene.instances.size();
+  for (const Instance& inst : scene.instances) entries += plans[inst.geometry].masq_prims.size();
+  inst_boxes.reserve(entries);
+  ps.instance_object_to_world.reserve(entries);
+  if (opt.masq_instances == MasqInstances::Compact) {
+    compact_boxes.reserve(entries);
+    compact_unit_to_world.reserve(entries);
+    ps.masq_instances.reserve(entries);
+  } else {
+    ps.instances.reserve(entries);
+  }
   const std::size_t owner_limit = std::size_t(std::clamp(opt.masq_owner_limit, 0, MASQ_MAX_OWNERS));
   for (std::size_t si = 0; si < scene.instances.size(); ++si) {
     const Instance& inst = scene.instances[si];
@@ -231,17 +267,28 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
       ps.instance_object_to_world.push_back(ps.frame_object_to_world[si]);
       inst_boxes.push_back(transform_box(blas_box[gi], inst.object_to_world));
     }
-    for (std::int32_t p : plans[std::size_t(gi)].masq_prims) {
-      if (opt.masq_instances == MasqInstances::Compact) {
-        auto owner = owner_of.find({gi, int(si)});
-        if (owner == owner_of.end() && owner_of.size() < owner_limit) {
-          owner = owner_of.emplace(std::pair<int, int>{gi, int(si)}, std::uint32_t(ps.masq_owners.size())).first;
-          ps.masq_owners.push_back({gi, int(si), {0, 0}});
-        }
-        std::optional<CompactMasquerade> cm;
-        if (owner != owner_of.end()) cm = compact_masquerade(g, std::size_t(p), inst.object_to_world, opt.curve_obb);
-        if (cm) { // else: a 64-byte Instance below
-          set_masq_owner(cm->inst, owner->second);
+    const std::vector<std::int32_t>& masq_prims = plans[std::size_t(gi)].masq_prims;
+    if (masq_prims.empty()) continue;
+    // Compact entries name their (geometry, scene instance) pair's owner index, made on
+    // the pair's first primitive while there is room.
+    std::optional<std::uint32_t> owner;
+    if (opt.masq_instances == MasqInstances::Compact) {
+      auto it = owner_of.find({gi, int(si)});
+      if (it == owner_of.end() && owner_of.size() < owner_limit) {
+        it = owner_of.emplace(std::pair<int, int>{gi, int(si)}, std::uint32_t(ps.masq_owners.size())).first;
+        ps.masq_owners.push_back({gi, int(si), {0, 0}});
+      }
+      if (it != owner_of.end()) owner = it->second;
+    }
+    // The fits in blocks (computed on all threads), appended in primitive order.
+    constexpr std::size_t kFitBlock = 16384;
+    for (std::size_t b = 0; b < masq_prims.size(); b += kFitBlock) {
+      std::span<const std::int32_t> block(masq_prims.data() + b, std::min(kFitBlock, masq_prims.size() - b));
+      std::vector<MasqFit> fits = fit_masquerades(g, block, inst.object_to_world, opt.curve_obb, owner.has_value());
+      for (std::size_t i = 0; i < block.size(); ++i) {
+        std::int32_t p = block[i];
+        if (std::optional<CompactMasquerade>& cm = fits[i].compact) { // else: a 64-byte Instance below
+          set_masq_owner(cm->inst, *owner);
           ps.stats.obb_area += cm->box.obb_area;
           ps.stats.aabb_area += cm->box.aabb_area;
           ps.stats.masq_prims += 1;
@@ -250,14 +297,14 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
           compact_boxes.push_back(cm->box.world_box);
           continue;
         }
+        const MasqueradeBox& mb = fits[i].full;
+        ps.stats.obb_area += mb.obb_area;
+        ps.stats.aabb_area += mb.aabb_area;
+        ps.stats.masq_prims += 1;
+        ps.instances.push_back(make_instance(mb.world_to_unit, -1, gi, int(p), int(si)));
+        ps.instance_object_to_world.push_back(mb.unit_to_world);
+        inst_boxes.push_back(mb.world_box);
       }
-      MasqueradeBox mb = masquerade_box(g, std::size_t(p), inst.object_to_world, opt.curve_obb);
-      ps.stats.obb_area += mb.obb_area;
-      ps.stats.aabb_area += mb.aabb_area;
-      ps.stats.masq_prims += 1;
-      ps.instances.push_back(make_instance(mb.world_to_unit, -1, gi, int(p), int(si)));
-      ps.instance_object_to_world.push_back(mb.unit_to_world);
-      inst_boxes.push_back(mb.world_box);
     }
   }
   for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
@@ -327,7 +374,9 @@ void check_accel_input(const Scene& scene, const AccelOptions& opt) {
 
 } // namespace
 
-AutoCandidates build_auto_candidates(const Scene& scene, const AccelOptions& opt) {
+namespace {
+
+AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
   check_accel_input(scene, opt);
   auto start = std::chrono::steady_clock::now();
   AutoCandidates out;
@@ -360,6 +409,14 @@ AutoCandidates build_auto_candidates(const Scene& scene, const AccelOptions& opt
   return out;
 }
 
+} // namespace
+
+AutoCandidates build_auto_candidates(const Scene& scene, const AccelOptions& opt) {
+  AutoCandidates out;
+  run_with_build_threads(opt.build_threads, [&] { out = auto_candidates(scene, opt); });
+  return out;
+}
+
 std::size_t model_choice(const AutoCandidates& c) {
   // The lowest model cost, ties to the earlier (ref, masq, cluster, mix), compared
   // without the triangles' share, which every candidate has alike. A candidate other
@@ -388,17 +445,21 @@ void mark_as_auto(PackedScene& kept, const AutoCandidates& c) {
 }
 
 PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt) {
-  if (method != Method::Auto || opt.auto_select == AutoSelect::MixOnly) {
-    check_accel_input(scene, opt);
-    return build_planned(scene, method, opt);
-  }
-  // auto: build every candidate whole and keep the one the structure cost model prices
-  // lowest. The per-cluster mix alone misjudges sparse scenes, where what an instance
-  // does to the TLAS decides (docs/methods.md); the whole structures show it.
-  AutoCandidates c = build_auto_candidates(scene, opt);
-  PackedScene best = std::move(c.built[model_choice(c)]);
-  mark_as_auto(best, c);
-  return best;
+  PackedScene out;
+  run_with_build_threads(opt.build_threads, [&] {
+    if (method != Method::Auto || opt.auto_select == AutoSelect::MixOnly) {
+      check_accel_input(scene, opt);
+      out = build_planned(scene, method, opt);
+      return;
+    }
+    // auto: build every candidate whole and keep the one the structure cost model prices
+    // lowest. The per-cluster mix alone misjudges sparse scenes, where what an instance
+    // does to the TLAS decides (docs/methods.md); the whole structures show it.
+    AutoCandidates c = auto_candidates(scene, opt);
+    out = std::move(c.built[model_choice(c)]);
+    mark_as_auto(out, c);
+  });
+  return out;
 }
 
 } // namespace masq

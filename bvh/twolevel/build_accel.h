@@ -44,6 +44,9 @@ struct AccelOptions {
   // the masquerade primitives of pairs beyond this many get 64-byte Instances (tests
   // lower it; above MASQ_MAX_OWNERS it has no effect).
   int masq_owner_limit = MASQ_MAX_OWNERS;
+  // Host build threads (bvh/build/parallel.h): 0 every hardware thread, 1 serial. The
+  // structure is the same, bit for bit, with any count (docs/builders.md).
+  int build_threads = 0;
 };
 
 PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& opt = {});

@@ -2,10 +2,12 @@
 #include "bvh/bounds/obb.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "bvh/nodes/wide_bvh.h"
+#include "bvh/build/parallel.h"
 #include "masq/error.h"
 #include <cmath>
 #include <algorithm>
 #include <cstring>
+#include <string>
 
 namespace masq {
 
@@ -32,6 +34,50 @@ double parallelepiped_area(const Aabb& local, const Affine3& local_to_world) {
                 glm::length(glm::cross(e[2], e[0])));
 }
 
+// What a cluster's BLAS needs before its nodes are appended (build_cluster).
+struct ClusterBuild {
+  std::vector<BallHull> hulls;  // the members' hulls
+  std::vector<Mat3x4f> stored;  // per scene instance its world-to-local matrix as stored
+  std::vector<Aabb> local;      // per member its local box under every realised map
+  BinaryBvh bvh;
+  std::string error;            // set (and the rest incomplete) when a local box is not finite
+};
+
+ClusterBuild build_cluster(const Geometry& g, const Cluster& c, const std::vector<int>& scene_insts,
+                           const SahOptions& sah, double leaf_price, const BuilderOptions& builder,
+                           const PackedScene& ps) {
+  ClusterBuild out;
+  Affine3 object_to_local = cluster_object_to_local(c);
+  for (std::int32_t p : c.members) out.hulls.push_back(ball_hull(g, std::size_t(p)));
+  // The stored world-to-local matrix of every scene instance, then each member's
+  // local box as the union of its hull's exact boxes under the realised maps.
+  out.local.resize(c.members.size());
+  for (int si : scene_insts) {
+    Mat3x4f frame = frame_matrix(ps, si);
+    Mat3x4f w2l = to_mat3x4f(compose(object_to_local, from_mat3x4f(frame)));
+    Affine3 realised = realised_object_to_local(w2l, frame);
+    for (std::size_t m = 0; m < out.hulls.size(); ++m) out.local[m].grow(hull_world_box(out.hulls[m], realised));
+    out.stored.push_back(w2l);
+  }
+  for (const Aabb& b : out.local)
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(b.lo[k]) || !std::isfinite(b.hi[k])) {
+        // Thrown by the caller, in cluster order, so the first bad cluster is named
+        // whatever the thread count.
+        out.error = "cluster: a member's local box in geometry ";
+        return out;
+      }
+  // A cluster's members are parallel and side by side, so their local boxes barely
+  // overlap and the plain SAH splits down to one primitive per leaf: four times the
+  // nodes of ref's BLAS (61 vs 26 B per primitive on the default scene). A traversal
+  // price of 4 (the default leaf_price) fills the leaves (27 B) at ~2 more intersector
+  // calls per ray; auto also tries price 1 (docs/methods.md).
+  SahOptions leaf_sah = sah;
+  leaf_sah.traversal_cost = std::max(sah.traversal_cost, leaf_price * sah.intersection_cost);
+  out.bvh = build_boxes_binary(out.local, leaf_sah, builder);
+  return out;
+}
+
 } // namespace
 
 Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& frame_world_to_object) {
@@ -42,34 +88,22 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
                               const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
                               const BuilderOptions& builder, PackedScene& ps, std::vector<Aabb>& inst_boxes) {
   const Geometry& g = scene.geometries.at(std::size_t(geom));
-  for (const Cluster& c : clusters) {
+  for (const Cluster& c : clusters)
     if (c.members.empty()) throw Error("cluster: an empty cluster in geometry " + std::to_string(geom));
-    Affine3 object_to_local = cluster_object_to_local(c);
-    std::vector<BallHull> hulls;
-    for (std::int32_t p : c.members) hulls.push_back(ball_hull(g, std::size_t(p)));
-    // The stored world-to-local matrix of every scene instance, then each member's
-    // local box as the union of its hull's exact boxes under the realised maps.
-    std::vector<Mat3x4f> stored;
-    std::vector<Aabb> local(c.members.size());
-    for (int si : scene_insts) {
-      Mat3x4f frame = frame_matrix(ps, si);
-      Mat3x4f w2l = to_mat3x4f(compose(object_to_local, from_mat3x4f(frame)));
-      Affine3 realised = realised_object_to_local(w2l, frame);
-      for (std::size_t m = 0; m < hulls.size(); ++m) local[m].grow(hull_world_box(hulls[m], realised));
-      stored.push_back(w2l);
-    }
-    for (const Aabb& b : local)
-      for (int k = 0; k < 3; ++k)
-        if (!std::isfinite(b.lo[k]) || !std::isfinite(b.hi[k]))
-          throw Error("cluster: a member's local box in geometry " + std::to_string(geom) + " is not finite");
-    // A cluster's members are parallel and side by side, so their local boxes barely
-    // overlap and the plain SAH splits down to one primitive per leaf: four times the
-    // nodes of ref's BLAS (61 vs 26 B per primitive on the default scene). A traversal
-    // price of 4 (the default leaf_price) fills the leaves (27 B) at ~2 more intersector
-    // calls per ray; auto also tries price 1 (docs/methods.md).
-    SahOptions leaf_sah = sah;
-    leaf_sah.traversal_cost = std::max(sah.traversal_cost, leaf_price * sah.intersection_cost);
-    BinaryBvh bvh = build_boxes_binary(local, leaf_sah, builder);
+  // Every cluster's local boxes and binary BLAS at once, each in its own slot; the wide
+  // nodes, instances and sums are then appended cluster by cluster, in order.
+  std::vector<ClusterBuild> built(clusters.size());
+  parallel_chunks(clusters.size(), 1, [&](std::size_t c0, std::size_t c1) {
+    for (std::size_t ci = c0; ci < c1; ++ci)
+      built[ci] = build_cluster(g, clusters[ci], scene_insts, sah, leaf_price, builder, ps);
+  });
+  for (std::size_t ci = 0; ci < clusters.size(); ++ci) {
+    const Cluster& c = clusters[ci];
+    if (!built[ci].error.empty()) throw Error(built[ci].error + std::to_string(geom) + " is not finite");
+    const std::vector<BallHull>& hulls = built[ci].hulls;
+    const std::vector<Mat3x4f>& stored = built[ci].stored;
+    const std::vector<Aabb>& local = built[ci].local;
+    const BinaryBvh& bvh = built[ci].bvh;
     WideBvhInfo info = append_bvh_nodes(bvh, c.members, ps.features.nodes, ps);
     ps.stats.blas_references += bvh.order.size();
     ps.stats.blas_primitives += c.members.size();

@@ -2,8 +2,10 @@
 #include "bvh/nodes/compact_instance.h"
 #include "bvh/bounds/obb.h"
 #include "bvh/nodes/wide_bvh.h"
+#include "bvh/build/parallel.h"
 #include <cmath>
 #include <glm/glm.hpp>
+#include <vector>
 
 namespace masq {
 
@@ -39,11 +41,36 @@ double slot_area(const NodeSlot& s, const glm::dmat3& l) {
   return mapped_area(l * s.frame.box_to_space(), glm::max(s.box.hi - s.box.lo, glm::dvec3(0.0)));
 }
 
+// What the walk needs of one TLAS entry, decoded beforehand (on all threads: a compact
+// entry's decode is most of the walk's time on the masquerade TLAS).
+struct EntryInfo {
+  glm::dmat3 l;          // unit box (masquerade) or BLAS -> world, linear part
+  double unit_area = 0;  // masquerade: area of the unit box's image
+  int blas_root = -1;
+  int type = 0;          // kernel primitive type
+};
+
+std::vector<EntryInfo> entry_infos(const PackedScene& ps) {
+  std::vector<EntryInfo> out(ps.tlas_entry_count());
+  parallel_chunks(out.size(), 1024, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t entry = lo; entry < hi; ++entry) {
+      const kernel::Instance inst = tlas_entry_instance(ps, entry);
+      EntryInfo& e = out[entry];
+      e.l = linear_part(ps.instance_object_to_world[entry]);
+      e.blas_root = inst.blas_root;
+      e.type = ps.geoms[std::size_t(inst.geom)].type;
+      if (inst.blas_root < 0) e.unit_area = mapped_area(e.l, glm::dvec3(2.0));
+    }
+  });
+  return out;
+}
+
 struct Walker {
   const PackedScene& ps;
   double root_area = 1.0;
   StructureCost c;
   StructureCost tri; // what triangle instances added to c
+  std::vector<EntryInfo> entries; // per TLAS entry (the TLAS walk)
 
   // A BLAS entered with probability p_root (its root node is visited then); its boxes
   // are mapped to the world by l. Leaves weigh their count by the geometry's price.
@@ -61,17 +88,15 @@ struct Walker {
 
   // A TLAS leaf reference: an Instance or a compact masquerade entry (PackedScene::tlas_ref).
   void instance(std::int32_t ref, double p_slot) {
-    const std::size_t entry = ps.tlas_entry(ref);
-    const kernel::Instance inst = tlas_entry_instance(ps, entry);
-    const glm::dmat3 l = linear_part(ps.instance_object_to_world[entry]);
-    int type = ps.geoms[std::size_t(inst.geom)].type;
+    const EntryInfo& e = entries[ps.tlas_entry(ref)];
+    int type = e.type;
     double factor = isect_type_factor(type);
     StructureCost before = c;
     c.transforms += p_slot;
-    if (inst.blas_root >= 0)
-      blas(inst.blas_root, p_slot, l, factor);
+    if (e.blas_root >= 0)
+      blas(e.blas_root, p_slot, e.l, factor);
     else // masquerade: the intersector runs when the ray is in the unit box's image (the OBB)
-      c.isects += std::min(p_slot, mapped_area(l, glm::dvec3(2.0)) / root_area) * factor;
+      c.isects += std::min(p_slot, e.unit_area / root_area) * factor;
     if (type == MASQ_PRIM_TRIANGLE) {
       tri.nodes += c.nodes - before.nodes;
       tri.transforms += c.transforms - before.transforms;
@@ -121,6 +146,7 @@ StructureCost structure_cost(const PackedScene& ps, const CostPrices& prices) {
     if (type == MASQ_PRIM_TRIANGLE) w.tri = w.c;
   } else {
     w.root_area = std::max(node_box_area(ps, ps.tlas_root, glm::dmat3(1.0)), 1e-300);
+    w.entries = entry_infos(ps);
     w.tlas(ps.tlas_root, 1.0);
   }
   auto priced = [&](const StructureCost& k) {
