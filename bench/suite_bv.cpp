@@ -1,12 +1,16 @@
-// bv: Kallberg & Larsson's comparison of binary hierarchies of slab cut balls (p = 0 and
-// p = 0.2), balls, OBBs and AABBs, laid out like their Table 1: per scene, the trace
-// time t and the ray/volume (N_b) and ray/primitive (N_t) tests per primary ray, on
-// every backend. All volume types share one topology (the paper's OBB-area SAH sweep);
-// an AABB tree from the project's binned SAH is added as the conventional baseline.
+// bv: every bounding-volume idea for thin primitives on the same rays and devices, laid
+// out like Kallberg & Larsson's Table 1: per scene, the trace time t, the ray/volume
+// (N_b) and ray/primitive (N_t) tests per primary ray on every backend, and the bytes.
+// Their binary hierarchies of slab cut balls (p = 0 and p = 0.2), balls, OBBs and AABBs
+// share one topology (the paper's OBB-area SAH sweep), an AABB tree from the project's
+// binned SAH is the conventional baseline, and masq's own two-level structures stand
+// beside them: AABB and oriented 4-wide nodes (ref), per-primitive OBBs (masq) and
+// per-cluster OBBs (cluster).
 #include "bench/paper_tables.h"
 #include "bench/suite.h"
 #include "host/bv_tracer.h"
 #include "scenes/camera.h"
+#include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
 #include <algorithm>
 #include <chrono>
@@ -42,14 +46,32 @@ const std::vector<BvVariant>& bv_variants() {
   return v;
 }
 
+// file "": the embedded default scene (the masquerade paper's bundle).
 std::vector<BvScenario> bv_scenarios(bool quick) {
   std::vector<BvScenario> s = {{"Rings (SPD rings sf7)", "spd/rings_sf7.nff", "Rings"},
                                {"Bunny (Stanford, 69K triangles)", "meshes/bun_zipper.ply", "Bunny"},
                                {"Tree (SPD tree sf11)", "spd/tree_sf11.nff", "Tree"},
                                {"Hair (TressFX 3 TestHair1)", "hair/tressfx3_TestHair1.tfx"},
-                               {"Neuron (C040600B3, round cones)", "neurons/C040600B3.CNG.swc"}};
-  if (quick) s = {s[0], s[4]};
+                               {"Neuron (C040600B3, round cones)", "neurons/C040600B3.CNG.swc"},
+                               {"bear fur (TressFX 3)", "hair/tressfx3_bear.tfx"},
+                               {"Ratboy mohawk (TressFX 4)", "hair/tressfx4_Ratboy_mohawk.tfx"},
+                               {"default bundle (N=1000 r=0.002 tilt 45 + ground)", ""}};
+  if (quick) s = {s[0], s[4], s[7]};
   return s;
+}
+
+// masq's two-level structures on the same rays: a method on one node format.
+struct TwoLevelVariant {
+  std::string label;
+  Method method;
+  NodeFormat nodes;
+};
+const std::vector<TwoLevelVariant>& two_level_variants() {
+  static const std::vector<TwoLevelVariant> v = {{"AABB 4-wide (ref)", Method::Ref, NodeFormat::W4},
+                                                 {"oriented 4-wide (ref o4)", Method::Ref, NodeFormat::O4},
+                                                 {"OBB per primitive (masq)", Method::Masq, NodeFormat::W4},
+                                                 {"OBB per cluster (cluster)", Method::Cluster, NodeFormat::W4}};
+  return v;
 }
 
 struct BvCell {
@@ -59,6 +81,7 @@ struct BvCell {
   double build_s = 0;             // topology + fit
   std::size_t nodes = 0;
   int depth = 0;
+  std::size_t bytes = 0;          // nodes and leaf entries (two-level: nodes, refs, instances, frames)
   std::map<std::string, double> seconds; // median trace time per backend
 };
 
@@ -77,30 +100,31 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
-const char* const kWideLabel = "AABB 4-wide (ref)";
-
-// The same rays through masq's ref method: one 4-wide AABB BLAS from the binned SAH,
-// collapsed. A wide visit tests up to 4 child boxes in one step, so N_b is counted as
-// 4 x wide-node visits (an upper bound on box tests; empty slots are skipped).
-BvCell measure_wide_aabb(SuiteContext& ctx, const Scene& scene, const std::vector<std::string>& backends, int side,
-                         int reps) {
+// A two-level structure of masq on the same rays. A wide visit tests up to 4 child
+// boxes in one step and a masquerade unit box is one box test, so N_b is counted as
+// 4 x (TLAS and BLAS visits): an upper bound on box tests (empty slots are skipped).
+BvCell measure_two_level(SuiteContext& ctx, const Scene& scene, const TwoLevelVariant& v,
+                         const std::vector<std::string>& backends, int side, int reps) {
   BvCell cell;
   BenchOptions bo = ctx.bench_options(side, side);
-  bo.methods = {Method::Ref};
+  bo.methods = {v.method};
+  bo.node_formats = {v.nodes};
   bo.ray_sets = {RaySet::Primary};
   bo.backends = backends;
   bo.repetitions = reps;
-  bo.progress = [&](const std::string& line) { ctx.say("bv: " + scene.name + " / " + kWideLabel + ": " + line); };
+  bo.progress = [&](const std::string& line) { ctx.say("bv: " + scene.name + " / " + v.label + ": " + line); };
   try {
     for (const BenchRow& r : run_bench(scene, bo, ctx.pool)) {
       if (!r.unavailable.empty()) continue;
       if (r.backend == "cpu" && r.tlas_nodes >= 0) {
-        cell.nb = 4.0 * r.blas_nodes;
+        cell.nb = 4.0 * (r.tlas_nodes + r.blas_nodes);
         cell.nt = r.isect_calls;
       }
       cell.seconds[r.backend] = r.median_s;
       cell.build_s = r.build_s;
-      cell.nodes = r.build.blas_nodes;
+      cell.nodes = r.build.tlas_nodes + r.build.blas_nodes;
+      cell.depth = r.build.max_depth;
+      cell.bytes = r.accel_bytes;
       cell.ok = true;
     }
     if (!cell.ok) cell.why = "no backend ran";
@@ -119,7 +143,8 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
   const int reps = quick ? 2 : 5;
   SuiteResult res;
   res.name = "bv";
-  res.title = "Hierarchies of slab cut balls vs ball, OBB and AABB trees (Kallberg & Larsson, Table 1 layout)";
+  res.title = "Every bounding volume on the same rays: slab cut balls, balls, OBBs and AABBs (Kallberg & Larsson, "
+              "Table 1 layout) beside masq's AABB and oriented wide nodes, per-primitive and per-cluster OBBs";
   // Tracers opened once for the whole suite (their kernels compile on first use).
   std::vector<std::string> backends;
   std::map<std::string, std::unique_ptr<BvTracer>> tracers;
@@ -137,8 +162,8 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
   std::vector<std::vector<BvCell>> cells(scenarios.size(), std::vector<BvCell>(bv_variants().size()));
   std::vector<std::size_t> prim_counts(scenarios.size(), 0);
   std::vector<std::string> sizes(scenarios.size());
-  // The wide form of the AABB tree: masq's own 4-wide BVH (the ref method, one BLAS).
-  std::vector<BvCell> wide(scenarios.size());
+  // masq's own two-level structures (columns after the binary trees').
+  std::vector<std::vector<BvCell>> two_level(scenarios.size(), std::vector<BvCell>(two_level_variants().size()));
   res.data["scenes"] = nlohmann::json::array();
   for (std::size_t si = 0; si < scenarios.size(); ++si) {
     const BvScenario& sc = scenarios[si];
@@ -146,7 +171,7 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
     nlohmann::json js = {{"scene", sc.label}, {"file", sc.file}};
     Scene scene;
     try {
-      scene = load_scene_file(path);
+      scene = sc.file.empty() ? make_default_scene() : load_scene_file(path);
     } catch (const std::exception& e) {
       for (BvCell& c : cells[si]) c.why = e.what();
       ctx.say("bv: " + sc.label + ": " + e.what());
@@ -174,6 +199,7 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
         cell.build_s = topo_s + bs.stats.build_seconds;
         cell.nodes = bs.stats.nodes;
         cell.depth = bs.stats.depth;
+        cell.bytes = bs.node_bytes() + bs.bv_prims.size() * sizeof(kernel::BvPrimRef);
         std::vector<kernel::Hit> hits(rays.size());
         std::vector<kernel::RayStats> stats(rays.size());
         for (const std::string& b : backends) {
@@ -208,17 +234,21 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
         jc["build_seconds"] = cell.build_s;
         jc["nodes"] = cell.nodes;
         jc["depth"] = cell.depth;
+        jc["bytes"] = cell.bytes;
         jc["trace_seconds"] = cell.seconds;
       } else {
         jc["error"] = cell.why;
       }
       js["variants"].push_back(jc);
     }
-    wide[si] = measure_wide_aabb(ctx, scene, backends, side, reps);
-    js["variants"].push_back(wide[si].ok ? nlohmann::json{{"variant", kWideLabel}, {"ok", true}, {"n_b", wide[si].nb},
-                                                          {"n_t", wide[si].nt}, {"build_seconds", wide[si].build_s},
-                                                          {"nodes", wide[si].nodes}, {"trace_seconds", wide[si].seconds}}
-                                         : nlohmann::json{{"variant", kWideLabel}, {"ok", false}, {"error", wide[si].why}});
+    for (std::size_t ti = 0; ti < two_level_variants().size(); ++ti) {
+      const TwoLevelVariant& v = two_level_variants()[ti];
+      const BvCell& c = two_level[si][ti] = measure_two_level(ctx, scene, v, backends, side, reps);
+      js["variants"].push_back(c.ok ? nlohmann::json{{"variant", v.label}, {"ok", true}, {"n_b", c.nb}, {"n_t", c.nt},
+                                                     {"build_seconds", c.build_s}, {"nodes", c.nodes},
+                                                     {"bytes", c.bytes}, {"trace_seconds", c.seconds}}
+                                    : nlohmann::json{{"variant", v.label}, {"ok", false}, {"error", c.why}});
+    }
     js["primitives"] = prim_counts[si];
     js["rays"] = rays.size();
     res.data["scenes"].push_back(js);
@@ -232,13 +262,15 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
     counts.header.push_back(v.label + " N_b");
     counts.header.push_back(v.label + " N_t");
   }
-  counts.header.push_back(std::string(kWideLabel) + " N_b");
-  counts.header.push_back(std::string(kWideLabel) + " N_t");
+  for (const TwoLevelVariant& v : two_level_variants()) {
+    counts.header.push_back(v.label + " N_b");
+    counts.header.push_back(v.label + " N_t");
+  }
   Table times;
   times.title = fmt::format("t: median trace time (ms) of {}x{} primary rays, median of {}", side, side, reps);
   times.header = {"scene", "backend"};
   for (const BvVariant& v : bv_variants()) times.header.push_back(v.label);
-  times.header.push_back(kWideLabel);
+  for (const TwoLevelVariant& v : two_level_variants()) times.header.push_back(v.label);
   times.left_columns = 2;
   // The paper's own rows under masq's scene that stands for theirs, and a sentence per
   // scene on how far the two order the volume types alike. t: the cpu backend's (the
@@ -249,7 +281,7 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
   for (std::size_t si = 0; si < scenarios.size(); ++si) {
     std::vector<std::string> row = {scenarios[si].label, std::to_string(prim_counts[si])};
     std::vector<BvCell> row_cells = cells[si];
-    row_cells.push_back(wide[si]);
+    row_cells.insert(row_cells.end(), two_level[si].begin(), two_level[si].end());
     for (const BvCell& c : row_cells) {
       row.push_back(c.ok ? fmt::format("{:.1f}", c.nb) : "n/a");
       row.push_back(c.ok ? fmt::format("{:.2f}", c.nt) : "n/a");
@@ -269,7 +301,9 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
     for (std::size_t vi = 0; vi < row_cells.size(); ++vi) {
       const BvCell& c = row_cells[vi];
       auto it = c.seconds.find(time_backend);
-      measured.push_back({vi < bv_variants().size() ? bv_variants()[vi].label : kWideLabel, c.ok && it != c.seconds.end(),
+      measured.push_back({vi < bv_variants().size() ? bv_variants()[vi].label
+                                                    : two_level_variants()[vi - bv_variants().size()].label,
+                          c.ok && it != c.seconds.end(),
                           c.nb, c.nt, it != c.seconds.end() ? it->second : 0.0});
     }
     std::vector<std::string> prow = {fmt::format("paper: {} (M per image)", paper->name),
@@ -283,8 +317,10 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
   }
   counts.notes = {"counters from the cpu backend's stats variant; the vulkan and opencl kernels are the same source",
                   "N_b counts the root test plus both children's tests at every visited inner node (the paper's N_b)",
-                  std::string(kWideLabel) + ": masq's 4-wide BVH of the ref method on the same rays; N_b = 4 x wide-node "
-                  "visits (each visit tests its up to 4 child boxes at once)",
+                  "masq's two-level structures on the same rays: ref's 4-wide BVH with AABB nodes (w4) and with "
+                  "oriented nodes (o4: a rotation per node where the SAH gains, docs/kernels.md), masq's OBB per "
+                  "primitive (TLAS of masquerade instances) and cluster's OBB per cluster; N_b = 4 x (TLAS + BLAS "
+                  "wide-node visits and masquerade unit-box tests): each visit tests up to 4 child boxes at once",
                   "paper: Kallberg & Larsson 2009, Table 1, under the masq scene that stands for theirs: N_b and N_t "
                   "in millions per image (its image size is not stated: compare orders and ratios, not values), t in s "
                   "on one core of a Core 2 Duo T9400; their scenes are triangle meshes, masq's SPD scenes are the same "
@@ -294,12 +330,27 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
   builds.title = "build: seconds (topology + fit), nodes, depth";
   builds.header = {"scene"};
   for (const BvVariant& v : bv_variants()) builds.header.push_back(v.label);
+  for (const TwoLevelVariant& v : two_level_variants()) builds.header.push_back(v.label);
+  Table bytes;
+  bytes.title = "bytes of the structure (MiB) and per primitive";
+  bytes.header = builds.header;
   for (std::size_t si = 0; si < scenarios.size(); ++si) {
-    std::vector<std::string> row = {scenarios[si].label};
-    for (const BvCell& c : cells[si])
+    std::vector<std::string> row = {scenarios[si].label}, brow = {scenarios[si].label};
+    std::vector<BvCell> row_cells = cells[si];
+    row_cells.insert(row_cells.end(), two_level[si].begin(), two_level[si].end());
+    for (const BvCell& c : row_cells) {
       row.push_back(c.ok ? fmt::format("{:.2f}s {} d{}", c.build_s, c.nodes, c.depth) : "n/a");
+      brow.push_back(c.ok ? fmt::format("{:.2f} ({:.0f} B)", double(c.bytes) / (1 << 20),
+                                        double(c.bytes) / double(std::max<std::size_t>(prim_counts[si], 1)))
+                          : "n/a");
+    }
     builds.add(row);
+    bytes.add(brow);
   }
+  builds.notes = {"two-level structures: host build and upload of the first backend; nodes: TLAS + BLAS wide nodes; "
+                  "d: wide levels, TLAS + BLAS"};
+  bytes.notes = {"binary trees: their nodes and leaf entries; two-level structures: nodes, leaf references, instances, "
+                 "compact masquerade entries and frames (the primitives, the same for all, not counted)"};
   Table agree;
   agree.title = "ordering of the volume types: Kallberg & Larsson's Table 1 vs masq (per scene both have)";
   agree.header = {"agreement"};
@@ -314,14 +365,15 @@ SuiteResult run_bv_suite(SuiteContext& ctx) {
                  "intersector costs more than a volume test. t weighs masq's own test costs (fp32, rounded outward) on "
                  "a multi-threaded tracer against a 2008 single-threaded one"};
   res.data["paper_agreement"] = agreement;
-  res.tables = {counts, times, builds};
+  res.tables = {counts, times, builds, bytes};
   if (!agreement.empty()) res.tables.push_back(agree);
   res.method = fmt::format(
       "Each scene loaded from the data directory and framed by its loader; {}x{} primary camera rays; one binary "
       "hierarchy over the world-space primitives per volume type (robust intersectors at the leaves), fitted in "
       "double and rounded outward to fp32; SCB slab chosen among the node OBB's three slabs by reduced area with "
-      "weight p; the first five columns share the OBB-area SAH sweep topology (max leaf size 4), the last uses the "
-      "binned SAH over AABBs. Time: device time (vulkan timestamps, OpenCL events) or wall time (cpu), median of {} "
+      "weight p; the first five columns share the OBB-area SAH sweep topology (max leaf size 4), the sixth uses the "
+      "binned SAH over AABBs; the last four are masq's two-level structures (ref w4, ref o4, masq, cluster) from "
+      "the default builder. Time: device time (vulkan timestamps, OpenCL events) or wall time (cpu), median of {} "
       "traces after one warm-up.",
       side, side, reps);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -268,6 +268,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
   // sah4's, whose full four-primitive leaves suit the cpu's four-lane capsule test (as
   // Embree prices its leaves per block of its SIMD width); the fastest is masq's best.
   opt.builders = {Builder::Sah, Builder::Sah4};
+  // ... and on AABB and oriented wide nodes (o4: Embree's hair BVH also rotates nodes).
+  opt.node_formats = {NodeFormat::W4, NodeFormat::O4};
   Table t;
   t.title = "Mrays/s on the same rays; agreement with masq's best = rays hit by one and missed by the other / common "
             "hits on another primitive (not a tie in t)";
@@ -366,7 +368,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
         t.add(line);
         continue;
       }
-      line.push_back(fmt::format("{} {}", best->backend, method_label(*best)));
+      line.push_back(fmt::format("{} {}{}", best->backend, method_label(*best),
+                                 best->nodes == NodeFormat::W4 ? "" : std::string(" ") + node_format_name(best->nodes)));
       line.push_back(fmt::format("{:.3f}", best->mrays_per_s()));
       nlohmann::json pj = {{"rays", ray_set_name(batch.set)}, {"masq_best", bench_row_json(*best)}};
       if (!alone_error[b].empty()) {
@@ -441,7 +444,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
              "oracle: of the differing rays (at most 300, evenly spread), how many masq and Embree answer as the "
              "long-double oracle does",
              "masq best: the fastest of masq's own tracers (cpu, vulkan, opencl x ref, masq, cluster, auto, each on "
-             "the default sah builder's structures and on sah4's: docs/builders.md) in the lanes, where the methods of a backend take turns round by round; alone: that tracer's structure "
+             "the default sah builder's structures and on sah4's: docs/builders.md, in node formats w4 and o4: docs/kernels.md) in the lanes, where the methods of a backend take turns round by round; alone: that tracer's structure "
              "uploaded again and its warm-up and timed traces run in a row, as Embree's then are (in the lanes each "
              "trace follows another method's, with cold caches); masq/Embree: both alone",
              "rayquery: "

@@ -243,7 +243,7 @@ TEST(Bench, NodeFormatsSideBySide) {
   }
   EXPECT_LT(rows[1].blas_nodes, rows[0].blas_nodes); // ref: 8-wide BLAS, fewer visits
   EXPECT_LT(rows[2].build.node_bytes, rows[0].build.node_bytes / 2); // q8: 80 B against 128 B nodes
-  EXPECT_EQ(bench_node_ratios(rows).rows.size(), 6u);
+  EXPECT_EQ(bench_node_ratios(rows).rows.size(), 2 * formats);
   EXPECT_EQ(bench_row_json(rows[2])["nodes"], "q8");
   EXPECT_EQ(bench_row_json(rows[2])["build"]["node_bytes"], rows[2].build.node_bytes);
 }
@@ -344,6 +344,39 @@ TEST(PriceFit, ChoicesCountWhereTheCheapestByPriceIsSlow) {
 // A real quick peers run on the cpu backend: masq's fastest tracer of each ray set is
 // timed again alone (its upload checked against the lane's: the same device bytes and
 // hits) and sits beside Embree, or the Embree columns say why not.
+// The bounding-volume table: every volume idea measured on every quick scene (the
+// binary trees of Kallberg & Larsson and the binned-SAH AABB tree, masq's ref with AABB
+// and oriented 4-wide nodes, masq and cluster), with counters and bytes.
+TEST(Suites, BvQuickOnCpuMeasuresEveryBoundingVolume) {
+  SuiteContext ctx;
+  ctx.config.quick = true;
+  ctx.config.backends = {"cpu"};
+  ctx.config.data_dir = MASQ_DATA_DIR;
+  std::vector<SuiteResult> runs = run_suites(ctx, {"bv"});
+  ASSERT_EQ(runs.size(), 1u);
+  const SuiteResult& out = runs[0];
+  const nlohmann::json& scenes = out.data["scenes"];
+  ASSERT_EQ(scenes.size(), 3u);
+  const std::set<std::string> want = {"SCB p=0", "SCB p=0.2", "ball", "OBB", "AABB", "AABB (binned SAH)",
+                                      "AABB 4-wide (ref)", "oriented 4-wide (ref o4)", "OBB per primitive (masq)",
+                                      "OBB per cluster (cluster)"};
+  for (const auto& sc : scenes) {
+    ASSERT_FALSE(sc.contains("error")) << sc.dump();
+    std::set<std::string> got;
+    for (const auto& v : sc["variants"]) {
+      got.insert(v["variant"].get<std::string>());
+      ASSERT_TRUE(v["ok"].get<bool>()) << sc["scene"] << " " << v.dump();
+      EXPECT_GT(v["n_b"].get<double>(), 0.0) << v["variant"];
+      EXPECT_GT(v["n_t"].get<double>(), 0.0) << v["variant"];
+      EXPECT_GT(v["bytes"].get<std::size_t>(), 0u) << v["variant"];
+      EXPECT_GT(v["trace_seconds"]["cpu"].get<double>(), 0.0) << v["variant"];
+    }
+    EXPECT_EQ(got, want) << sc["scene"];
+  }
+  ASSERT_GE(out.tables.size(), 4u);
+  EXPECT_NE(out.tables[3].title.find("bytes"), std::string::npos);
+}
+
 TEST(Suites, PeersQuickOnCpuTimesMasqsFastestAlone) {
   SuiteResult out = quick_on_cpu("peers");
   const nlohmann::json& scenes = out.data["scenes"];
