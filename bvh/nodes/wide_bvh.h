@@ -1,4 +1,4 @@
-// Collapse a binary BVH into wide nodes of one node format (w4, w8 or q8; see
+// Collapse a binary BVH into wide nodes of one node format (w4, w8, q8 or o4; see
 // kernels/layout.h and docs/kernels.md) and append them, in the GPU layout, to the node
 // array shared by the TLAS and every BLAS.
 #pragma once
