@@ -2,8 +2,9 @@
 # Regenerates the benchmark results document with one command: builds masq, runs every
 # bench suite (fig3, table1, table2, fig9, fig10, error, peers) on every backend, and
 # draws the plots beside it.
-#   bash scripts/results.sh           full run  -> bench/results/RESULTS.md  (< 30 min on 2 cores)
-#   bash scripts/results.sh --quick   quick run -> bench/results-quick/RESULTS.md  (about 16 min)
+#   bash scripts/results.sh           full run  -> bench/results/RESULTS.md  (< 30 min on 2 cores before the
+#                                     peers suite traced every tracer on o4 nodes too; not re-measured since)
+#   bash scripts/results.sh --quick   quick run -> bench/results-quick/RESULTS.md  (about 27 min)
 # Extra arguments go to `masq bench` (e.g. --backend cpu --backend opencl).
 set -euo pipefail
 cd "$(dirname "$0")/.."
