@@ -47,8 +47,9 @@ int stress_run(StressCli& c) {
   for (Mode m : c.opt.modes) fmt::print("\n{}", stress::stress_matrix(r, m));
   fmt::print("\nby ray kind (disagreement rate, all cells, all backends, both methods):\n{}",
              stress::stress_by_kind(r));
-  fmt::print("\nsummary (rate over compared rays; culls: masq misses where ref hits, same backend and mode; "
+  fmt::print("\nsummary (rate over compared rays; culls: masq misses where ref hits, same backend and mode{}; "
              "self: surface-start rays re-hitting their origin):\n{}",
+             c.opt.nodes == NodeFormat::W4 ? "" : ", and ref's misses where the w4 ref hits",
              stress::stress_summary(r));
   fmt::print("oracle {:.1f} s, total {:.1f} s\n", r.oracle_seconds, r.total_seconds);
   if (!c.json_path.empty()) {
@@ -89,7 +90,7 @@ Action add_stress(CLI::App& app) {
       ->check(CLI::IsMember(curve_isect_table.names()));
   cmd->add_option("--nodes", c->nodes,
                   "Node format of every structure: " + node_format_table.help() +
-                      " (o4 rotates every BLAS node; ref's false culls are then counted against the w4 ref)")
+                      " (o4 rotates every BLAS node; with any format but w4, ref's false culls are counted against the w4 ref)")
       ->check(CLI::IsMember(node_format_table.names()));
   cmd->add_option("--seed", c->opt.sweep.seed, "Random seed")->capture_default_str();
   cmd->add_option("--json", c->json_path, "Write every figure as JSON to this file");
