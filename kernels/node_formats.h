@@ -175,36 +175,41 @@ FN WideHits hits_q8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad,
 #endif
 }
 
-// The w4 node test on a WideNode, plain or padded (box.h), for w4 and o4 nodes alike.
-FN WideHits wide_node_hits(WideNode n, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+FN WideHits hits_w4(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  WideNode n = KD(nodes)[node];
   return padded != 0 ? intersect_wide_node_padded(n, o, inv_d, pad, tmin, tmax)
                      : intersect_wide_node(n, o, inv_d, tmin, tmax);
 }
 
-FN WideHits hits_w4(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
-  return wide_node_hits(KD(nodes)[node], o, inv_d, padded, pad, tmin, tmax);
-}
-
-// The WideNode that starts at word b of the node array (an o4 node's boxes). WideNode's
-// eight arrays of MASQ_WIDTH words follow one another: lo_x, hi_x, lo_y, hi_y, lo_z,
-// hi_z, child, count.
-FN WideNode wide_node_at_word(KD_PARAM int b) {
-  WideNode n;
+// The w4 box layout (WideNode's words) at word b of the node array.
+// Slots 4..7 are left unset: node_width() is 4 for this layout.
+FN WideHits hits_box4_words(KD_PARAM int b, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
+  WideHits r;
 #if defined(MASQ_LANG_CPP)
-  std::memcpy(&n, KD(node_words) + b, sizeof n);
-#else
+  const uint* w = KD(node_words) + b;
+  const WideNode* n = (const WideNode*)w;
+  simd::slab_hits4(n->lo_x, n->hi_x, n->lo_y, n->hi_y, n->lo_z, n->hi_z, n->count, o, inv_d, padded, pad, tmin, tmax,
+                   r.tnear, r.tfar);
   for (int i = 0; i < MASQ_WIDTH; ++i) {
-    n.lo_x[i] = node_word_f(KD_ARG b + i);
-    n.hi_x[i] = node_word_f(KD_ARG b + MASQ_WIDTH + i);
-    n.lo_y[i] = node_word_f(KD_ARG b + 2 * MASQ_WIDTH + i);
-    n.hi_y[i] = node_word_f(KD_ARG b + 3 * MASQ_WIDTH + i);
-    n.lo_z[i] = node_word_f(KD_ARG b + 4 * MASQ_WIDTH + i);
-    n.hi_z[i] = node_word_f(KD_ARG b + 5 * MASQ_WIDTH + i);
-    n.child[i] = u2i_(KD(node_words)[b + 6 * MASQ_WIDTH + i]);
-    n.count[i] = u2i_(KD(node_words)[b + 7 * MASQ_WIDTH + i]);
+    r.child[i] = n->child[i];
+    r.count[i] = n->count[i];
+  }
+#else
+  // Word offsets of WideNode: lo_x 0, hi_x 4, lo_y 8, hi_y 12, lo_z 16, hi_z 20, child 24, count 28.
+  for (int i = 0; i < MASQ_WIDTH; ++i) {
+    r.child[i] = u2i_(KD(node_words)[b + 24 + i]);
+    r.count[i] = u2i_(KD(node_words)[b + 28 + i]);
+    r.tnear[i] = inf_();
+    r.tfar[i] = 0.0f;
+    if (r.count[i] < 0) continue;
+    vec3 lo = VEC3(node_word_f(KD_ARG b + i), node_word_f(KD_ARG b + 8 + i), node_word_f(KD_ARG b + 16 + i));
+    vec3 hi = VEC3(node_word_f(KD_ARG b + 4 + i), node_word_f(KD_ARG b + 12 + i), node_word_f(KD_ARG b + 20 + i));
+    SlabHit h = slab_hit(lo, hi, o, inv_d, padded, pad, tmin, tmax);
+    r.tnear[i] = h.tn;
+    r.tfar[i] = h.tf;
   }
 #endif
-  return n;
+  return r;
 }
 
 // Entry e (row e / 3, column e % 3) of an o4 node's frame: a signed byte over 128.
@@ -221,8 +226,7 @@ FN float o4_entry(KD_PARAM int b, int e) {
 FN WideHits hits_o4(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax,
                     float t_bound) {
   int b = node * MASQ_O4_WORDS;
-  WideNode boxes = wide_node_at_word(KD_ARG b);
-  if (KD(node_words)[b + MASQ_O4_ORIENTED] == 0u) return wide_node_hits(boxes, o, inv_d, padded, pad, tmin, tmax);
+  if (KD(node_words)[b + MASQ_O4_ORIENTED] == 0u) return hits_box4_words(KD_ARG b, o, inv_d, padded, pad, tmin, tmax);
   Affine m;
   m.r0 = VEC3(o4_entry(KD_ARG b, 0), o4_entry(KD_ARG b, 1), o4_entry(KD_ARG b, 2));
   m.r1 = VEC3(o4_entry(KD_ARG b, 3), o4_entry(KD_ARG b, 4), o4_entry(KD_ARG b, 5));
@@ -233,7 +237,7 @@ FN WideHits hits_o4(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, v
   vec3 mpad = transform_pad(m, o, d, t_bound);
   if (padded != 0)
     mpad = mpad + VEC3(dot(vabs_(m.r0), pad), dot(vabs_(m.r1), pad), dot(vabs_(m.r2), pad)) * (1.0f + 8.0f * MASQ_U);
-  return wide_node_hits(boxes, mo, safe_rcp3(md), 1, mpad, tmin, tmax);
+  return hits_box4_words(KD_ARG b, mo, safe_rcp3(md), 1, mpad, tmin, tmax);
 }
 
 // The node test of the scene's format: child entry distances and the decoded slots.
