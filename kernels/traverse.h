@@ -271,26 +271,25 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
     return res;
   }
   vec3 inv_d = safe_rcp3(wd);
-  const bool tbounds = MASQ_NODE_FORMAT == MASQ_NODES_O4;
   int stack_node[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
   float stack_t[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
-  float stack_tf[MASQ_STACK_DIM(MASQ_TLAS_STACK)];
   int sp = 0;
-  int node = tlas_root; // held, as in traverse_blas, with its exit bound
+  int node = tlas_root; // held, as in traverse_blas
   float node_t = tmin;
-  float node_tf = ray.tmax;
   bool held = true;
   while (held || sp > 0) {
     if (!held) {
       sp = sp - 1;
       node = stack_node[sp];
       node_t = stack_t[sp];
-      if (tbounds) node_tf = stack_tf[sp];
     }
     held = false;
     if (node_t > best.t) continue;
     if (MASQ_STATS) res.stats.tlas_nodes = res.stats.tlas_nodes + 1;
-    WideHits wh = node_hits(KD_ARG node, wo, wd, inv_d, 0, VEC3(0.0f, 0.0f, 0.0f), tmin, best.t, node_tf);
+    // The builders rotate BLAS nodes only (o4), so TLAS nodes carry no exit bounds; the
+    // nearest hit so far bounds t all the same (+inf before one: a rotated node would
+    // then be entered by every ray, never missed).
+    WideHits wh = node_hits(KD_ARG node, wo, wd, inv_d, 0, VEC3(0.0f, 0.0f, 0.0f), tmin, best.t, best.t);
     ChildOrder co = order_children(wh, node_width());
     for (int k = 0; k < co.n; ++k) {
       int i = co.slot[k];
@@ -370,12 +369,10 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
       if (held && sp < MASQ_TLAS_STACK) {
         stack_node[sp] = node;
         stack_t[sp] = node_t;
-        if (tbounds) stack_tf[sp] = node_tf;
         sp = sp + 1;
       }
       node = wh.child[i];
       node_t = wh.tnear[i];
-      node_tf = wh.tfar[i];
       held = true;
     }
   }
