@@ -170,11 +170,11 @@ Table bench_table(const std::vector<BenchRow>& rows) {
   t.notes = {"Mrays/s and dev ms: device time of one trace (median; Vulkan timestamps, OpenCL events, cpu wall); wall "
              "ms: the same trace on the host clock (uploads, dispatches, waits, readbacks); up/back ms: its ray upload "
              "and hit/counter readback (cpu: 0, it traces in place)",
-             "per ray: tlas/blas = wide-node visits, xf = instance transforms, isect = intersector calls (rayquery: the "
+             "per ray: tlas/blas = wide-node visits, xf = instance transforms, isect = intersector calls (rayquery, rtpipeline: the "
              "driver's traversal is not observable, n/a); hit% for shadow rays is the occluded fraction",
              "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, compact masquerade entries and "
              "their owners, frames); dev MiB: what the backend "
-             "holds on the device (rayquery: the driver's acceleration structures, BLAS compacted, plus primitives); build "
+             "holds on the device (rayquery, rtpipeline: the driver's acceleration structures, BLAS compacted, plus primitives); build "
              "ms: host build + upload/driver build; compile ms: kernel/pipeline compile on first use of the variant (0: "
              "cached)"};
   for (const std::string& n : unfilled) t.notes.push_back(n);

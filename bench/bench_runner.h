@@ -77,14 +77,14 @@ struct BenchRow {
   double wall_s = 0, upload_s = 0, readback_s = 0;
   std::size_t fill_rays = 0; // rays that fill the row's device (Backend::fill_rays; 0: unknown)
   double build_s = 0, scene_s = 0, compile_s = 0;
-  // Per ray, from the stats variant (rayquery: node tests and transforms are not observable: -1).
+  // Per ray, from the stats variant (rayquery, rtpipeline: node tests and transforms are not observable: -1).
   double tlas_nodes = 0, blas_nodes = 0, transforms = 0, isect_calls = 0;
   double hit_fraction = 0;
   std::size_t accel_bytes = 0, prim_bytes = 0, device_bytes = 0;
   std::size_t primitives = 0;
   BuildStats build;
   // The GPU kernels' (vulkan, opencl) traversal stacks for this structure, in entries
-  // (host/stack_size.h); the cpu keeps 64, rayquery has none.
+  // (host/stack_size.h); the cpu keeps 64, rayquery and rtpipeline have none.
   std::int32_t tlas_stack = 0, blas_stack = 0;
   // auto by pilot: each candidate's fastest pilot trace (s), indexed by Method like
   // build.auto_candidates (0: not a candidate); the sample's size; the pilot's wall time.

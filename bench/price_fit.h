@@ -3,7 +3,7 @@
 // isect * intersector calls, by least squares over one backend's rows (every method and
 // ray set it ran), then scaled so that node = 1. `ray` (set-up, hit write-back) is the
 // same for every structure, so it does not enter auto's choice, but leaving it out
-// pushes its cost into the other prices. Rows without counters (rayquery) are skipped.
+// pushes its cost into the other prices. Rows without counters (rayquery, rtpipeline) are skipped.
 // Needs rows that vary the counters independently: ref, masq and cluster on the same
 // scene do.
 #pragma once

@@ -24,7 +24,7 @@ struct RtCost {
   double total() const { return hardware + software; }
 };
 
-// Only for rows with counters (not rayquery: the driver's traversal is not observable).
+// Only for rows with counters (not rayquery or rtpipeline: the driver's traversal is not observable).
 RtCost rt_cost(const BenchRow& row, const RtCostModel& model);
 // cost(ref) / cost(masq): the speedup the model predicts for RT hardware.
 double rt_predicted_speedup(const BenchRow& ref, const BenchRow& masq, const RtCostModel& model);

@@ -1,6 +1,7 @@
 // fig3: the masquerade paper's synthetic grid. Bundles of N parallel capsules (length 1,
 // radius r, bundle radius 0.5) tilted by 0/15/30/45 degrees, seen orthographically
 // along +z as in the paper; ref vs masq on every backend, primary rays.
+#include "bench/driver_calls.h"
 #include "bench/bench_report.h"
 #include "bench/heatmap.h"
 #include "bench/method_compare.h"
@@ -141,7 +142,7 @@ SuiteResult run_fig3(SuiteContext& ctx) {
     for (const BenchRow& r : rows) cell["results"].push_back(bench_row_json(r));
     res.data["cells"].push_back(cell);
   }
-  t.notes = {"each backend: speedup / intersector-call ratio (rayquery counts the driver's candidate calls)",
+  t.notes = {"each backend: speedup / intersector-call ratio (rayquery and rtpipeline count the driver's calls)",
              "paper RTX 8000: the masquerade paper's Fig. 3, measured with OptiX 7 on an RTX 8000; '-': a cell outside "
              "its grid",
              ctx.rt_model_calibrated
@@ -169,6 +170,13 @@ SuiteResult run_fig3(SuiteContext& ctx) {
   mt.notes = {method_note(tally), price_fit_note(measured, opt.backends, fit)};
   res.data["price_fit"] = fit;
   res.tables.push_back(mt);
+  std::vector<DriverCallsCase> driver_cases;
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    driver_cases.push_back({{std::to_string(cells[i].n), fmt::format("{:g}", cells[i].r), fmt::format("{:g}", cells[i].tilt)},
+                            &measured[i]});
+  Table dt = driver_calls_table("the driver's traversal: intersector calls per ray and rays/s", {"N", "r", "tilt"},
+                                driver_cases, opt.backends, RaySet::Primary, res.data["driver_calls"]);
+  if (!dt.rows.empty()) res.tables.push_back(dt);
   res.data["auto_target"] = {{"cells", tally.cells}, {"within_5_percent", tally.auto_within}, {"worst", tally.worst},
                              {"kept_within_5_percent", tally.kept_within}, {"kept_worst", tally.kept_worst}};
   res.data["rt_model"] = {{"node", ctx.rt_model.node}, {"transform", ctx.rt_model.transform},

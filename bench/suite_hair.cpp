@@ -2,6 +2,7 @@
 // generated hair) x intersectors (capsule, link = round cone, phantom cubic curves with
 // 1/2/4/8 pre-subdivisions), measured once and read by all four views.
 #include "bench/bench_report.h"
+#include "bench/driver_calls.h"
 #include "bench/heatmap.h"
 #include "bench/method_compare.h"
 #include "bench/paper_tables.h"
@@ -224,6 +225,12 @@ SuiteResult table1_result(const SuiteContext& ctx) {
                              "shadow: rays from the primary hits to a point light; diffuse: cosine-weighted bounces from "
                              "the primary hits (incoherent)"};
   res.tables.push_back(table1_beside_paper(ctx.hair, backends));
+  std::vector<DriverCallsCase> driver_cases;
+  for (const HairCase& c : ctx.hair) driver_cases.push_back({{c.scene, c.variant}, &c.rows});
+  Table dt = driver_calls_table("primary rays through the driver's traversal: intersector calls per ray and rays/s",
+                                {"scene", "intersector"}, driver_cases, backends, RaySet::Primary,
+                                res.data["driver_calls"]);
+  if (!dt.rows.empty()) res.tables.push_back(dt);
   res.data["cases"] = nlohmann::json::array();
   for (const HairCase& c : ctx.hair) {
     nlohmann::json j = {{"scene", c.scene}, {"variant", c.variant}, {"primitives", c.primitives},
@@ -243,39 +250,48 @@ SuiteResult table2_result(const SuiteContext& ctx) {
   res.title = "Table 2: memory per method";
   Table t;
   t.header = {"scene", "intersector", "prims", "common MiB", "ref accel MiB", "ref total MiB", "masq accel MiB",
-              "masq total MiB", "masq +%", "masq B/prim", "cluster total MiB", "cluster +%", "cluster B/prim",
-              "rayquery ref MiB", "rayquery masq MiB"};
+              "masq total MiB", "masq +%", "masq B/prim", "cluster total MiB", "cluster +%", "cluster B/prim"};
+  const std::vector<std::string> driver = driver_backends(ctx.config.backends);
+  for (const std::string& b : driver) {
+    t.header.push_back(b + " ref MiB");
+    t.header.push_back(b + " masq MiB");
+  }
   t.left_columns = 2;
   for (const HairCase& c : ctx.hair) {
     const BenchRow* r = any_row(c, Method::Ref);
     const BenchRow* m = any_row(c, Method::Masq);
     const BenchRow* cl = any_row(c, Method::Cluster);
     if (!r || !m || !r->accel_bytes) continue;
-    const BenchRow* rq_r = find_row(c.rows, "rayquery", Method::Ref, RaySet::Primary);
-    const BenchRow* rq_m = find_row(c.rows, "rayquery", Method::Masq, RaySet::Primary);
     std::size_t ref_total = r->prim_bytes + r->accel_bytes, masq_total = m->prim_bytes + m->accel_bytes;
-    t.add({c.scene, c.variant, std::to_string(c.primitives), mib(r->prim_bytes), mib(r->accel_bytes), mib(ref_total),
-           mib(m->accel_bytes), mib(masq_total),
-           fmt::format("+{:.0f}%", 100.0 * (double(masq_total) / double(ref_total) - 1.0)),
-           fmt::format("{:.1f}", double(m->accel_bytes) / double(std::max<std::size_t>(1, c.primitives))),
-           cl ? mib(cl->prim_bytes + cl->accel_bytes) : "n/a",
-           cl ? fmt::format("{:+.0f}%", 100.0 * (double(cl->prim_bytes + cl->accel_bytes) / double(ref_total) - 1.0)) : "n/a",
-           cl ? fmt::format("{:.1f}", double(cl->accel_bytes) / double(std::max<std::size_t>(1, c.primitives))) : "n/a",
-           rq_r ? mib(rq_r->device_bytes) : "n/a", rq_m ? mib(rq_m->device_bytes) : "n/a"});
-    res.data.push_back({{"scene", c.scene},
+    std::vector<std::string> line = {
+        c.scene, c.variant, std::to_string(c.primitives), mib(r->prim_bytes), mib(r->accel_bytes), mib(ref_total),
+        mib(m->accel_bytes), mib(masq_total),
+        fmt::format("+{:.0f}%", 100.0 * (double(masq_total) / double(ref_total) - 1.0)),
+        fmt::format("{:.1f}", double(m->accel_bytes) / double(std::max<std::size_t>(1, c.primitives))),
+        cl ? mib(cl->prim_bytes + cl->accel_bytes) : "n/a",
+        cl ? fmt::format("{:+.0f}%", 100.0 * (double(cl->prim_bytes + cl->accel_bytes) / double(ref_total) - 1.0)) : "n/a",
+        cl ? fmt::format("{:.1f}", double(cl->accel_bytes) / double(std::max<std::size_t>(1, c.primitives))) : "n/a"};
+    nlohmann::json j = {{"scene", c.scene},
                         {"variant", c.variant},
                         {"primitives", c.primitives},
                         {"common_bytes", r->prim_bytes},
                         {"ref_accel_bytes", r->accel_bytes},
                         {"masq_accel_bytes", m->accel_bytes},
                         {"cluster_accel_bytes", cl ? cl->accel_bytes : 0},
-                        {"rayquery_ref_device_bytes", rq_r ? rq_r->device_bytes : 0},
-                        {"rayquery_masq_device_bytes", rq_m ? rq_m->device_bytes : 0},
-                        {"total_bytes_per_node_format", per_format_json(c)}});
+                        {"total_bytes_per_node_format", per_format_json(c)}};
+    for (const std::string& b : driver)
+      for (Method method : {Method::Ref, Method::Masq}) {
+        const BenchRow* d = find_row(c.rows, b, method, RaySet::Primary);
+        line.push_back(d ? mib(d->device_bytes) : "n/a");
+        j[b + "_" + method_name(method) + "_device_bytes"] = d ? d->device_bytes : 0;
+      }
+    t.add(line);
+    res.data.push_back(j);
   }
   t.notes = {"common: primitive data both methods share; accel: masq's own two-level BVH (nodes, references, instances, "
              "compact masquerade entries and their owners, frames); masq +%: masq total over ref total (the paper's "
-             "layout); rayquery: what the driver's acceleration structures and the primitives take on the device"};
+             "layout); rayquery, rtpipeline: what the driver's acceleration structures and the primitives take on the "
+             "device (rtpipeline: and its shader binding table)"};
   res.tables.push_back(t);
   Table nf;
   nf.header = {"scene", "intersector", "ref w4 MiB", "masq/ref w4", "cluster/ref w4", "ref w8 MiB", "masq/ref w8",
@@ -297,7 +313,7 @@ SuiteResult table2_result(const SuiteContext& ctx) {
   res.tables.push_back(table2_beside_paper(ctx.hair));
   res.images.push_back({"memory.png", "Memory per method: common data and acceleration data (scripts/plot_results.py)"});
   res.method = "Byte counts of the packed scenes each method uploads (host-side sizes of the GPU arrays), and the device "
-               "memory the rayquery backend holds after the driver's acceleration-structure builds.";
+               "memory the rayquery and rtpipeline backends hold after the driver's acceleration-structure builds.";
   return res;
 }
 
@@ -328,29 +344,40 @@ SuiteResult fig10_result(SuiteContext& ctx) {
   res.name = "fig10";
   res.title = "Fig. 10: intersector calls per ray";
   Table t;
-  t.header = {"scene", "intersector", "ref calls/ray", "masq calls/ray", "ref/masq", "rayquery ref", "rayquery masq",
-              "RT cost ref hw+sw", "RT cost masq hw+sw", "RT model speedup"};
+  t.header = {"scene", "intersector", "ref calls/ray", "masq calls/ray", "ref/masq"};
+  const std::vector<std::string> driver = driver_backends(ctx.config.backends);
+  for (const std::string& b : driver) {
+    t.header.push_back(b + " ref");
+    t.header.push_back(b + " masq");
+  }
+  for (const char* h : {"RT cost ref hw+sw", "RT cost masq hw+sw", "RT model speedup"}) t.header.push_back(h);
   t.left_columns = 2;
   for (const HairCase& c : ctx.hair) {
     const BenchRow* r = counter_row(c, Method::Ref, RaySet::Primary);
     const BenchRow* m = counter_row(c, Method::Masq, RaySet::Primary);
     if (!r || !m) continue;
-    const BenchRow* rq_r = find_row(c.rows, "rayquery", Method::Ref, RaySet::Primary);
-    const BenchRow* rq_m = find_row(c.rows, "rayquery", Method::Masq, RaySet::Primary);
-    t.add({c.scene, c.variant, fmt::format("{:.2f}", r->isect_calls), fmt::format("{:.2f}", m->isect_calls),
-           fmt::format("{:.2f}x", r->isect_calls / m->isect_calls), rq_r ? fmt::format("{:.2f}", rq_r->isect_calls) : "n/a",
-           rq_m ? fmt::format("{:.2f}", rq_m->isect_calls) : "n/a", rt_split(rt_cost(*r, ctx.rt_model)),
-           rt_split(rt_cost(*m, ctx.rt_model)), fmt::format("{:.2f}x", rt_predicted_speedup(*r, *m, ctx.rt_model))});
-    res.data.push_back({{"scene", c.scene},
+    std::vector<std::string> line = {c.scene, c.variant, fmt::format("{:.2f}", r->isect_calls),
+                                     fmt::format("{:.2f}", m->isect_calls),
+                                     fmt::format("{:.2f}x", r->isect_calls / m->isect_calls)};
+    nlohmann::json j = {{"scene", c.scene},
                         {"variant", c.variant},
                         {"ref_isect_per_ray", r->isect_calls},
                         {"masq_isect_per_ray", m->isect_calls},
-                        {"rayquery_ref_isect_per_ray", rq_r ? rq_r->isect_calls : -1.0},
-                        {"rayquery_masq_isect_per_ray", rq_m ? rq_m->isect_calls : -1.0},
-                        {"rt_model_speedup", rt_predicted_speedup(*r, *m, ctx.rt_model)}});
+                        {"rt_model_speedup", rt_predicted_speedup(*r, *m, ctx.rt_model)}};
+    for (const std::string& b : driver)
+      for (Method method : {Method::Ref, Method::Masq}) {
+        const BenchRow* d = find_row(c.rows, b, method, RaySet::Primary);
+        line.push_back(d ? fmt::format("{:.2f}", d->isect_calls) : "n/a");
+        j[b + "_" + method_name(method) + "_isect_per_ray"] = d ? d->isect_calls : -1.0;
+      }
+    line.push_back(rt_split(rt_cost(*r, ctx.rt_model)));
+    line.push_back(rt_split(rt_cost(*m, ctx.rt_model)));
+    line.push_back(fmt::format("{:.2f}x", rt_predicted_speedup(*r, *m, ctx.rt_model)));
+    t.add(line);
+    res.data.push_back(j);
   }
   t.notes = {"primary rays; calls include the triangles of scenes that have them; rayquery: candidates the driver's BVH "
-             "hands to the intersector",
+             "hands to the intersector; rtpipeline: the driver's intersection- and any-hit-shader invocations",
              fmt::format("RT cost hw+sw: per ray, what RT hardware does in fixed function (node visits and instance "
                          "transforms, 1 each) + what it runs as software (intersector calls at {:.1f} each); RT model "
                          "speedup: cost(ref)/cost(masq)", ctx.rt_model.isect)};

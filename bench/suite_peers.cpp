@@ -174,11 +174,12 @@ std::vector<PeerTimes> time_embree(const std::vector<EmbreePeer*>& peers, const 
   return out;
 }
 
-// The fastest available row of a ray set among masq's tracers, or among rayquery's.
-const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set, bool rayquery) {
+// The fastest available row of a ray set among masq's tracers, or among the driver's
+// (rayquery, rtpipeline: the driver's BVH calling masq's intersectors).
+const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set, bool driver) {
   const BenchRow* best = nullptr;
   for (const BenchRow& r : rows) {
-    if (r.ray_set != set || !r.unavailable.empty() || (r.backend == "rayquery") != rayquery) continue;
+    if (r.ray_set != set || !r.unavailable.empty() || driver_traversal(r.backend) != driver) continue;
     if (!best || r.mrays_per_s() > best->mrays_per_s()) best = &r;
   }
   return best;
@@ -275,7 +276,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
             "hits on another primitive (not a tie in t)";
   t.header = {"scene", "rays", "masq best", "Mrays/s (lanes)", "Mrays/s (alone)", "Embree 3 (alone)",
               "masq/Embree", "Embree agreement",
-              "oracle: masq / Embree right", "rayquery best", "rayquery/masq", "rayquery agreement"};
+              "oracle: masq / Embree right", "driver best", "driver/masq", "driver agreement"};
   t.left_columns = 3;
   Table ends;
   ends.title = "curve ends: Embree's round Bezier curves open, and closed by sphere points of the curve's radius at "
@@ -415,11 +416,12 @@ SuiteResult run_peers(SuiteContext& ctx) {
       }
       if (best_rq) {
         Agreement g = agree(best->hits, best_rq->hits, best->query);
-        line.push_back(fmt::format("{} {:.3f}", method_name(best_rq->method), best_rq->mrays_per_s()));
+        line.push_back(fmt::format("{} {} {:.3f}", best_rq->backend, method_name(best_rq->method),
+                                   best_rq->mrays_per_s()));
         line.push_back(fmt::format("{:.2f}x", best_rq->mrays_per_s() / best->mrays_per_s()));
         line.push_back(g.text());
-        pj["rayquery_best"] = bench_row_json(*best_rq);
-        pj["rayquery_hit_miss_disagree"] = g.hit_miss;
+        pj["driver_best"] = bench_row_json(*best_rq);
+        pj["driver_hit_miss_disagree"] = g.hit_miss;
       } else {
         line.insert(line.end(), {"unavailable", "-", "-"});
       }
@@ -447,8 +449,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
              "the default sah builder's structures and on sah4's: docs/builders.md, in node formats w4 and o4: docs/kernels.md) in the lanes, where the methods of a backend take turns round by round; alone: that tracer's structure "
              "uploaded again and its warm-up and timed traces run in a row, as Embree's then are (in the lanes each "
              "trace follows another method's, with cold caches); masq/Embree: both alone",
-             "rayquery: "
-             "the driver's BVH with masq's intersectors, best of its four methods and two builders",
+             "driver: the driver's BVH with masq's intersectors (rayquery, rtpipeline), best of their methods and two "
+             "builders",
              "curves: table1's phantom x1 cubics (the strands as round cones chained into Catmull-Rom curves, one "
              "Bezier piece per segment), traced by masq with the run's curve intersector; Embree gets the same fp32 "
              "Bezier control points and radius. Embree 3's round Bezier curves sweep a circle and are open at both "

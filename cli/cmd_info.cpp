@@ -20,7 +20,7 @@ void print_api(const ApiDevices& a) {
     return;
   }
   const bool vulkan = a.api == "Vulkan";
-  fmt::print("  {:<4}{:<16}{:<12}{:<10}{:<11}{:<13}{:<18}{}\n", "idx", "type", "memory", "subgroup", "ray query",
+  fmt::print("  {:<4}{:<16}{:<12}{:<10}{:<11}{:<13}{:<29}{}\n", "idx", "type", "memory", "subgroup", "ray query",
              "rt pipeline", "masq picks for", "name [driver]");
   std::set<std::string> sources;
   for (std::size_t i = 0; i < a.devices.size(); ++i) {
@@ -29,10 +29,10 @@ void print_api(const ApiDevices& a) {
     for (const auto& [backend, choice] : a.picks)
       if (choice.position == static_cast<int>(i)) picked += (picked.empty() ? "" : ",") + backend;
     sources.insert(d.subgroup_source);
-    fmt::print("  {:<4}{:<16}{:<12}{:<10}{:<11}{:<13}{:<18}{}{}\n", d.index, device_type_table.name(d.type),
+    fmt::print("  {:<4}{:<16}{:<12}{:<10}{:<11}{:<13}{:<29}{}{}\n", d.index, device_type_table.name(d.type),
                gib(d.memory_bytes), d.subgroup_size ? std::to_string(d.subgroup_size) : "-",
                vulkan ? (d.no_ray_query.empty() ? "yes" : "no") : "-",
-               vulkan ? (d.ray_tracing_pipeline ? "yes" : "no") : "-", picked.empty() ? "-" : picked, d.name,
+               vulkan ? (d.no_ray_pipeline.empty() ? "yes" : "no") : "-", picked.empty() ? "-" : picked, d.name,
                d.driver.empty() ? "" : " [" + d.driver + "]");
     if (!d.unusable.empty()) fmt::print("      unusable: {}\n", d.unusable);
   }
@@ -49,7 +49,7 @@ Action add_info(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("info", "List backends, devices and driver versions (and why any is unavailable)");
   cmd->footer("Backends: " + backend_table.help() +
               ".\nDevices: best first discrete GPU > integrated > virtual > accelerator > cpu (ties: the driver's "
-              "order); MASQ_VK_DEVICE, MASQ_RQ_DEVICE, MASQ_CL_DEVICE or --device choose another.\n\nExamples:\n"
+              "order); MASQ_VK_DEVICE, MASQ_RQ_DEVICE, MASQ_RT_DEVICE, MASQ_CL_DEVICE or --device choose another.\n\nExamples:\n"
               "  masq info                                    exit 0 when at least one backend runs here, else 1\n"
               "  VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json masq info   pick the Vulkan driver\n"
               "  MASQ_VK_DEVICE=1 masq info                   which device each backend takes with that selector");
@@ -58,10 +58,10 @@ Action add_info(CLI::App& app) {
     for (const BackendRow& r : backend_table.rows()) {
       try {
         std::unique_ptr<Backend> be = r.make();
-        fmt::print("{:<9} available    {}\n", r.name, be->device_name());
+        fmt::print("{:<11} available    {}\n", r.name, be->device_name());
         ++available;
       } catch (const std::exception& e) {
-        fmt::print("{:<9} unavailable  {}\n", r.name, e.what());
+        fmt::print("{:<11} unavailable  {}\n", r.name, e.what());
       }
     }
     for (const ApiDevices& a : list_devices()) print_api(a);

@@ -5,13 +5,24 @@
 
 namespace masq::cli {
 
+namespace {
+
+// "MASQ_VK_DEVICE, MASQ_RQ_DEVICE, ...": every API's variable, from device_api_table.
+std::string selector_variables() {
+  std::string out;
+  for (const DeviceApiRow& r : device_api_table.rows()) out += (out.empty() ? "" : ", ") + std::string(r.env);
+  return out;
+}
+
+} // namespace
+
 void add_device_option(CLI::App& cmd, std::string& value) {
   cmd.add_option("--device", value,
-                 "Device of the GPU backends: SEL (vulkan and opencl; rayquery follows vulkan) or "
+                 "Device of the GPU backends: SEL (vulkan and opencl; rayquery and rtpipeline follow vulkan) or "
                  "api=SEL[,api=SEL] with api " +
                      device_api_table.choices() +
-                     "; SEL is an index of `masq info`'s list or a name substring (overrides MASQ_VK_DEVICE, "
-                     "MASQ_RQ_DEVICE, MASQ_CL_DEVICE)")
+                     "; SEL is an index of `masq info`'s list or a name substring (overrides " + selector_variables() +
+                     ")")
       ->check(CLI::Validator(
           [](std::string& v) -> std::string {
             try {

@@ -1,4 +1,4 @@
-# Compiles a GLSL compute shader to SPIR-V at build time, validates it with spirv-val
+# Compiles a GLSL shader (compute, or a ray-tracing stage named by its extension) to SPIR-V at build time, validates it with spirv-val
 # (the build fails on invalid SPIR-V), and embeds the words as a C array in
 # ${MASQ_GENERATED_DIR}/spirv/<NAME>.h (`const uint32_t <NAME>[]`), which sources of
 # TARGET include as "spirv/<NAME>.h". Header dependencies come from glslang's depfile.

@@ -1,6 +1,7 @@
 // One interface for every way masq traces rays: cpu (kernel source compiled as C++),
 // vulkan (compute shaders), opencl, rayquery (Vulkan ray query on the driver's own
-// acceleration structures). Drivers (CLI, bench, tests) use only this header.
+// acceleration structures), rtpipeline (the Vulkan ray-tracing pipeline on the same
+// structures). Drivers (CLI, bench, tests) use only this header.
 #pragma once
 #include "bvh/packed_scene.h"
 #include "masq/error.h"
@@ -43,7 +44,7 @@ class Backend {
   virtual ~Backend() = default;
   virtual std::string name() const = 0;
   virtual std::string device_name() const = 0;   // device and driver version
-  // Uploads (and for rayquery builds) the scene; replaces any previous one.
+  // Uploads (and for rayquery and rtpipeline builds) the scene; replaces any previous one.
   virtual void set_scene(const PackedScene& scene) = 0;
   // For every ray, the closest hit (Query::Closest) or, for occlusion/shadow rays, the
   // first hit found (Query::Any: a kernel variant that stops there; its hit is some hit
@@ -72,11 +73,16 @@ struct BackendRow {
   int best_rank;                          // "best" tries rank 1 first, then 2...; 0: never
   const char* device_api;                 // the device_api_table row whose selector picks its device
                                           // (host/device_choice.h); nullptr: runs on the host
+  bool driver_traversal;                  // the driver's own acceleration structures and traversal: node
+                                          // visits and transforms are not observable (counters -1), no
+                                          // kernel stacks; isect_calls counts the driver's candidates
 };
 // Every backend compiled in, in the order lists, defaults and reports use.
 extern const NameTable<BackendRow> backend_table;
 
 const std::vector<std::string>& backend_names(); // backend_table's names
+// Whether `backend` names a row with driver_traversal (false for a name of no row).
+bool driver_traversal(std::string_view backend);
 // Throws BackendUnavailable (one line naming the cause) when it cannot run here,
 // masq::Error for a name the registry does not hold.
 std::unique_ptr<Backend> make_backend(std::string_view name);

@@ -21,9 +21,9 @@ std::string lower(std::string_view s) {
 }
 
 const std::string& need_gap(const DeviceInfo& d, DeviceNeed need) {
-  // A device that cannot run the compute kernels cannot run ray query either.
+  // A device that cannot run the compute kernels cannot run the driver's traversal either.
   if (need == DeviceNeed::Compute || !d.unusable.empty()) return d.unusable;
-  return d.no_ray_query;
+  return need == DeviceNeed::RayQuery ? d.no_ray_query : d.no_ray_pipeline;
 }
 
 std::mutex g_override_mutex;
@@ -85,15 +85,17 @@ DeviceChoice choose_device(std::span<const DeviceInfo> devices, const DeviceSele
   return out;
 }
 
-DeviceChoice choose_ray_query_device(std::span<const DeviceInfo> devices, const DeviceSelector& vulkan,
-                                     const DeviceSelector& ray_query) {
-  if (!ray_query.empty()) return choose_device(devices, ray_query, "Vulkan", DeviceNeed::RayQuery);
+DeviceChoice choose_traversal_device(std::span<const DeviceInfo> devices, const DeviceSelector& vulkan,
+                                     const DeviceSelector& own, DeviceNeed need, DeviceApi api) {
+  if (!own.empty()) return choose_device(devices, own, "Vulkan", need);
   DeviceChoice c = choose_device(devices, vulkan, "Vulkan", DeviceNeed::Compute);
   if (c.position < 0) return c;
   const DeviceInfo& d = devices[static_cast<std::size_t>(c.position)];
-  if (d.no_ray_query.empty()) return c;
-  return {-1, "device '" + d.name + "' " + d.no_ray_query + " (rayquery runs on the vulkan backend's device; " +
-                  device_api_table.at("rayquery").env + " names another)"};
+  const std::string& gap = need_gap(d, need);
+  if (gap.empty()) return c;
+  const DeviceApiRow& row = device_api_table.row(api);
+  return {-1, "device '" + d.name + "' " + gap + " (" + row.name + " runs on the vulkan backend's device; " + row.env +
+                  " names another)"};
 }
 
 DeviceSelector device_selector(DeviceApi api) {

@@ -30,9 +30,10 @@ inline constexpr NameRow<DeviceType> device_type_rows[] = {
 };
 inline constexpr NameTable device_type_table{"device type", device_type_rows};
 
-// The device APIs a selector can name, each with its environment variable. rayquery
-// follows vulkan's device unless MASQ_RQ_DEVICE (or --device rayquery=...) names one.
-enum class DeviceApi { Vulkan, RayQuery, OpenCl };
+// The device APIs a selector can name, each with its environment variable. rayquery and
+// rtpipeline follow vulkan's device unless their own variable (or --device rayquery=...,
+// rtpipeline=...) names one.
+enum class DeviceApi { Vulkan, RayQuery, RtPipeline, OpenCl };
 struct DeviceApiRow {
   DeviceApi value;
   const char* name;
@@ -40,8 +41,11 @@ struct DeviceApiRow {
   const char* env; // the selector's environment variable
 };
 inline constexpr DeviceApiRow device_api_rows[] = {
-    {DeviceApi::Vulkan, "vulkan", "the vulkan backend, and rayquery unless told otherwise", "MASQ_VK_DEVICE"},
+    {DeviceApi::Vulkan, "vulkan", "the vulkan backend, and rayquery and rtpipeline unless told otherwise",
+     "MASQ_VK_DEVICE"},
     {DeviceApi::RayQuery, "rayquery", "the rayquery backend (default: the vulkan backend's device)", "MASQ_RQ_DEVICE"},
+    {DeviceApi::RtPipeline, "rtpipeline", "the rtpipeline backend (default: the vulkan backend's device)",
+     "MASQ_RT_DEVICE"},
     {DeviceApi::OpenCl, "opencl", "the opencl backend", "MASQ_CL_DEVICE"},
 };
 inline constexpr NameTable device_api_table{"device API", device_api_rows};
@@ -52,12 +56,12 @@ struct DeviceInfo {
   std::string name; // as the driver reports it
   DeviceType type = DeviceType::Other;
   std::string unusable;     // why masq's kernels cannot run on it ("" : they can), e.g. "is older than Vulkan 1.2"
-  std::string no_ray_query; // Vulkan: why ray query cannot run on it ("" : it can); OpenCL: unused
+  std::string no_ray_query;    // Vulkan: why ray query cannot run on it ("" : it can); OpenCL: unused
+  std::string no_ray_pipeline; // Vulkan: why the ray-tracing pipeline cannot run on it ("" : it can)
   // Shown by `masq info` only:
   std::uint64_t memory_bytes = 0;  // Vulkan: the largest device-local heap; OpenCL: CL_DEVICE_GLOBAL_MEM_SIZE
   std::uint32_t subgroup_size = 0; // 0: the device does not report one
   std::string subgroup_source;     // where subgroup_size comes from, or what the device reports instead
-  bool ray_tracing_pipeline = false; // VK_KHR_ray_tracing_pipeline and its rayTracingPipeline feature
   std::string driver;              // driver name and version
 };
 
@@ -79,8 +83,9 @@ bool selector_matches(const DeviceInfo& device, std::string_view selector);
 // "0 'llvmpipe (LLVM 15.0.6, 256 bits)' (cpu), 1 '...' (discrete GPU)", or "none".
 std::string device_list_text(std::span<const DeviceInfo> devices);
 
-// What a backend needs of its device.
-enum class DeviceNeed { Compute, RayQuery };
+// What a backend needs of its device: the compute kernels, or besides them the driver's
+// traversal through ray query or through the ray-tracing pipeline.
+enum class DeviceNeed { Compute, RayQuery, RayPipeline };
 
 // The chosen device: its position in the list, or -1 and one line saying why none serves
 // ("device 'X' is older than Vulkan 1.2"; the caller throws BackendUnavailable with it).
@@ -96,12 +101,14 @@ struct DeviceChoice {
 DeviceChoice choose_device(std::span<const DeviceInfo> devices, const DeviceSelector& selector,
                            std::string_view api_label, DeviceNeed need);
 
-// The rayquery backend's device. With a rayquery selector: the best device it names that
-// has ray query. Without: the vulkan backend's device (chosen by `vulkan` for compute),
-// and none (the reason naming the device) when that device lacks ray query: rayquery and
-// vulkan are compared on one device, never on a GPU and a CPU.
-DeviceChoice choose_ray_query_device(std::span<const DeviceInfo> devices, const DeviceSelector& vulkan,
-                                     const DeviceSelector& ray_query);
+// The device of a backend the driver traverses for (rayquery: need RayQuery, api
+// RayQuery; rtpipeline: RayPipeline, RtPipeline). With its own selector: the best device
+// that names and that serves `need`. Without: the vulkan backend's device (chosen by
+// `vulkan` for compute), and none (the reason naming the device) when that device cannot
+// serve `need`: the driver's traversal and masq's kernels are compared on one device,
+// never on a GPU and a CPU.
+DeviceChoice choose_traversal_device(std::span<const DeviceInfo> devices, const DeviceSelector& vulkan,
+                                     const DeviceSelector& own, DeviceNeed need, DeviceApi api);
 
 // The selector in force for `api`: set_device_selector's, else the API's environment
 // variable, else none.

@@ -30,6 +30,7 @@ LAYOUT_NS_BEGIN
 #define MASQ_PRIM_ROUND_CONE 2
 #define MASQ_PRIM_SPHERE 3
 #define MASQ_PRIM_CURVE 4
+#define MASQ_PRIM_TYPE_COUNT 5
 
 // A 4-wide BVH node with structure-of-arrays child boxes (one slab test per axis for
 // all children). Child slot i: count[i] > 0 is a leaf of count[i] references starting

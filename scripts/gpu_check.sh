@@ -6,7 +6,7 @@
 #   bash scripts/gpu_check.sh                      the best-ranked devices (discrete GPU first)
 #   bash scripts/gpu_check.sh --device nvidia      SEL: an index of masq info's list or a name
 #                                                  substring, for Vulkan and OpenCL
-#   bash scripts/gpu_check.sh --device vulkan=1,opencl=0   each API its own (rayquery= too)
+#   bash scripts/gpu_check.sh --device vulkan=1,opencl=0   each API its own (rayquery=, rtpipeline= too)
 #   bash scripts/gpu_check.sh --no-setup           skip scripts/setup.sh (no package manager)
 #   bash scripts/gpu_check.sh --smoke --build-dir DIR --out DIR
 #                                                  the test suite's run: no setup, no build, two
@@ -41,26 +41,27 @@ done
 # api= belongs to the device name).
 if [ -n "$device" ]; then
   case "$device" in
-    vulkan=*|rayquery=*|opencl=*)
+    vulkan=*|rayquery=*|rtpipeline=*|opencl=*)
       api="" value=""
       set_selector() {
         case "$1" in
           vulkan) export MASQ_VK_DEVICE="$2" ;;
           rayquery) export MASQ_RQ_DEVICE="$2" ;;
+          rtpipeline) export MASQ_RT_DEVICE="$2" ;;
           opencl) export MASQ_CL_DEVICE="$2" ;;
         esac
       }
       IFS=',' read -r -a parts <<<"$device"
       for part in "${parts[@]}"; do
         case "$part" in
-          vulkan=*|rayquery=*|opencl=*)
+          vulkan=*|rayquery=*|rtpipeline=*|opencl=*)
             [ -n "$api" ] && set_selector "$api" "$value"
             api=${part%%=*} value=${part#*=} ;;
           *) value="$value,$part" ;;
         esac
       done
       set_selector "$api" "$value" ;;
-    *=*) echo "gpu_check: --device '$device': expected SEL or api=SEL[,api=SEL] with api vulkan, rayquery or opencl" >&2
+    *=*) echo "gpu_check: --device '$device': expected SEL or api=SEL[,api=SEL] with api vulkan, rayquery, rtpipeline or opencl" >&2
          exit 2 ;;
     *) export MASQ_VK_DEVICE="$device" MASQ_CL_DEVICE="$device" ;;
   esac
@@ -133,7 +134,8 @@ if grep -q 'matches no' <<<"$info"; then
 fi
 
 # A backend this machine lacks (rayquery on a GPU without VK_KHR_ray_query, such as an
-# H100 or H200) is skipped by the tests, with its reason above, instead of failing them.
+# H100 or H200, where rtpipeline is the driver-traversal check) is skipped by the tests,
+# with its reason above, instead of failing them.
 if grep -q '^[a-z]* *unavailable' <<<"$info"; then
   export MASQ_ALLOW_MISSING_BACKENDS=1
   grep '^[a-z]* *unavailable' <<<"$info" | sed 's/^/gpu_check: skipped by the tests: /'

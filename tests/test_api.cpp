@@ -255,7 +255,8 @@ TEST(Api, TwoContextsOnTwoThreadsMatchOneContext) {
   std::vector<Ray> rays = grid_rays(64);
   std::vector<Hit> expected = Context("cpu").trace(masq_accel, rays);
   std::vector<std::pair<std::string, std::string>> pairs = {
-      {"cpu", "cpu"}, {"vulkan", "vulkan"}, {"opencl", "opencl"}, {"rayquery", "vulkan"}, {"cpu", "opencl"}};
+      {"cpu", "cpu"}, {"vulkan", "vulkan"}, {"opencl", "opencl"}, {"rayquery", "vulkan"}, {"rtpipeline", "rayquery"},
+      {"cpu", "opencl"}};
   for (auto [a, b] : pairs) {
     SCOPED_TRACE(a + " + " + b);
     auto ca = open(a), cb = open(b);

@@ -144,10 +144,10 @@ TEST_P(ClusterTypes, NoFalseCullsFarFromTheOrigin) {
     }
     // The compute kernels give ref's BLAS and the cluster's members the same fp32 ray
     // (the world ray through the stored frame). The driver hands ref's intersector its
-    // own object-space ray, which 1e4 from the origin differs by ~0.1 r, so on rayquery
-    // the cluster is compared with the cpu backend's cluster (the same ray as the shader's).
+    // own object-space ray, which 1e4 from the origin differs by ~0.1 r, so on rayquery and
+    // rtpipeline the cluster is compared with the cpu backend's cluster (the same ray as the shader's).
     std::vector<kernel::Hit> ref(rays.size()), clu(rays.size());
-    if (name == "rayquery") {
+    if (driver_traversal(name)) {
       std::unique_ptr<Backend> cpu = make_backend("cpu");
       cpu->set_scene(build_accel(s, Method::Cluster));
       cpu->trace(rays, ref, {});
@@ -168,7 +168,7 @@ TEST_P(ClusterTypes, NoFalseCullsFarFromTheOrigin) {
         hits += ref[i].prim >= 0;
         culled += ref[i].prim >= 0 && clu[i].prim < 0;
         // Across languages (C++ vs GLSL) the same formula may round differently (FMA).
-        double tol = name == "rayquery" ? 1e-4 * std::abs(double(ref[i].t)) : 0.0;
+        double tol = driver_traversal(name) ? 1e-4 * std::abs(double(ref[i].t)) : 0.0;
         differ += ref[i].prim != clu[i].prim || std::abs(double(ref[i].t) - double(clu[i].t)) > tol;
       }
       EXPECT_GT(hits, 200) << name;

@@ -202,11 +202,12 @@ void expect_cpu_bits(PrimType type, CurveIsect isect) {
       SCOPED_TRACE(be->name() + " " + method_name(m) + " on " + s.name + " (curves: " + curve_isect_name(isect) + ")");
       be->set_scene(ps);
       std::vector<kernel::Hit> got(rays.size());
-      // rayquery reports no node or transform counters (-1): its hits only.
-      const bool rayquery = be->name() == "rayquery";
+      // The driver-traversal backends (rayquery, rtpipeline) report no node or transform
+      // counters (-1): their hits only.
+      const bool rayquery = driver_traversal(be->name());
       std::vector<kernel::RayStats> got_st(rayquery ? 0 : rays.size());
       be->trace(rays, got, got_st);
-      // rayquery: a hit on a (geometry, scene instance) placed as its own BLAS (every ref
+      // rayquery, rtpipeline: a hit on a (geometry, scene instance) placed as its own BLAS (every ref
       // instance, triangles in every method, and whatever a method keeps in a BLAS) came
       // through the driver's object ray; masquerade and cluster entries did not.
       const Tallies t = compare_bits(want, got, want_st, got_st, [&](const kernel::Hit& h) {

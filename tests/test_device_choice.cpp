@@ -1,5 +1,5 @@
 // Device choice (host/device_choice.h): ranking, index and name selectors, the error of a
-// selector that names nothing, rayquery on the vulkan backend's device, and --device's
+// selector that names nothing, rayquery and rtpipeline on the vulkan backend's device, and --device's
 // syntax, on devices given as data (what real drivers report); then the same through
 // the real drivers of this machine (lavapipe, PoCL).
 #include "host/backend.h"
@@ -13,13 +13,14 @@ namespace masq {
 namespace {
 
 DeviceInfo dev(int index, const char* name, DeviceType type, std::string no_ray_query = "",
-               std::string unusable = "") {
+               std::string unusable = "", std::string no_ray_pipeline = "") {
   DeviceInfo d;
   d.index = index;
   d.name = name;
   d.type = type;
   d.no_ray_query = std::move(no_ray_query);
   d.unusable = std::move(unusable);
+  d.no_ray_pipeline = std::move(no_ray_pipeline);
   return d;
 }
 
@@ -27,9 +28,16 @@ DeviceInfo dev(int index, const char* name, DeviceType type, std::string no_ray_
 // H100's driver has ray-tracing pipelines but no ray query.
 std::vector<DeviceInfo> gpu_machine() {
   return {dev(0, "llvmpipe (LLVM 15.0.6, 256 bits)", DeviceType::Cpu),
-          dev(1, "Intel(R) UHD Graphics 770", DeviceType::Integrated, "lacks VK_KHR_ray_query"),
+          dev(1, "Intel(R) UHD Graphics 770", DeviceType::Integrated, "lacks VK_KHR_ray_query", "",
+              "lacks VK_KHR_ray_tracing_pipeline"),
           dev(2, "NVIDIA H100 80GB HBM3", DeviceType::Discrete, "lacks VK_KHR_ray_query"),
-          dev(3, "Virtio-GPU Venus", DeviceType::Virtual, "lacks VK_KHR_acceleration_structure")};
+          dev(3, "Virtio-GPU Venus", DeviceType::Virtual, "lacks VK_KHR_acceleration_structure", "",
+              "lacks VK_KHR_acceleration_structure")};
+}
+
+DeviceChoice choose_ray_query_device(const std::vector<DeviceInfo>& d, const DeviceSelector& vulkan,
+                                     const DeviceSelector& own) {
+  return choose_traversal_device(d, vulkan, own, DeviceNeed::RayQuery, DeviceApi::RayQuery);
 }
 
 DeviceSelector sel(std::string value) { return {std::move(value), "MASQ_VK_DEVICE"}; }
@@ -129,6 +137,27 @@ TEST(DeviceChoice, RayQueryFollowsTheVulkanDevice) {
   EXPECT_EQ(choose_device(rt, {}, "Vulkan", DeviceNeed::RayQuery).position, 2);
 }
 
+// The H100 lacks ray query but has the ray-tracing pipeline: rtpipeline runs there, on
+// the vulkan backend's device, and says why where it cannot.
+TEST(DeviceChoice, RtPipelineFollowsTheVulkanDevice) {
+  const std::vector<DeviceInfo> d = gpu_machine();
+  auto choose = [&](const DeviceSelector& vulkan, const DeviceSelector& own) {
+    return choose_traversal_device(d, vulkan, own, DeviceNeed::RayPipeline, DeviceApi::RtPipeline);
+  };
+  EXPECT_EQ(choose({}, {}).position, 2);
+  DeviceChoice c = choose(sel("intel"), {});
+  EXPECT_EQ(c.position, -1);
+  EXPECT_NE(c.why.find("'Intel(R) UHD Graphics 770' lacks VK_KHR_ray_tracing_pipeline"), std::string::npos) << c.why;
+  EXPECT_NE(c.why.find("rtpipeline runs on the vulkan backend's device; MASQ_RT_DEVICE names another"),
+            std::string::npos)
+      << c.why;
+  EXPECT_EQ(choose(sel("intel"), {"llvmpipe", "MASQ_RT_DEVICE"}).position, 0);
+  EXPECT_EQ(choose({}, {"venus", "MASQ_RT_DEVICE"}).position, -1);
+  EXPECT_THROW(choose({}, {"no-such-gpu", "MASQ_RT_DEVICE"}), Error);
+  EXPECT_EQ(parse_device_option("rtpipeline=1"), (std::vector<std::pair<DeviceApi, std::string>>{
+                                                     {DeviceApi::RtPipeline, "1"}}));
+}
+
 TEST(DeviceChoice, DeviceOptionSyntax) {
   using P = std::vector<std::pair<DeviceApi, std::string>>;
   EXPECT_EQ(parse_device_option("nvidia"), (P{{DeviceApi::Vulkan, "nvidia"}, {DeviceApi::OpenCl, "nvidia"}}));
@@ -192,7 +221,9 @@ TEST_F(RealDevices, ListingAndPicks) {
 }
 
 TEST_F(RealDevices, SelectorsReachTheBackends) {
-  for (const char* name : {"vulkan", "rayquery", "opencl"}) {
+  for (const BackendRow& row : backend_table.rows()) {
+    if (!row.device_api) continue;
+    const std::string name = row.name;
     auto be = test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
     if (!be) continue;
     const std::string device = be->device_name();
@@ -221,11 +252,11 @@ TEST_F(RealDevices, SelectorsReachTheBackends) {
   }
 }
 
-TEST_F(RealDevices, RayQueryOnTheVulkanDevice) {
+TEST_F(RealDevices, DriverTraversalOnTheVulkanDevice) {
   auto vk = test::open_or_fail("vulkan", [](const std::string& n) { return make_backend(n); });
-  auto rq = test::open_or_fail("rayquery", [](const std::string& n) { return make_backend(n); });
-  if (vk && rq) {
-    EXPECT_EQ(vk->device_name(), rq->device_name());
+  for (const char* name : {"rayquery", "rtpipeline"}) {
+    auto be = test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
+    if (vk && be) EXPECT_EQ(vk->device_name(), be->device_name()) << name;
   }
 }
 

@@ -67,7 +67,7 @@ std::string unavailable_message(const std::string& name) {
 
 TEST(EnvFault, NoVulkanDriver) {
   ASSERT_EQ(env("VK_DRIVER_FILES"), "/nonexistent") << "run through ctest (device_fault_no_vulkan)";
-  for (const char* b : {"vulkan", "rayquery"}) {
+  for (const char* b : {"vulkan", "rayquery", "rtpipeline"}) {
     std::string msg = unavailable_message(b);
     EXPECT_EQ(msg.rfind(std::string(b) + ": ", 0), 0u) << msg;
     EXPECT_NE(msg.find("no Vulkan"), std::string::npos) << msg;
@@ -94,6 +94,21 @@ TEST(EnvFault, MissingRayQueryExtension) {
   EXPECT_NE(msg.find("lacks VK_KHR_ray_query"), std::string::npos) << msg;
   expect_traces("vulkan"); // the compute backend needs no ray query
   expect_traces("cpu");
+  // A GPU without RT cores (an H100) has the ray-tracing pipeline but not ray query:
+  // the driver's traversal is still checked there, through rtpipeline.
+  expect_traces("rtpipeline");
+}
+
+TEST(EnvFault, MissingRayPipelineExtension) {
+  ASSERT_EQ(env("MASQ_VK_HIDE_EXTENSIONS"), "VK_KHR_ray_tracing_pipeline")
+      << "run through ctest (device_fault_no_ray_pipeline)";
+  std::string msg = unavailable_message("rtpipeline");
+  EXPECT_EQ(msg.rfind("rtpipeline: ", 0), 0u) << msg;
+  EXPECT_NE(msg.find("lacks VK_KHR_ray_tracing_pipeline"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("MASQ_RT_DEVICE names another"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  expect_traces("rayquery");
+  expect_traces("vulkan");
 }
 
 // A scene array larger than one device buffer can hold (lavapipe: maxMemoryAllocationSize
@@ -132,7 +147,7 @@ TEST(DeviceFaults, SceneOverAllocationLimitIsRefusedAndContextRecovers) {
 TEST(DeviceFaults, OutOfDeviceMemoryIsAnErrorAndDeviceStaysUsable) {
   std::shared_ptr<masq::vk::Context> vk;
   try {
-    vk = masq::vk::Context::get("vulkan", false);
+    vk = masq::vk::Context::get("vulkan");
   } catch (const masq::BackendUnavailable& e) {
     if (allow_missing()) GTEST_SKIP() << e.what();
     FAIL() << e.what();
@@ -272,7 +287,7 @@ TEST(EnvFault, ValidationErrorMakesTheSubmissionThrow) {
   ASSERT_EQ(env("MASQ_VK_VALIDATION"), "1") << "run through ctest (vulkan_validation_catches)";
   std::shared_ptr<masq::vk::Context> vk;
   try {
-    vk = masq::vk::Context::get("vulkan", false);
+    vk = masq::vk::Context::get("vulkan");
   } catch (const masq::BackendUnavailable& e) {
     if (allow_missing()) GTEST_SKIP() << e.what();
     FAIL() << e.what();
@@ -303,7 +318,7 @@ TEST(EnvFault, SyncValidationCatchesAMissingBarrier) {
   ASSERT_EQ(env("MASQ_VK_VALIDATION"), "sync") << "run through ctest (vulkan_sync_validation_catches)";
   std::shared_ptr<masq::vk::Context> vk;
   try {
-    vk = masq::vk::Context::get("vulkan", false);
+    vk = masq::vk::Context::get("vulkan");
   } catch (const masq::BackendUnavailable& e) {
     if (allow_missing()) GTEST_SKIP() << e.what();
     FAIL() << e.what();

@@ -83,7 +83,9 @@ constexpr int kRays = 4099;
 TEST(DispatchLimits, RaysPerDispatchCapKeepsHitsAndCounters) {
   const PackedScene packed = build_accel(capsule_scene(2000, 11), Method::Masq);
   const std::vector<Ray> rays = random_rays(5, kRays);
-  for (const char* name : {"vulkan", "rayquery", "opencl"}) {
+  for (const BackendRow& row : backend_table.rows()) {
+    if (!row.device_api) continue; // the cpu traces in place: no dispatch
+    const std::string name = row.name;
     SCOPED_TRACE(name);
     std::unique_ptr<Backend> be = test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
     if (!be) continue;
@@ -121,9 +123,12 @@ TEST(DispatchLimits, BvTracersRaysPerDispatchCapKeepsHitsAndCounters) {
 }
 
 // One cluster per two capsules: about 3000 cluster BLAS, each once its own allocation
-// and submission; 64 live allocations must now hold the scene.
-TEST(DispatchLimits, RayQueryClusterSceneWithinFewAllocations) {
-  std::unique_ptr<Backend> be = test::open_or_fail("rayquery", [](const std::string& n) { return make_backend(n); });
+// and submission; 64 live allocations must now hold the scene (rtpipeline: and a hit
+// record per BLAS in its binding table).
+namespace {
+void cluster_scene_within_few_allocations(const std::string& name) {
+  SCOPED_TRACE(name);
+  std::unique_ptr<Backend> be = test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
   if (!be) return;
   AccelOptions opt;
   opt.cluster.max_size = 2;
@@ -140,7 +145,7 @@ TEST(DispatchLimits, RayQueryClusterSceneWithinFewAllocations) {
     EXPECT_EQ(be->device_bytes(), bytes); // the same compacted structures
   }
   // Far too few for the scene arrays alone: one error naming the limit and the knob.
-  std::unique_ptr<Backend> fresh = make_backend("rayquery");
+  std::unique_ptr<Backend> fresh = make_backend(name);
   Knob none("MASQ_VK_MAX_ALLOCATIONS", "4");
   try {
     fresh->set_scene(packed);
@@ -151,13 +156,19 @@ TEST(DispatchLimits, RayQueryClusterSceneWithinFewAllocations) {
     EXPECT_NE(what.find("MASQ_VK_MAX_ALLOCATIONS"), std::string::npos) << what;
   }
 }
+} // namespace
+
+TEST(DispatchLimits, DriverTraversalClusterSceneWithinFewAllocations) {
+  for (const std::string& name : backend_names())
+    if (driver_traversal(name)) cluster_scene_within_few_allocations(name);
+}
 
 // Upload and readback are parts of the trace's wall time on the host clock (vulkan:
 // host copies inside it; cpu: none).
 TEST(DispatchLimits, TraceTimingPartsWithinWallTime) {
   const PackedScene packed = build_accel(capsule_scene(500, 14), Method::Ref);
   const std::vector<Ray> rays = random_rays(8, kRays);
-  for (const char* name : {"cpu", "vulkan", "rayquery"}) {
+  for (const std::string& name : backend_names()) {
     SCOPED_TRACE(name);
     std::unique_ptr<Backend> be = test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
     if (!be) continue;
@@ -168,7 +179,7 @@ TEST(DispatchLimits, TraceTimingPartsWithinWallTime) {
     EXPECT_GE(t.upload_seconds, 0.0);
     EXPECT_GE(t.readback_seconds, 0.0);
     EXPECT_LE(t.upload_seconds + t.readback_seconds, t.wall_seconds);
-    if (std::string(name) == "cpu") EXPECT_EQ(t.upload_seconds + t.readback_seconds, 0.0);
+    if (name == "cpu") EXPECT_EQ(t.upload_seconds + t.readback_seconds, 0.0);
     else EXPECT_GT(t.upload_seconds, 0.0);
   }
 }

@@ -29,7 +29,7 @@ constexpr int kWidth8 = 8;
 TEST(GlslChildOrder, NetworkGivesTheInsertionSortsOrder) {
   std::shared_ptr<vk::Context> ctx;
   try {
-    ctx = vk::Context::get("vulkan", false);
+    ctx = vk::Context::get("vulkan");
   } catch (const BackendUnavailable& e) {
     if (masq::test::missing_backends_allowed()) GTEST_SKIP() << e.what() << " (MASQ_ALLOW_MISSING_BACKENDS=1)";
     FAIL() << e.what() << " (scripts/setup.sh installs lavapipe; MASQ_ALLOW_MISSING_BACKENDS=1 skips)";

@@ -60,7 +60,7 @@ bool allow_no_vulkan() { return masq::test::missing_backends_allowed(); }
 TEST(GlslLayout, Std430MatchesCpp) {
   std::shared_ptr<vk::Context> ctx;
   try {
-    ctx = vk::Context::get("vulkan", false);
+    ctx = vk::Context::get("vulkan");
   } catch (const BackendUnavailable& e) {
     if (allow_no_vulkan()) GTEST_SKIP() << e.what() << " (MASQ_ALLOW_MISSING_BACKENDS=1)";
     FAIL() << e.what() << " (scripts/setup.sh installs lavapipe; MASQ_ALLOW_MISSING_BACKENDS=1 skips)";

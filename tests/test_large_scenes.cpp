@@ -150,20 +150,32 @@ TEST(LargeScenes, VulkanAddressingKnobRejectsOtherValues) {
   }
 }
 
-TEST(LargeScenes, RayQueryArraysByAddressMatchCpu) {
-  check_against_cpu("rayquery", {{"MASQ_VK_MAX_BINDING_BYTES", "4096"}});
+// The backends the driver traverses for (rayquery, rtpipeline) share the structures and
+// their splitting (host/vulkan/driver_scene.h); each is checked.
+std::vector<std::string> driver_backends() {
+  std::vector<std::string> out;
+  for (const std::string& name : backend_names())
+    if (driver_traversal(name)) out.push_back(name);
+  return out;
 }
 
-// 64 instances per TLAS: masq's 600 instances make 10 parts, cluster's some; 50
-// primitives per BLAS: ref's 200-primitive geometry makes 4 BLAS, the mesh 3.
-TEST(LargeScenes, RayQuerySplitTlasAndBlasMatchCpu) {
-  check_against_cpu("rayquery", {{"MASQ_RQ_MAX_INSTANCES", "64"}, {"MASQ_RQ_MAX_PRIMITIVES", "50"}});
+TEST(LargeScenes, DriverTraversalArraysByAddressMatchCpu) {
+  for (const std::string& name : driver_backends()) check_against_cpu(name, {{"MASQ_VK_MAX_BINDING_BYTES", "4096"}});
 }
 
-TEST(LargeScenes, RayQuerySplitAndAddressedTogetherMatchCpu) {
-  check_against_cpu("rayquery", {{"MASQ_RQ_MAX_INSTANCES", "100"},
-                                 {"MASQ_RQ_MAX_PRIMITIVES", "64"},
-                                 {"MASQ_VK_MAX_BINDING_BYTES", "4096"}});
+// 64 instances per TLAS: masq's 600 instances make 10 parts (rtpipeline: 10 launches,
+// each looking nearer than the last), cluster's some; 50 primitives per BLAS: ref's
+// 200-primitive geometry makes 4 BLAS, the mesh 3.
+TEST(LargeScenes, DriverTraversalSplitTlasAndBlasMatchCpu) {
+  for (const std::string& name : driver_backends())
+    check_against_cpu(name, {{"MASQ_RQ_MAX_INSTANCES", "64"}, {"MASQ_RQ_MAX_PRIMITIVES", "50"}});
+}
+
+TEST(LargeScenes, DriverTraversalSplitAndAddressedTogetherMatchCpu) {
+  for (const std::string& name : driver_backends())
+    check_against_cpu(name, {{"MASQ_RQ_MAX_INSTANCES", "100"},
+                             {"MASQ_RQ_MAX_PRIMITIVES", "64"},
+                             {"MASQ_VK_MAX_BINDING_BYTES", "4096"}});
 }
 
 // The binary-hierarchy tracer (kernels/trace_bv.comp) reads its node and leaf arrays
@@ -196,7 +208,7 @@ TEST(LargeScenes, VulkanBvTracerArraysByAddressMatchCpu) {
 // and the limit; and a malformed knob is named too. The backend works afterwards.
 TEST(LargeScenes, ArrayOverOneAllocationIsAClearError) {
   PackedScene packed = build_accel(random_scene(PrimType::Capsule, 5), Method::Ref);
-  for (const char* name : {"vulkan", "rayquery"}) {
+  for (const char* name : {"vulkan", "rayquery", "rtpipeline"}) {
     std::unique_ptr<Backend> be = backend_or_fail(name);
     if (!be) continue;
     SCOPED_TRACE(name);

@@ -146,7 +146,7 @@ TEST_P(MasqInstanceForms, CompactHitsWhatFullHits) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, MasqInstanceForms,
-                         ::testing::Values("cpu", "opencl", "vulkan", "vulkan_bound", "rayquery"),
+                         ::testing::Values("cpu", "opencl", "vulkan", "vulkan_bound", "rayquery", "rtpipeline"),
                          [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
 
 // The issue-7 target: masq's bytes (primitives + acceleration data, w4 nodes) at most

@@ -104,15 +104,15 @@ TEST(Names, BuilderColumns) {
 }
 
 TEST(BackendRegistry, OneTableForEveryList) {
-  EXPECT_EQ(backend_names(), (std::vector<std::string>{"cpu", "vulkan", "opencl", "rayquery"}));
+  EXPECT_EQ(backend_names(), (std::vector<std::string>{"cpu", "vulkan", "opencl", "rayquery", "rtpipeline"}));
   EXPECT_EQ(bv_backend_names(), (std::vector<std::string>{"cpu", "vulkan", "opencl"}));
-  // "best": vulkan, then opencl, then cpu; never rayquery.
+  // "best": vulkan, then opencl, then cpu; never the driver-traversal backends.
   std::map<int, std::string> best;
   for (const BackendRow& r : backend_table.rows())
     if (r.best_rank > 0) best[r.best_rank] = r.name;
   EXPECT_EQ(best, (std::map<int, std::string>{{1, "vulkan"}, {2, "opencl"}, {3, "cpu"}}));
   EXPECT_EQ(message_of([] { make_backend("bogus"); }),
-            "unknown backend 'bogus' (expected cpu, vulkan, opencl or rayquery)");
+            "unknown backend 'bogus' (expected cpu, vulkan, opencl, rayquery or rtpipeline)");
   EXPECT_EQ(message_of([] { make_bv_tracer("rayquery"); }),
             "unknown bv backend 'rayquery' (expected cpu, vulkan or opencl)");
   EXPECT_EQ(make_backend("cpu")->name(), "cpu");

@@ -243,7 +243,7 @@ TEST(LocalSize, FitsTheSubgroupAndTheLimits) {
 TEST(LocalSize, ThisDevice) {
   std::shared_ptr<Context> ctx;
   try {
-    ctx = Context::get("vulkan", false);
+    ctx = Context::get("vulkan");
   } catch (const BackendUnavailable& e) {
     if (!test::missing_backends_allowed()) ADD_FAILURE() << e.what();
     return;

@@ -68,7 +68,7 @@ TEST(StackSize, EveryBackendRefusesASceneThatNeedsMore) {
   ps.features.blas_stack.entries = MASQ_STACK_MAX + 7;
   std::vector<kernel::Ray> rays = make_camera_rays(s.camera, 4, 4);
   for (const std::string& name : backend_names()) {
-    if (name == "rayquery") continue; // the driver traverses: it has no kernel stack
+    if (driver_traversal(name)) continue; // no kernel stacks // the driver traverses: it has no kernel stack
     std::unique_ptr<Backend> be = open_backend(name);
     if (!be) continue;
     std::vector<kernel::Hit> hits(rays.size());
@@ -89,7 +89,7 @@ TEST(StackSize, SizedStacksGiveTheLargestStacksHitsAndCounters) {
   std::vector<kernel::Ray> extra = test::random_rays(7, 800);
   rays.insert(rays.end(), extra.begin(), extra.end());
   for (const std::string& name : backend_names()) {
-    if (name == "rayquery") continue;
+    if (driver_traversal(name)) continue; // no kernel stacks
     std::unique_ptr<Backend> be = open_backend(name);
     if (!be) continue;
     for (Method m : {Method::Ref, Method::Masq, Method::Cluster}) {

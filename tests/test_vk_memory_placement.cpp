@@ -251,7 +251,7 @@ TEST(MemoryPlacement, AtomAlignedRanges) {
 TEST(MemoryPlacementDevice, RoundTripsInPlaceAndThroughStagingPieces) {
   std::shared_ptr<Context> ctx;
   try {
-    ctx = Context::get("vulkan", false);
+    ctx = Context::get("vulkan");
   } catch (const BackendUnavailable& e) {
     if (masq::test::missing_backends_allowed()) GTEST_SKIP() << e.what();
     FAIL() << e.what();
@@ -333,7 +333,7 @@ TEST(SyncBarriers, StagedUploadDispatchReadbackInOneCommandBuffer) {
   setenv("MASQ_VK_VALIDATION", "sync", 1);
   std::shared_ptr<Context> ctx;
   try {
-    ctx = Context::get("vulkan", false);
+    ctx = Context::get("vulkan");
   } catch (const BackendUnavailable& e) {
     if (masq::test::missing_backends_allowed()) GTEST_SKIP() << e.what();
     FAIL() << e.what();

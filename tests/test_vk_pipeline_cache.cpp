@@ -106,7 +106,7 @@ struct CacheRun {
 
 CacheRun trace_once() {
   CacheRun r;
-  std::shared_ptr<masq::vk::Context> ctx = masq::vk::Context::get("vulkan", false);
+  std::shared_ptr<masq::vk::Context> ctx = masq::vk::Context::get("vulkan");
   r.loaded = ctx->pipeline_cache_file().loaded();
   r.rejected = ctx->pipeline_cache_file().rejected();
   r.path = ctx->pipeline_cache_file().path();

@@ -13,10 +13,15 @@ namespace masq {
 namespace {
 
 constexpr BackendRow backend_rows[] = {
-    {"cpu", "the kernel source compiled as C++, multi-threaded", make_cpu_backend, make_cpu_bv_tracer, 3, nullptr},
-    {"vulkan", "the kernel source as GLSL compute shaders", make_vulkan_backend, make_vulkan_bv_tracer, 1, "vulkan"},
-    {"opencl", "the kernel source as OpenCL C", [] { return make_opencl_backend(); }, make_opencl_bv_tracer, 2, "opencl"},
-    {"rayquery", "Vulkan ray query on the driver's own acceleration structures", make_rayquery_backend, nullptr, 0, "rayquery"},
+    {"cpu", "the kernel source compiled as C++, multi-threaded", make_cpu_backend, make_cpu_bv_tracer, 3, nullptr, false},
+    {"vulkan", "the kernel source as GLSL compute shaders", make_vulkan_backend, make_vulkan_bv_tracer, 1, "vulkan",
+     false},
+    {"opencl", "the kernel source as OpenCL C", [] { return make_opencl_backend(); }, make_opencl_bv_tracer, 2, "opencl",
+     false},
+    {"rayquery", "Vulkan ray query on the driver's own acceleration structures", make_rayquery_backend, nullptr, 0,
+     "rayquery", true},
+    {"rtpipeline", "the Vulkan ray-tracing pipeline: the driver's acceleration structures call masq's intersectors as "
+                   "intersection shaders", make_rtpipeline_backend, nullptr, 0, "rtpipeline", true},
 };
 
 bool has_bv(const BackendRow& r) { return r.make_bv != nullptr; }
@@ -28,6 +33,11 @@ constinit const NameTable<BackendRow> backend_table{"backend", backend_rows};
 const std::vector<std::string>& backend_names() {
   static const std::vector<std::string> names = backend_table.names();
   return names;
+}
+
+bool driver_traversal(std::string_view backend) {
+  const BackendRow* r = backend_table.find(backend);
+  return r && r->driver_traversal;
 }
 
 std::unique_ptr<Backend> make_backend(std::string_view name) { return backend_table.at(name).make(); }

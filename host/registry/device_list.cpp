@@ -9,7 +9,7 @@ namespace masq {
 
 namespace {
 
-// The driver APIs: vulkan and rayquery choose among the Vulkan devices, opencl among
+// The driver APIs: vulkan, rayquery and rtpipeline choose among the Vulkan devices, opencl among
 // the OpenCL ones.
 struct DriverApi {
   const char* label;
@@ -21,8 +21,9 @@ const DriverApi kDriverApis[] = {{"Vulkan", vk::vulkan_device_infos, false}, {"O
 
 DeviceChoice pick(DeviceApi api, const std::vector<DeviceInfo>& devices) {
   switch (api) {
-    case DeviceApi::Vulkan: return vk::choose_vulkan_device(devices, false);
-    case DeviceApi::RayQuery: return vk::choose_vulkan_device(devices, true);
+    case DeviceApi::Vulkan: return vk::choose_vulkan_device(devices, DeviceNeed::Compute);
+    case DeviceApi::RayQuery: return vk::choose_vulkan_device(devices, DeviceNeed::RayQuery);
+    case DeviceApi::RtPipeline: return vk::choose_vulkan_device(devices, DeviceNeed::RayPipeline);
     case DeviceApi::OpenCl: return opencl::choose_opencl_device(devices);
   }
   return {};

@@ -23,7 +23,8 @@ VkAccelerationStructureGeometryKHR geometry_of(const AccelInput& in, VkDeviceAdd
   VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
   g.geometryType = in.geometry;
   if (in.geometry == VK_GEOMETRY_TYPE_TRIANGLES_KHR) {
-    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+    // One any-hit call per candidate: rtpipeline counts the calls (kernels/rt_shared.h).
+    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR | VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT_KHR;
     auto& t = g.geometry.triangles;
     t.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
     t.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
@@ -32,7 +33,8 @@ VkAccelerationStructureGeometryKHR geometry_of(const AccelInput& in, VkDeviceAdd
     t.maxVertex = in.count == 0 ? 0 : 3 * in.count - 1;
     t.indexType = VK_INDEX_TYPE_NONE_KHR;
   } else if (in.geometry == VK_GEOMETRY_TYPE_AABBS_KHR) {
-    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR; // candidates still reach the shader, which decides
+    // Candidates still reach the shader, which decides; one intersection call each.
+    g.flags = VK_GEOMETRY_OPAQUE_BIT_KHR | VK_GEOMETRY_NO_DUPLICATE_ANY_HIT_INVOCATION_BIT_KHR;
     g.geometry.aabbs.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR;
     g.geometry.aabbs.data.deviceAddress = data;
     g.geometry.aabbs.stride = sizeof(VkAabbPositionsKHR);
@@ -167,7 +169,7 @@ class AccelBatch {
       VkCommandBuffer cmd = ctx_.begin_commands(); // nothing below throws until the submit
       if (queries > 0) vkCmdResetQueryPool(cmd, pool, 0, queries);
       ctx_.accel.cmd_build(cmd, static_cast<std::uint32_t>(n), infos.data(), range_ptrs.data());
-      barrier_after_accel_build(cmd);
+      barrier_after_accel_build(ctx_, cmd);
       if (queries > 0)
         ctx_.accel.cmd_write_properties(cmd, queries, to_query.data(),
                                         VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR, pool, 0);
@@ -190,7 +192,7 @@ class AccelBatch {
           copy.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
           ctx_.accel.cmd_copy(cmd, &copy);
         }
-        barrier_after_accel_build(cmd);
+        barrier_after_accel_build(ctx_, cmd);
         ctx_.submit_and_wait(cmd);
       }
       for (std::size_t i = 0; i < n; ++i) {

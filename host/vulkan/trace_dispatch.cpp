@@ -107,6 +107,18 @@ void RayBatch::bind_minimal(KernelLayout& layout) { ensure(std::max<std::size_t>
 RayBatch::Times RayBatch::run(const char* backend, KernelLayout& layout, VkPipeline pipeline,
                               std::uint32_t local_size, std::int32_t param, std::span<const kernel::Ray> rays,
                               std::span<kernel::Hit> hits, std::span<kernel::RayStats> stats) {
+  // The group count within the device's limit.
+  const std::uint64_t max_launch = std::uint64_t(ctx_.props.limits.maxComputeWorkGroupCount[0]) * local_size;
+  return run_chunks(backend, layout, max_launch, rays, hits, stats, [&](std::uint32_t n) {
+    kernel::TraceParams pc{static_cast<int>(n), param, 0, 0};
+    return layout.dispatch(pipeline, &pc, (n + local_size - 1) / local_size);
+  });
+}
+
+RayBatch::Times RayBatch::run_chunks(const char* backend, KernelLayout& layout, std::uint64_t max_launch,
+                                     std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
+                                     std::span<kernel::RayStats> stats,
+                                     const std::function<double(std::uint32_t n)>& launch) {
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const Clock::time_point start = Clock::now();
@@ -116,12 +128,12 @@ RayBatch::Times RayBatch::run(const char* backend, KernelLayout& layout, VkPipel
     throw Error(fmt::format("{}: trace: {} rays but {} stats", backend, rays.size(), stats.size()));
   Times times;
   if (rays.empty()) return times;
-  // Chunk: every per-ray buffer within one binding, the group count within the limit,
-  // the count within a push-constant int, and one dispatch short (the watchdog bound).
+  // Chunk: every per-ray buffer within one binding, the launch within the device's limit,
+  // the count within a push-constant int, and one launch short (the watchdog bound).
   std::uint64_t limit = ctx_.max_storage_buffer_range();
   std::uint64_t chunk = limit / sizeof(kernel::Hit);
   chunk = std::min<std::uint64_t>(chunk, limit / sizeof(kernel::Ray));
-  chunk = std::min<std::uint64_t>(chunk, std::uint64_t(ctx_.props.limits.maxComputeWorkGroupCount[0]) * local_size);
+  chunk = std::min<std::uint64_t>(chunk, max_launch);
   chunk = std::min<std::uint64_t>(chunk, 1u << 30);
   chunk = std::min<std::uint64_t>(chunk, max_rays_per_dispatch(backend));
   chunk = std::min<std::uint64_t>(chunk, rays.size());
@@ -132,9 +144,7 @@ RayBatch::Times RayBatch::run(const char* backend, KernelLayout& layout, VkPipel
     Clock::time_point t0 = Clock::now();
     rays_.upload(rays.data() + first, n * sizeof(kernel::Ray));
     times.upload += since(t0);
-    kernel::TraceParams pc{static_cast<int>(n), param, 0, 0};
-    auto groups = static_cast<std::uint32_t>((n + local_size - 1) / local_size);
-    times.device += layout.dispatch(pipeline, &pc, groups);
+    times.device += launch(static_cast<std::uint32_t>(n));
     t0 = Clock::now();
     hits_.download(hits.data() + first, n * sizeof(kernel::Hit));
     if (!stats.empty()) stats_.download(stats.data() + first, n * sizeof(kernel::RayStats));

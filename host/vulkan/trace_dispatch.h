@@ -97,6 +97,14 @@ class RayBatch {
   Times run(const char* backend, KernelLayout& layout, VkPipeline pipeline, std::uint32_t local_size,
             std::int32_t param, std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
             std::span<kernel::RayStats> stats);
+  // The same chunking with the launch left to the caller: launch(n) traces the n rays
+  // now in the ray buffer (bound at MASQ_BINDING_RAYS; hits and stats likewise) and
+  // returns its device seconds. max_launch: the most rays one launch may hold.
+  Times run_chunks(const char* backend, KernelLayout& layout, std::uint64_t max_launch,
+                   std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits, std::span<kernel::RayStats> stats,
+                   const std::function<double(std::uint32_t n)>& launch);
+  // The counters' buffer of the current chunk (valid inside launch; rtpipeline zeroes it).
+  const Buffer& stats_buffer() const { return stats_; }
   // Binds (dummy-sized if needed) ray buffers, e.g. before a warm-up dispatch.
   void bind_minimal(KernelLayout& layout);
 

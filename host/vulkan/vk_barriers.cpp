@@ -4,10 +4,11 @@ namespace masq::vk {
 namespace {
 
 // Who may touch a buffer around a copy: shaders, other copies, and the builds of a
-// ray-query context (the build stage needs the accelerationStructure feature).
+// context with driver structures (the build stage needs the accelerationStructure
+// feature, the ray-tracing stage the rayTracingPipeline one).
 VkPipelineStageFlags device_stages(const Context& ctx) {
-  VkPipelineStageFlags s = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-  if (ctx.ray_query) s |= VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR;
+  VkPipelineStageFlags s = ctx.shader_stages() | VK_PIPELINE_STAGE_TRANSFER_BIT;
+  if (ctx.accel_structures()) s |= VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR;
   return s;
 }
 
@@ -23,7 +24,7 @@ void barrier(VkCommandBuffer cmd, VkPipelineStageFlags src_stages, VkAccessFlags
 
 void barrier_before_copy(const Context& ctx, VkCommandBuffer cmd) {
   VkAccessFlags src = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-  if (ctx.ray_query) src |= VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+  if (ctx.accel_structures()) src |= VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
   barrier(cmd, device_stages(ctx), src, VK_PIPELINE_STAGE_TRANSFER_BIT,
           VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
 }
@@ -46,9 +47,21 @@ void barrier_after_dispatch(VkCommandBuffer cmd) {
               VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
-void barrier_after_accel_build(VkCommandBuffer cmd) {
+void barrier_after_trace_rays(VkCommandBuffer cmd) {
+  constexpr VkPipelineStageFlags rt = VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR;
+  barrier(cmd, rt, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | rt,
+          VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+              VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+void barrier_after_fill(VkCommandBuffer cmd) {
+  barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR,
+          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+void barrier_after_accel_build(const Context& ctx, VkCommandBuffer cmd) {
   barrier(cmd, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
-          VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+          VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR | ctx.shader_stages(),
           VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR);
 }
 

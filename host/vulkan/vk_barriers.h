@@ -23,9 +23,14 @@ void barrier_after_readback(const Context& ctx, VkCommandBuffer cmd);
 // (staged readback; the next chunk's ray upload waits for its reads) and to the next
 // dispatch, which writes the same hits.
 void barrier_after_dispatch(VkCommandBuffer cmd);
+// After a vkCmdTraceRaysKHR (rtpipeline): its shader writes are visible to the host, to
+// copies and to the next trace (the next TLAS part reads the hits of the last).
+void barrier_after_trace_rays(VkCommandBuffer cmd);
+// After a vkCmdFillBuffer of counters the ray-tracing shaders then add to.
+void barrier_after_fill(VkCommandBuffer cmd);
 // After acceleration-structure builds or copies: their writes are visible to what reads
 // the structures next (a compacted-size query or compacting copy, a TLAS build over a
-// BLAS, ray queries in compute shaders).
-void barrier_after_accel_build(VkCommandBuffer cmd);
+// BLAS, ray queries in compute shaders, traceRayEXT in ray-tracing shaders).
+void barrier_after_accel_build(const Context& ctx, VkCommandBuffer cmd);
 
 } // namespace masq::vk

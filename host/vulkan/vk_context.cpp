@@ -28,7 +28,7 @@ std::uint64_t wait_limit_seconds() { return lowered_limit("vulkan", kDefaultWait
 namespace {
 
 std::mutex g_mutex;
-std::weak_ptr<Context> g_contexts[2];
+std::weak_ptr<Context> g_contexts[3]; // by DeviceNeed
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 std::atomic<std::uint64_t> g_validation_errors{0};
@@ -85,17 +85,20 @@ bool instance_has_layer(const char* name) {
 
 } // namespace
 
-std::shared_ptr<Context> Context::get(const char* backend, bool ray_query) {
+std::shared_ptr<Context> Context::get(const char* backend, DeviceNeed need) {
   std::lock_guard<std::mutex> lock(g_mutex);
-  std::weak_ptr<Context>& slot = g_contexts[ray_query ? 1 : 0];
+  std::weak_ptr<Context>& slot = g_contexts[static_cast<int>(need)];
   if (auto existing = slot.lock(); existing && !existing->lost()) return existing;
   std::shared_ptr<Context> ctx(new Context());
-  ctx->create(backend, ray_query);
+  ctx->create(backend, need);
   slot = ctx;
   return ctx;
 }
 
-void Context::create(const char* backend, bool want_ray_query) {
+void Context::create(const char* backend, DeviceNeed need) {
+  const bool want_ray_query = need == DeviceNeed::RayQuery;
+  const bool want_ray_pipeline = need == DeviceNeed::RayPipeline;
+  const bool want_structures = want_ray_query || want_ray_pipeline;
   auto unavailable = [&](const std::string& why) {
     throw BackendUnavailable(fmt::format("{}: {}", backend, why));
   };
@@ -147,11 +150,11 @@ void Context::create(const char* backend, bool want_ray_query) {
     validation_errors_seen_ = g_validation_errors.load();
   }
 
-  // The device: the best-ranked one, or the one MASQ_VK_DEVICE / MASQ_RQ_DEVICE / --device
-  // names; rayquery takes the vulkan backend's device unless told otherwise
-  // (host/vulkan/vk_devices.h, host/device_choice.h).
+  // The device: the best-ranked one, or the one MASQ_VK_DEVICE / MASQ_RQ_DEVICE /
+  // MASQ_RT_DEVICE / --device names; rayquery and rtpipeline take the vulkan backend's
+  // device unless told otherwise (host/vulkan/vk_devices.h, host/device_choice.h).
   const std::vector<PhysicalDevice> devices = physical_devices(instance);
-  const PhysicalDevice& chosen = choose_physical_device(devices, backend, want_ray_query);
+  const PhysicalDevice& chosen = choose_physical_device(devices, backend, need);
   physical = chosen.handle;
   vkGetPhysicalDeviceProperties(physical, &props);
   queue_family = static_cast<std::uint32_t>(chosen.compute_family);
@@ -174,11 +177,15 @@ void Context::create(const char* backend, bool want_ray_query) {
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &float_controls};
   accel_props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
   accel_props.pNext = &driver;
-  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
-                                 want_ray_query ? static_cast<void*>(&accel_props)
-                                                : static_cast<void*>(&driver)};
+  rt_props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR;
+  rt_props.pNext = &accel_props;
+  void* chain = want_ray_pipeline ? static_cast<void*>(&rt_props)
+                : want_ray_query  ? static_cast<void*>(&accel_props)
+                                  : static_cast<void*>(&driver);
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, chain};
   vkGetPhysicalDeviceProperties2(physical, &p2);
   accel_props.pNext = nullptr;
+  rt_props.pNext = nullptr;
   driver_info_ = driver.driverInfo;
   subgroup_size = subgroup.subgroupSize > 0 ? subgroup.subgroupSize : 1;
   signed_zero_inf_nan_preserve_float32 = float_controls.shaderSignedZeroInfNanPreserveFloat32 == VK_TRUE;
@@ -199,11 +206,14 @@ void Context::create(const char* backend, bool want_ray_query) {
   qci.pQueuePriorities = &priority;
   VkPhysicalDeviceRayQueryFeaturesKHR rq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
   rq.rayQuery = VK_TRUE;
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+  rtf.rayTracingPipeline = VK_TRUE;
   VkPhysicalDeviceAccelerationStructureFeaturesKHR as{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rq};
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR,
+      want_ray_pipeline ? static_cast<void*>(&rtf) : static_cast<void*>(&rq)};
   as.accelerationStructure = VK_TRUE;
   VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
-                                       want_ray_query ? &as : nullptr};
+                                       want_structures ? &as : nullptr};
   v12.bufferDeviceAddress = buffer_device_address ? VK_TRUE : VK_FALSE;
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
   dci.queueCreateInfoCount = 1;
@@ -211,6 +221,9 @@ void Context::create(const char* backend, bool want_ray_query) {
   if (want_ray_query) {
     dci.enabledExtensionCount = static_cast<std::uint32_t>(std::size(kRayQueryExtensions));
     dci.ppEnabledExtensionNames = kRayQueryExtensions;
+  } else if (want_ray_pipeline) {
+    dci.enabledExtensionCount = static_cast<std::uint32_t>(std::size(kRayPipelineExtensions));
+    dci.ppEnabledExtensionNames = kRayPipelineExtensions;
   }
   r = vkCreateDevice(physical, &dci, nullptr, &device);
   if (r != VK_SUCCESS) {
@@ -225,7 +238,8 @@ void Context::create(const char* backend, bool want_ray_query) {
   pipeline_cache_ = std::make_unique<PipelineCache>(physical, device);
 
   ray_query = want_ray_query;
-  if (ray_query) {
+  ray_pipeline = want_ray_pipeline;
+  if (want_structures) {
     auto load = [&](const char* name) {
       PFN_vkVoidFunction f = vkGetDeviceProcAddr(device, name);
       if (!f) unavailable(fmt::format("device '{}': no entry point {}", props.deviceName, name));
@@ -242,6 +256,12 @@ void Context::create(const char* backend, bool want_ray_query) {
     accel.cmd_write_properties = reinterpret_cast<PFN_vkCmdWriteAccelerationStructuresPropertiesKHR>(
         load("vkCmdWriteAccelerationStructuresPropertiesKHR"));
     accel.cmd_copy = reinterpret_cast<PFN_vkCmdCopyAccelerationStructureKHR>(load("vkCmdCopyAccelerationStructureKHR"));
+    if (want_ray_pipeline) {
+      rt.create = reinterpret_cast<PFN_vkCreateRayTracingPipelinesKHR>(load("vkCreateRayTracingPipelinesKHR"));
+      rt.group_handles = reinterpret_cast<PFN_vkGetRayTracingShaderGroupHandlesKHR>(
+          load("vkGetRayTracingShaderGroupHandlesKHR"));
+      rt.cmd_trace = reinterpret_cast<PFN_vkCmdTraceRaysKHR>(load("vkCmdTraceRaysKHR"));
+    }
   }
 }
 

@@ -1,8 +1,10 @@
 // The Vulkan instance, device and queue every Vulkan-based backend shares: Vulkan 1.2, on
 // the device host/vulkan/vk_devices.h chooses (best-ranked, or the one MASQ_VK_DEVICE /
-// MASQ_RQ_DEVICE names; rayquery on the vulkan backend's device unless told otherwise).
+// MASQ_RQ_DEVICE / MASQ_RT_DEVICE names; rayquery and rtpipeline on the vulkan backend's
+// device unless told otherwise).
 // The loader honours VK_DRIVER_FILES / VK_ICD_FILENAMES from the environment.
 #pragma once
+#include "host/device_choice.h"
 #include "host/vulkan/vk_check.h"
 #include <vulkan/vulkan.h>
 #include <cstdint>
@@ -32,11 +34,19 @@ struct AccelFunctions {
   PFN_vkCmdCopyAccelerationStructureKHR cmd_copy = nullptr;                         // compaction
 };
 
+// Entry points of VK_KHR_ray_tracing_pipeline.
+struct RayPipelineFunctions {
+  PFN_vkCreateRayTracingPipelinesKHR create = nullptr;
+  PFN_vkGetRayTracingShaderGroupHandlesKHR group_handles = nullptr;
+  PFN_vkCmdTraceRaysKHR cmd_trace = nullptr;
+};
+
 class Context {
  public:
-  // One context per kind, shared while any backend holds it. `backend` names the
-  // caller in the BackendUnavailable message ("vulkan: ...", "rayquery: ...").
-  static std::shared_ptr<Context> get(const char* backend, bool ray_query);
+  // One context per need (compute, ray query, ray-tracing pipeline), shared while any
+  // backend holds it. `backend` names the caller in the BackendUnavailable message
+  // ("vulkan: ...", "rayquery: ...").
+  static std::shared_ptr<Context> get(const char* backend, DeviceNeed need = DeviceNeed::Compute);
   ~Context();
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
@@ -50,9 +60,18 @@ class Context {
   VkCommandPool command_pool = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties props{};
   VkPhysicalDeviceMemoryProperties memory{};
-  bool ray_query = false;
+  bool ray_query = false;    // VK_KHR_ray_query enabled
+  bool ray_pipeline = false; // VK_KHR_ray_tracing_pipeline enabled
+  // Driver acceleration structures (either of the two above): accel_props and accel are set.
+  bool accel_structures() const { return ray_query || ray_pipeline; }
+  // The shader stages this context's pipelines run in (barriers name them).
+  VkPipelineStageFlags shader_stages() const {
+    return VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | (ray_pipeline ? VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR : 0);
+  }
   VkPhysicalDeviceAccelerationStructurePropertiesKHR accel_props{};
   AccelFunctions accel;
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR rt_props{}; // ray_pipeline only
+  RayPipelineFunctions rt;
 
   // bufferDeviceAddress is enabled (always for ray query; for compute when the device
   // has it): scene arrays over one binding are then read by address.
@@ -116,7 +135,7 @@ class Context {
 
  private:
   Context() = default;
-  void create(const char* backend, bool want_ray_query);
+  void create(const char* backend, DeviceNeed need);
   void enable_validation(VkInstanceCreateInfo& ici);
   void check_validation();
   std::string driver_info_;

@@ -61,12 +61,33 @@ std::string ray_query_gap(VkPhysicalDevice pd, const std::vector<VkExtensionProp
   return "";
 }
 
-bool has_ray_tracing_pipeline(VkPhysicalDevice pd, const std::vector<VkExtensionProperties>& exts) {
-  if (!has_extension(exts, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME)) return false;
+// Why this device cannot serve the rtpipeline backend, or "" when it can: its extensions,
+// features, and the properties its shaders and binding table need (vk_devices.h).
+// masq traces with vkCmdTraceRaysKHR, so rayTracingPipelineTraceRaysIndirect is not needed.
+std::string ray_pipeline_gap(VkPhysicalDevice pd, const std::vector<VkExtensionProperties>& exts) {
+  for (const char* e : kRayPipelineExtensions)
+    if (!has_extension(exts, e)) return fmt::format("lacks {}", e);
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR rt{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
-  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &rt};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR as{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR, &rt};
+  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &as};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &v12};
   vkGetPhysicalDeviceFeatures2(pd, &f2);
-  return rt.rayTracingPipeline == VK_TRUE;
+  if (!rt.rayTracingPipeline) return "lacks the rayTracingPipeline feature";
+  if (!as.accelerationStructure) return "lacks the accelerationStructure feature";
+  if (!v12.bufferDeviceAddress) return "lacks the bufferDeviceAddress feature";
+  VkPhysicalDeviceRayTracingPipelinePropertiesKHR p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR};
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p};
+  vkGetPhysicalDeviceProperties2(pd, &p2);
+  if (p.maxRayRecursionDepth < kRtRecursionDepth)
+    return fmt::format("has maxRayRecursionDepth {} (masq needs {})", p.maxRayRecursionDepth, kRtRecursionDepth);
+  if (p.maxRayHitAttributeSize < kRtHitAttributeBytes)
+    return fmt::format("has maxRayHitAttributeSize {} (masq's hit attributes take {} bytes)", p.maxRayHitAttributeSize,
+                       kRtHitAttributeBytes);
+  if (p.maxShaderGroupStride < p.shaderGroupHandleSize + kRtRecordDataBytes)
+    return fmt::format("has maxShaderGroupStride {} (a hit record takes a {}-byte handle and {} bytes of data)",
+                       p.maxShaderGroupStride, p.shaderGroupHandleSize, kRtRecordDataBytes);
+  return "";
 }
 
 DeviceType device_type(VkPhysicalDeviceType t) {
@@ -99,7 +120,7 @@ DeviceInfo describe(VkPhysicalDevice pd, int index, int family) {
   else if (p.apiVersion < VK_API_VERSION_1_2) d.unusable = "is older than Vulkan 1.2";
   const auto exts = device_extensions(pd);
   d.no_ray_query = ray_query_gap(pd, exts);
-  d.ray_tracing_pipeline = has_ray_tracing_pipeline(pd, exts);
+  d.no_ray_pipeline = ray_pipeline_gap(pd, exts);
   d.memory_bytes = largest_device_local_heap(pd);
   // Subgroup properties are core in 1.1, driver properties in 1.2: chained only where the
   // device reports that version.
@@ -128,10 +149,17 @@ std::vector<DeviceInfo> infos(const std::vector<PhysicalDevice>& devices) {
 
 } // namespace
 
-DeviceChoice choose_vulkan_device(const std::vector<DeviceInfo>& devices, bool ray_query) {
+DeviceChoice choose_vulkan_device(const std::vector<DeviceInfo>& devices, DeviceNeed need) {
   const DeviceSelector vulkan = device_selector(DeviceApi::Vulkan);
-  if (ray_query) return choose_ray_query_device(devices, vulkan, device_selector(DeviceApi::RayQuery));
-  return choose_device(devices, vulkan, "Vulkan", DeviceNeed::Compute);
+  switch (need) {
+    case DeviceNeed::Compute: return choose_device(devices, vulkan, "Vulkan", DeviceNeed::Compute);
+    case DeviceNeed::RayQuery:
+      return choose_traversal_device(devices, vulkan, device_selector(DeviceApi::RayQuery), need, DeviceApi::RayQuery);
+    case DeviceNeed::RayPipeline:
+      return choose_traversal_device(devices, vulkan, device_selector(DeviceApi::RtPipeline), need,
+                                     DeviceApi::RtPipeline);
+  }
+  return {};
 }
 
 std::vector<PhysicalDevice> physical_devices(VkInstance instance) {
@@ -149,8 +177,8 @@ std::vector<PhysicalDevice> physical_devices(VkInstance instance) {
 }
 
 const PhysicalDevice& choose_physical_device(const std::vector<PhysicalDevice>& devices, const char* backend,
-                                             bool ray_query) {
-  DeviceChoice c = choose_vulkan_device(infos(devices), ray_query);
+                                             DeviceNeed need) {
+  DeviceChoice c = choose_vulkan_device(infos(devices), need);
   if (c.position < 0) throw BackendUnavailable(fmt::format("{}: {}", backend, c.why));
   return devices[static_cast<std::size_t>(c.position)];
 }

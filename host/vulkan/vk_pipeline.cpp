@@ -6,8 +6,9 @@
 
 namespace masq::vk {
 
-KernelLayout::KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, std::uint32_t push_constant_bytes)
-    : ctx_(ctx), types_(std::move(types)), push_bytes_(push_constant_bytes) {
+KernelLayout::KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, std::uint32_t push_constant_bytes,
+                           VkShaderStageFlags stages)
+    : ctx_(ctx), types_(std::move(types)), push_bytes_(push_constant_bytes), stages_(stages) {
   std::vector<VkDescriptorSetLayoutBinding> bindings;
   std::map<VkDescriptorType, std::uint32_t> counts;
   for (std::uint32_t i = 0; i < types_.size(); ++i) {
@@ -15,7 +16,7 @@ KernelLayout::KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, st
     b.binding = i;
     b.descriptorType = types_[i];
     b.descriptorCount = 1;
-    b.stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    b.stageFlags = stages_;
     bindings.push_back(b);
     ++counts[types_[i]];
   }
@@ -24,7 +25,7 @@ KernelLayout::KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, st
     dl.bindingCount = static_cast<std::uint32_t>(bindings.size());
     dl.pBindings = bindings.data();
     MASQ_VK_CHECK(vkCreateDescriptorSetLayout(ctx_.device, &dl, nullptr, &set_layout_));
-    VkPushConstantRange pcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_};
+    VkPushConstantRange pcr{stages_, 0, push_bytes_};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 1;
     pl.pSetLayouts = &set_layout_;
@@ -68,14 +69,19 @@ void KernelLayout::release() noexcept {
   set_layout_ = VK_NULL_HANDLE;
 }
 
-VkPipeline KernelLayout::create_pipeline(std::span<const std::uint32_t> spirv,
-                                         std::span<const std::uint32_t> values) {
-  const std::vector<std::uint32_t> code = device_spirv(ctx_, spirv); // float controls (vk_shader_limits.h)
+VkShaderModule create_shader_module(Context& ctx, std::span<const std::uint32_t> spirv) {
+  const std::vector<std::uint32_t> code = device_spirv(ctx, spirv); // float controls (vk_shader_limits.h)
   VkShaderModuleCreateInfo smi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   smi.codeSize = code.size() * sizeof(std::uint32_t);
   smi.pCode = code.data();
   VkShaderModule module = VK_NULL_HANDLE;
-  MASQ_VK_CHECK(vkCreateShaderModule(ctx_.device, &smi, nullptr, &module));
+  MASQ_VK_CHECK(vkCreateShaderModule(ctx.device, &smi, nullptr, &module));
+  return module;
+}
+
+VkPipeline KernelLayout::create_pipeline(std::span<const std::uint32_t> spirv,
+                                         std::span<const std::uint32_t> values) {
+  VkShaderModule module = create_shader_module(ctx_, spirv);
   std::vector<VkSpecializationMapEntry> entries;
   for (std::uint32_t i = 0; i < values.size(); ++i)
     entries.push_back({i, static_cast<std::uint32_t>(i * sizeof(std::uint32_t)), sizeof(std::uint32_t)});
@@ -127,16 +133,22 @@ void KernelLayout::bind_acceleration_structure(std::uint32_t binding, VkAccelera
 }
 
 double KernelLayout::dispatch(VkPipeline pipeline, const void* push_constants, std::uint32_t groups) {
+  return run_timed([&](VkCommandBuffer cmd) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &set_, 0, nullptr);
+    if (push_bytes_) vkCmdPushConstants(cmd, pipeline_layout_, stages_, 0, push_bytes_, push_constants);
+    if (groups > 0) vkCmdDispatch(cmd, groups, 1, 1);
+    barrier_after_dispatch(cmd); // host/vulkan/vk_barriers.h
+  });
+}
+
+double KernelLayout::run_timed(const std::function<void(VkCommandBuffer)>& record) {
   VkCommandBuffer cmd = ctx_.begin_commands();
   if (queries_) {
     vkCmdResetQueryPool(cmd, queries_, 0, 2);
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
   }
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_, 0, 1, &set_, 0, nullptr);
-  if (push_bytes_) vkCmdPushConstants(cmd, pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes_, push_constants);
-  if (groups > 0) vkCmdDispatch(cmd, groups, 1, 1);
-  barrier_after_dispatch(cmd); // host/vulkan/vk_barriers.h
+  record(cmd);
   if (queries_) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
   ctx_.submit_and_wait(cmd);
   if (!queries_) return 0.0;

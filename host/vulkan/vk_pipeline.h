@@ -12,10 +12,16 @@
 
 namespace masq::vk {
 
+// A shader module of `spirv` as the device gets it (device_spirv: float controls,
+// host/vulkan/vk_shader_limits.h). The caller destroys it.
+VkShaderModule create_shader_module(Context& ctx, std::span<const std::uint32_t> spirv);
+
 class KernelLayout {
  public:
-  // types[i]: descriptor type of binding i.
-  KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, std::uint32_t push_constant_bytes);
+  // types[i]: descriptor type of binding i; `stages`: the shader stages that see the
+  // bindings and the push constants (the ray-tracing pipeline's, for rtpipeline).
+  KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, std::uint32_t push_constant_bytes,
+               VkShaderStageFlags stages = VK_SHADER_STAGE_COMPUTE_BIT);
   ~KernelLayout();
   KernelLayout(const KernelLayout&) = delete;
   KernelLayout& operator=(const KernelLayout&) = delete;
@@ -31,15 +37,21 @@ class KernelLayout {
   // Records and runs one dispatch of `groups` work groups; waits for it. Returns the
   // device time in seconds from timestamp queries (0 when the queue has none).
   double dispatch(VkPipeline pipeline, const void* push_constants, std::uint32_t groups);
+  // Records `record` into one command buffer between two timestamps, runs it and waits;
+  // returns the device time in seconds as dispatch() does. `record` must not throw.
+  double run_timed(const std::function<void(VkCommandBuffer)>& record);
 
   VkDescriptorSet set() const { return set_; }
   VkPipelineLayout pipeline_layout() const { return pipeline_layout_; }
+  VkShaderStageFlags stages() const { return stages_; }
+  std::uint32_t push_constant_bytes() const { return push_bytes_; }
 
  private:
   void release() noexcept;
   Context& ctx_;
   std::vector<VkDescriptorType> types_;
   std::uint32_t push_bytes_ = 0;
+  VkShaderStageFlags stages_ = VK_SHADER_STAGE_COMPUTE_BIT;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;

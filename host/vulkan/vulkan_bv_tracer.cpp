@@ -23,7 +23,7 @@ const char* const kName = "vulkan";
 class VulkanBvTracer final : public BvTracer {
  public:
   VulkanBvTracer()
-      : ctx_(vk::Context::get(kName, false)),
+      : ctx_(vk::Context::get(kName)),
         layout_(*ctx_, vk::kernel_descriptor_types(), sizeof(kernel::TraceParams)),
         batch_(*ctx_) {}
 

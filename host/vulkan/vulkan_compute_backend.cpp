@@ -42,7 +42,7 @@ bool prefer_addressed() {
 class VulkanComputeBackend final : public Backend {
  public:
   VulkanComputeBackend()
-      : ctx_(vk::Context::get(kName, false)),
+      : ctx_(vk::Context::get(kName)),
         layout_(*ctx_, vk::kernel_descriptor_types(), sizeof(kernel::TraceParams)),
         batch_(*ctx_) {}
 

@@ -72,7 +72,7 @@ struct Timing {
 /// library), and give the same results as when used one after the other.
 class Context {
  public:
-  /// Opens `backend`: "cpu", "vulkan", "opencl", "rayquery", or "best" (the first of
+  /// Opens `backend`: "cpu", "vulkan", "opencl", "rayquery", "rtpipeline", or "best" (the first of
   /// vulkan, opencl, cpu that opens here). Throws masq::BackendUnavailable naming the
   /// cause when the backend cannot run here, masq::Error for an unknown name.
   explicit Context(const std::string& backend = "best");
