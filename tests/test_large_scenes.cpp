@@ -11,7 +11,10 @@
 #include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "host/bv_tracer.h"
+#include "host/scene_variant.h"
 #include "host/vulkan/rayquery_plan.h"
+#include "host/vulkan/rt_pipeline.h"
+#include "host/vulkan/trace_dispatch.h"
 #include "bvh/bv/bv_scene.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"
@@ -298,4 +301,37 @@ TEST(LargeScenes, RayQueryPlanCutsLeafOrderIntoRuns) {
   vk::RayQueryPlan whole = vk::plan_ray_query(s, (1u << 24) - 1);
   EXPECT_EQ(whole.blas.size(), 2u);
   EXPECT_EQ(whole.entries.size(), s.instances.size());
+}
+
+// rtpipeline's shader binding table within the device's limits: a hit record (group
+// handle + 16 bytes) over maxShaderGroupStride, or a table over one allocation, is one
+// error naming the limit. The stride cannot be lowered by a knob (no driver reports so
+// small a limit), so this test lowers the context's copy of the property.
+TEST(LargeScenes, BindingTableOverTheDeviceLimitsIsAClearError) {
+  std::shared_ptr<vk::Context> ctx =
+      masq::test::open_or_fail("rtpipeline", [](const std::string& n) { return vk::Context::get(n.c_str(), DeviceNeed::RayPipeline); });
+  if (!ctx) return;
+  vk::KernelLayout layout(*ctx, vk::kernel_descriptor_types(), sizeof(kernel::TraceParams), vk::kRtShaderStages);
+  const PackedScene s = build_accel(random_scene(PrimType::Capsule, 13), Method::Ref);
+  const vk::RayQueryPlan plan = vk::plan_ray_query(s, 50, "rtpipeline");
+  vk::RtPipeline pipeline(*ctx, layout, kernel_variant(s.features, {false, false}), false, "rtpipeline");
+  EXPECT_NO_THROW(vk::BindingTable(*ctx, pipeline, plan, "rtpipeline"));
+  auto message = [&] {
+    try {
+      vk::BindingTable t(*ctx, pipeline, plan, "rtpipeline");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR saved = ctx->rt_props;
+  ctx->rt_props.maxShaderGroupStride = ctx->rt_props.shaderGroupHandleSize; // no room for the record's data
+  const std::string stride = message();
+  ctx->rt_props = saved;
+  EXPECT_EQ(stride.rfind("rtpipeline: a hit record takes ", 0), 0u) << stride;
+  EXPECT_NE(stride.find("(maxShaderGroupStride)"), std::string::npos) << stride;
+  Knob small("MASQ_VK_MAX_ALLOCATION_BYTES", "256");
+  const std::string bytes = message();
+  EXPECT_EQ(bytes.rfind("rtpipeline: the shader binding table of ", 0), 0u) << bytes;
+  EXPECT_NE(bytes.find("the device allows 256"), std::string::npos) << bytes;
 }

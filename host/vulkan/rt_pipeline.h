@@ -33,6 +33,11 @@ inline constexpr HitGroupRow kHitGroups[] = {
 };
 static_assert(std::size(kHitGroups) == MASQ_PRIM_TYPE_COUNT, "one hit group per primitive type");
 
+// The stages that see the pipeline's bindings and push constants (its KernelLayout's).
+inline constexpr VkShaderStageFlags kRtShaderStages =
+    VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
+    VK_SHADER_STAGE_ANY_HIT_BIT_KHR | VK_SHADER_STAGE_INTERSECTION_BIT_KHR;
+
 // Shader groups of the pipeline: ray generation, miss, then kHitGroups in order.
 inline constexpr std::uint32_t kRaygenGroup = 0;
 inline constexpr std::uint32_t kMissGroup = 1;

@@ -28,9 +28,7 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 const char* const kName = "rtpipeline";
-constexpr VkShaderStageFlags kRtStages = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR |
-                                         VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR | VK_SHADER_STAGE_ANY_HIT_BIT_KHR |
-                                         VK_SHADER_STAGE_INTERSECTION_BIT_KHR;
+constexpr VkShaderStageFlags kRtStages = vk::kRtShaderStages;
 
 // The push constants of kernels/rt_shared.h (RtParams).
 struct RtParams {
