@@ -261,7 +261,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
   const bool quick = ctx.config.quick;
   SuiteResult res;
   res.name = "peers";
-  res.title = "Peers: masq vs Embree 3 and the driver's ray query";
+  res.title = "Peers: masq vs Embree 3 and the driver's traversal";
   const std::string embree_why = EmbreePeer::unavailable_reason();
   BenchOptions opt = ctx.bench_options(quick ? 128 : 320, quick ? 96 : 240);
   opt.keep_per_ray = true;
