@@ -28,7 +28,6 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 const char* const kName = "rtpipeline";
-constexpr VkShaderStageFlags kRtStages = vk::kRtShaderStages;
 
 // The push constants of kernels/rt_shared.h (RtParams).
 struct RtParams {
@@ -40,7 +39,7 @@ class RtPipelineBackend final : public Backend {
  public:
   RtPipelineBackend()
       : ctx_(vk::Context::get(kName, DeviceNeed::RayPipeline)),
-        layout_(*ctx_, vk::kernel_descriptor_types(), sizeof(RtParams), kRtStages), batch_(*ctx_) {}
+        layout_(*ctx_, vk::kernel_descriptor_types(), sizeof(RtParams), vk::kRtShaderStages), batch_(*ctx_) {}
 
   std::string name() const override { return kName; }
   std::string device_name() const override { return ctx_->device_name(); }
@@ -58,7 +57,7 @@ class RtPipelineBackend final : public Backend {
              Query query) override {
     if (!have_scene_) throw Error("rtpipeline: trace called before set_scene");
     driver_.widen_for(rays); // rebuilds keep the plan, so the binding tables stay valid
-    const Prepared& p = prepare(!stats.empty(), query == Query::Any);
+    const Prepared p = prepare(!stats.empty(), query == Query::Any);
     const bool counters = !stats.empty();
     batch_.run_chunks(kName, layout_, max_launch(), rays, hits, stats,
                       [&](std::uint32_t n) { return launch(p, n, counters); })
@@ -105,7 +104,7 @@ class RtPipelineBackend final : public Backend {
       for (std::size_t part = 0; part < std::max<std::size_t>(parts, 1); ++part) {
         RtParams pc{static_cast<std::int32_t>(n), parts ? static_cast<std::int32_t>(driver_.part_first(part)) : 0, 0,
                     parts ? static_cast<std::int32_t>(part) : -1};
-        vkCmdPushConstants(cmd, layout_.pipeline_layout(), kRtStages, 0, sizeof(pc), &pc);
+        vkCmdPushConstants(cmd, layout_.pipeline_layout(), vk::kRtShaderStages, 0, sizeof(pc), &pc);
         ctx_->rt.cmd_trace(cmd, &t.raygen, &t.miss, &t.hit, &t.callable, std::max<std::uint32_t>(n, 1), 1, 1);
         vk::barrier_after_trace_rays(cmd);
       }
@@ -115,7 +114,7 @@ class RtPipelineBackend final : public Backend {
   // The pipeline of this variant (created on first use, then kept: compile_seconds
   // covers creation and a warm-up launch, since a driver may compile at first use) and
   // its binding table for the current scene.
-  const Prepared& prepare(bool stats, bool any_hit) {
+  Prepared prepare(bool stats, bool any_hit) {
     const bool addressed = driver_.addressed();
     const KernelVariant v = kernel_variant(features_, {stats, any_hit});
     std::vector<std::uint32_t> key = vk::spec_constants(v, 1);
@@ -132,8 +131,7 @@ class RtPipelineBackend final : public Backend {
       it = pipelines_.emplace(std::move(key), std::move(c)).first;
     }
     timing_.compile_seconds = it->second.compile_seconds;
-    prepared_ = {it->second.pipeline.get(), &table(*it->second.pipeline)};
-    return prepared_;
+    return {it->second.pipeline.get(), &table(*it->second.pipeline)};
   }
 
   const vk::BindingTable& table(const vk::RtPipeline& p) {
@@ -154,7 +152,6 @@ class RtPipelineBackend final : public Backend {
   vk::DriverScene driver_{*ctx_, layout_, kName};
   std::map<std::vector<std::uint32_t>, Compiled> pipelines_;                          // by variant
   std::map<const vk::RtPipeline*, std::unique_ptr<vk::BindingTable>> tables_;          // for the current scene
-  Prepared prepared_{};
   KernelFeatures features_;
   bool have_scene_ = false;
   TraceTiming timing_;
