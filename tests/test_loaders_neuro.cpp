@@ -145,6 +145,17 @@ TEST(Swc, BadInputs) {
   expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5 1\n3 3 2 0 0 0.5 7\n"), {"bad.swc:3:", "parent 7"}); // bad parent
   expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5 1\n2 3 2 0 0 0.5 1\n"), {"bad.swc:3:", "duplicate id 2", "line 2"});
   expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5 2\n"), {"bad.swc:2:", "own parent"});
+  // Parent links in a loop (no root): named with the samples and lines of the loop,
+  // whether the file also has a proper tree or not, and however long the loop is.
+  expect_error(load("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5 1\n5 3 2 0 0 0.5 7\n6 3 3 0 0 0.5 5\n7 3 4 0 0 0.5 6\n"),
+               {"bad.swc:", "loop with no root", "sample 5 -> 7 -> 6 -> 5", "lines 3, 5, 4"});
+  expect_error(load("1 3 0 0 0 1 2\n2 3 1 0 0 0.5 1\n"), {"bad.swc:", "loop with no root", "1 -> 2 -> 1"});
+  {
+    std::string ring;
+    for (int i = 1; i <= 20; ++i) ring += std::to_string(i) + " 3 " + std::to_string(i) + " 0 0 0.5 " +
+                                          std::to_string(i == 20 ? 1 : i + 1) + "\n";
+    expect_error(load(ring), {"bad.swc:1:", "loop with no root", "(20 samples)", "lines 1, 2, 3"});
+  }
   expect_error(load("# nothing\n"), {"bad.swc", "no segments"});
   expect_error(load("1 1 0 0 0 1 -1\n"), {"bad.swc", "no segments"});
   expect_error(load(std::string("1 1 0 0 0 1 -1\n2 3 1 0 0 0.5 1\n\0\1\2", 33)), {"bad.swc:3:"}); // binary junk

@@ -1,5 +1,6 @@
 #include "scenes/loaders/load_swc.h"
 #include "masq/error.h"
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -46,6 +47,48 @@ double parse_real(std::string_view tok, const std::string& name, std::size_t lin
   if (ec == std::errc::result_out_of_range || !std::isfinite(v) || std::fabs(v) > 3.0e38)
     fail_line(name, line, std::string(what) + " '" + std::string(tok) + "' is not finite");
   return v;
+}
+
+// Parent links must lead every sample to a root (parent -1). A loop of links has no
+// root: it is a malformed tree (a hand edit, a bad merge of files), and its segments
+// would be drawn without anything saying so. Walks each sample's parent chain once
+// (samples already known to reach a root are not walked again) and throws naming the
+// samples of the first loop and their lines. Parents are known to exist.
+void reject_parent_loops(const std::vector<Sample>& samples, const std::unordered_map<long long, std::size_t>& index,
+                         const std::string& name) {
+  enum : std::uint8_t { Unvisited, OnPath, ReachesRoot };
+  std::vector<std::uint8_t> state(samples.size(), Unvisited);
+  std::vector<std::size_t> path;
+  for (std::size_t start = 0; start < samples.size(); ++start) {
+    path.clear();
+    std::size_t cur = start;
+    bool looped = false;
+    while (state[cur] == Unvisited) {
+      state[cur] = OnPath;
+      path.push_back(cur);
+      if (samples[cur].parent < 0) break;
+      cur = index.at(samples[cur].parent);
+      looped = state[cur] == OnPath;
+    }
+    if (looped) {
+      std::size_t first = 0;
+      while (path[first] != cur) ++first;
+      const std::size_t length = path.size() - first;
+      std::string ids, lines;
+      const std::size_t shown = std::min<std::size_t>(length, 8);
+      for (std::size_t k = 0; k < shown; ++k) {
+        const Sample& s = samples[path[first + k]];
+        ids += std::to_string(s.id) + " -> ";
+        lines += (k ? ", " : "") + std::to_string(s.line);
+      }
+      ids += shown < length ? "... (" + std::to_string(length) + " samples) -> " : "";
+      ids += std::to_string(samples[cur].id);
+      fail_line(name, samples[cur].line,
+                "parent links form a loop with no root: sample " + ids + " (lines " + lines +
+                    (shown < length ? ", ..." : "") + "); every chain of parents must end at a root (parent -1)");
+    }
+    for (std::size_t k : path) state[k] = ReachesRoot;
+  }
 }
 
 } // namespace
@@ -124,6 +167,7 @@ Scene load_swc(std::span<const std::byte> data, const std::string& name, const L
     const Sample& p = samples[it->second];
     g.cones.push_back(RoundConePrim{p.pos, p.radius, s.pos, s.radius});
   }
+  reject_parent_loops(samples, index, name);
   if (g.cones.empty())
     throw Error(name + ": no segments (" + std::to_string(samples.size()) + " sample(s), " + std::to_string(roots) +
                 " root(s); an SWC file needs samples with parents)");
