@@ -1,9 +1,11 @@
 // Accel and Context: the public face of build_accel (bvh/) and of the backends (host/).
 #include "api/api_impl.h"
 #include "host/backend.h"
+#include "host/device_choice.h"
 #include "masq/masq.h"
 #include <cstddef>
 #include <cstring>
+#include <mutex>
 
 namespace masq::api {
 
@@ -73,6 +75,34 @@ struct Context::Impl {
 
 Context::Context(const std::string& backend) : impl_(std::make_unique<Impl>()) {
   impl_->backend = backend == "best" ? make_best_backend() : make_backend(backend);
+}
+
+Context::Context(const std::string& backend, const std::string& device) : impl_(std::make_unique<Impl>()) {
+  if (device.empty()) {
+    impl_->backend = backend == "best" ? make_best_backend() : make_backend(backend);
+    return;
+  }
+  const BackendRow* row = backend == "best" ? nullptr : &backend_table.at(backend);
+  if (!row || !row->device_api)
+    throw Error("Context: device '" + device + "' given for the " + backend +
+                " backend, which has no device to choose (name one of " +
+                backend_table.choices([](const BackendRow& r) { return r.device_api != nullptr; }) + ")");
+  // The selectors are process-wide (host/device_choice.h): this one is set while the
+  // backend opens its device and the previous one put back after, so it holds for this
+  // Context only.
+  static std::mutex selector_mutex;
+  std::lock_guard<std::mutex> lock(selector_mutex);
+  const DeviceApi api = device_api_table.parse(row->device_api);
+  const DeviceSelector before = device_selector(api);
+  const bool before_was_override = before.source != device_api_table.row(api).env;
+  set_device_selector(api, device, "Context device");
+  try {
+    impl_->backend = make_backend(backend);
+  } catch (...) {
+    set_device_selector(api, before_was_override ? before.value : "", before.source);
+    throw;
+  }
+  set_device_selector(api, before_was_override ? before.value : "", before.source);
 }
 
 Context::~Context() = default;

@@ -113,8 +113,9 @@ DeviceChoice choose_traversal_device(std::span<const DeviceInfo> devices, const 
 // The selector in force for `api`: set_device_selector's, else the API's environment
 // variable, else none.
 DeviceSelector device_selector(DeviceApi api);
-// Overrides the environment for this process (the CLI's --device); "" clears it. Call
-// before the first backend of that API opens: open devices are kept while in use.
+// Overrides the environment for this process (the CLI's --device, a Context naming its
+// device); "" clears it. A backend opened after the change opens the device it names;
+// backends already open keep theirs.
 void set_device_selector(DeviceApi api, std::string value, std::string source);
 
 // The CLI's --device value: "SEL" (vulkan and opencl, rayquery following vulkan) or

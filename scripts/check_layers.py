@@ -17,6 +17,7 @@ import sys
 # Folder -> layer (higher includes lower). Folders on one layer do not include each other.
 LAYERS = {
     "tests": 90, "examples": 90,
+    "python": 88,
     "fuzz": 85,
     "cli": 80,
     "bench": 70, "stress": 70,

@@ -43,7 +43,7 @@ packages=(
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev libembree-dev libtbb-dev
-  python3-matplotlib
+  python3-matplotlib python3-numpy python3-dev pybind11-dev python3-pytest
   clang libclang-rt-dev doxygen
 )
 

@@ -299,3 +299,30 @@ TEST(Api, BestContextOpensAndReportsItself) {
   std::vector<std::string> avail = Context::available_backends();
   EXPECT_FALSE(avail.empty());
 }
+
+// Context(backend, device): a device named for one Context opens it there, leaves the
+// next Context's choice as it was, and a selector naming nothing (or a host backend
+// given a device) is one masq::Error naming it.
+TEST(Api, ContextOnANamedDevice) {
+  auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const masq::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_NE(message([] { Context("cpu", "0"); }).find("no device to choose"), std::string::npos);
+  EXPECT_NE(message([] { Context("best", "0"); }).find("no device to choose"), std::string::npos);
+  EXPECT_NE(message([] { Context("warp", "0"); }).find("unknown backend 'warp'"), std::string::npos);
+  auto plain = open("vulkan");
+  if (!plain) return;
+  const std::string msg = message([] { Context("vulkan", "no-such-gpu"); });
+  EXPECT_NE(msg.find("no-such-gpu"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("Context device"), std::string::npos) << msg;
+  Context by_index("vulkan", "0");
+  EXPECT_FALSE(by_index.device().empty());
+  // The selector held for that Context only: the next default Context opens as before.
+  Context again("vulkan");
+  EXPECT_EQ(again.device(), plain->device());
+}

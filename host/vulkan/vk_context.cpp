@@ -9,7 +9,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <mutex>
+#include <string>
+#include <tuple>
 #include <vector>
 
 namespace masq::vk {
@@ -28,7 +31,22 @@ std::uint64_t wait_limit_seconds() { return lowered_limit("vulkan", kDefaultWait
 namespace {
 
 std::mutex g_mutex;
-std::weak_ptr<Context> g_contexts[3]; // by DeviceNeed
+// Open contexts, shared by the backends that need the same device: keyed by the need and
+// the selectors in force when they opened, so a backend opened with another selector
+// (a Context naming its device) gets that device, not the one already open.
+using ContextKey = std::tuple<int, std::string, std::string>; // need, vulkan selector, own selector
+std::map<ContextKey, std::weak_ptr<Context>> g_contexts;
+
+ContextKey context_key(DeviceNeed need) {
+  const std::string vulkan = device_selector(DeviceApi::Vulkan).value;
+  switch (need) {
+    case DeviceNeed::Compute: return {static_cast<int>(need), vulkan, ""};
+    case DeviceNeed::RayQuery: return {static_cast<int>(need), vulkan, device_selector(DeviceApi::RayQuery).value};
+    case DeviceNeed::RayPipeline:
+      return {static_cast<int>(need), vulkan, device_selector(DeviceApi::RtPipeline).value};
+  }
+  return {static_cast<int>(need), vulkan, ""};
+}
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 std::atomic<std::uint64_t> g_validation_errors{0};
@@ -87,7 +105,7 @@ bool instance_has_layer(const char* name) {
 
 std::shared_ptr<Context> Context::get(const char* backend, DeviceNeed need) {
   std::lock_guard<std::mutex> lock(g_mutex);
-  std::weak_ptr<Context>& slot = g_contexts[static_cast<int>(need)];
+  std::weak_ptr<Context>& slot = g_contexts[context_key(need)];
   if (auto existing = slot.lock(); existing && !existing->lost()) return existing;
   std::shared_ptr<Context> ctx(new Context());
   ctx->create(backend, need);

@@ -76,6 +76,13 @@ class Context {
   /// vulkan, opencl, cpu that opens here). Throws masq::BackendUnavailable naming the
   /// cause when the backend cannot run here, masq::Error for an unknown name.
   explicit Context(const std::string& backend = "best");
+  /// Opens `backend` on the device `device` names: an index of `masq info`'s list for the
+  /// backend's API or a case-insensitive substring of a device name ("" : the default
+  /// choice, as above). Throws masq::Error for a selector that names no device (the
+  /// message lists the devices there are) and for "best" or "cpu" with a device. The
+  /// selector holds for this Context only; construct Contexts that name devices from one
+  /// thread at a time.
+  Context(const std::string& backend, const std::string& device);
   ~Context();
   Context(Context&&) noexcept;
   Context& operator=(Context&&) noexcept;

@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""What a trace from Python costs over the same trace from C++ (the issue's target: at
+most 5% on 1M rays on the cpu backend). Runs the C++ half (masq_api_trace, the public
+C++ API) and this process's masq module on the same file, method, backend and camera
+rays, alternating rounds because the machine is shared and noisy, and prints the median
+trace time of each path and the ratios.
+
+    PYTHONPATH=build/python python3 python/bench/trace_overhead.py \
+        --exe build/python/masq_api_trace --file ../shared/data/hair/tressfx3_bear.tfx
+"""
+import argparse
+import statistics
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+import masq
+
+
+def cpp_times(args):
+    out = subprocess.run(
+        [args.exe, args.file, args.backend, args.method, str(args.width), str(args.height), str(args.reps)],
+        check=True, capture_output=True, text=True).stdout
+    return [float(line.split()[1]) for line in out.splitlines() if line.startswith("trace_seconds")]
+
+
+def python_times(ctx, accel, reps, *rays):
+    times = []
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        ctx.trace(accel, *rays)
+        times.append(time.perf_counter() - t0)
+    return times
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--exe", required=True, help="the masq_api_trace executable (built beside the module)")
+    p.add_argument("--file", required=True, help="scene file")
+    p.add_argument("--backend", default="cpu")
+    p.add_argument("--method", default="masq")
+    p.add_argument("--width", type=int, default=1000)
+    p.add_argument("--height", type=int, default=1000)
+    p.add_argument("--reps", type=int, default=7, help="timed traces per path and round")
+    p.add_argument("--rounds", type=int, default=3)
+    args = p.parse_args()
+
+    scene = masq.Scene.load(args.file)
+    accel = masq.Accel.build(scene, method=args.method)
+    ctx = masq.Context(args.backend)
+    rays = scene.camera_rays(args.width, args.height)
+    origins = np.ascontiguousarray(rays["org"])
+    directions = np.ascontiguousarray(rays["dir"])
+    ctx.trace(accel, rays)  # upload and compile, untimed
+    print(f"{len(rays):,} rays, {args.file}, method {args.method}, {ctx.backend} on {ctx.device}; "
+          f"{args.reps} traces per path per round, median seconds")
+    print("| round | C++ API | Python, ray_dtype array | ratio | Python, origins + directions | ratio |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    ratios_rays, ratios_pair = [], []
+    for r in range(args.rounds):
+        c = statistics.median(cpp_times(args))
+        a = statistics.median(python_times(ctx, accel, args.reps, rays))
+        b = statistics.median(python_times(ctx, accel, args.reps, origins, directions))
+        ratios_rays.append(a / c)
+        ratios_pair.append(b / c)
+        print(f"| {r + 1} | {c:.4f} | {a:.4f} | {a / c:.3f} | {b:.4f} | {b / c:.3f} |")
+    print(f"median ratio Python/C++: {statistics.median(ratios_rays):.3f} (ray_dtype array), "
+          f"{statistics.median(ratios_pair):.3f} (origins + directions)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,45 @@
+// Checks and views of the numpy arrays the bindings take. Every check names the argument
+// ("Scene.add_capsules: a: ..."), so a notebook user sees which array was wrong: the
+// dtype (TypeError), the shape, the strides, a non-finite value (ValueError).
+#pragma once
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace masq::py {
+
+namespace pyb = pybind11;
+
+// What an argument is called in messages: "Context.trace: origins".
+struct ArgName {
+  const char* function;
+  const char* argument;
+  std::string text() const { return std::string(function) + ": " + argument; }
+};
+
+// A float array of `columns` columns per row (columns 0: a 1-D array), as float32. A
+// C-contiguous float32 array is used where it lies (no copy); float64 is converted (one
+// copy); any other dtype, a wrong shape or a non-contiguous array raises naming `name`.
+// `rows` < 0 takes any row count; otherwise the row count must equal it. Values must be
+// finite unless `allow_inf` (NaN never is).
+pyb::array_t<float> float_rows(const pyb::handle& value, ArgName name, std::size_t columns, long rows = -1,
+                               bool allow_inf = false);
+
+// Like float_rows for arrays of shape (rows, a, b), e.g. curves' (n, 4, 3) control points.
+pyb::array_t<float> float_blocks(const pyb::handle& value, ArgName name, std::size_t a, std::size_t b);
+
+// A per-row float: a Python number (the same for every row) or a 1-D array of `rows`
+// values (checked as float_rows). Returns `rows` values.
+std::vector<float> per_row_float(const pyb::handle& value, ArgName name, std::size_t rows, bool allow_inf = false);
+
+// An integer array of `columns` columns per row (any signed or unsigned integer dtype,
+// C-contiguous), every value in [0, 2^32); returned as uint32.
+std::vector<std::uint32_t> index_rows(const pyb::handle& value, ArgName name, std::size_t columns);
+
+// The rows of a checked array.
+inline std::size_t row_count(const pyb::array& a) { return a.ndim() == 0 ? 0 : static_cast<std::size_t>(a.shape(0)); }
+
+} // namespace masq::py
