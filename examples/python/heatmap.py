@@ -33,24 +33,31 @@ def main():
 
     methods = ["ref", "masq"]
     accels = {m: masq.Accel.build(scene, method=m) for m in methods}
-    fig, axes = plt.subplots(len(backends), len(methods), figsize=(4.2 * len(methods), 3.4 * len(backends)),
-                             squeeze=False)
-    for row, backend in enumerate(backends):
+    calls = {}
+    for backend in backends:
         ctx = masq.Context(backend)
-        for col, method in enumerate(methods):
+        for method in methods:
             hits, stats = ctx.trace(accels[method], rays, stats=True)
             ctx.trace(accels[method], rays)  # without counters: the time to quote
             seconds = ctx.timing["trace_seconds"]
-            calls = stats["isect_calls"].reshape(height, width).astype(float)
+            calls[backend, method] = np.maximum(stats["isect_calls"], 0).reshape(height, width)
             print(f"  {backend:10s} {method:4s} {len(rays) / seconds / 1e6:7.2f} Mrays/s, "
-                  f"{calls.mean():6.2f} intersector calls per ray, {np.mean(hits['prim'] >= 0):.1%} of rays hit")
+                  f"{calls[backend, method].mean():6.2f} intersector calls per ray, "
+                  f"{np.mean(hits['prim'] >= 0):.1%} of rays hit")
+
+    # One colour scale for every panel, so ref and masq compare by eye.
+    top = np.log1p(max(c.max() for c in calls.values()))
+    fig, axes = plt.subplots(len(backends), len(methods), figsize=(4.2 * len(methods), 3.2 * len(backends)),
+                             squeeze=False, layout="constrained")
+    for row, backend in enumerate(backends):
+        for col, method in enumerate(methods):
+            c = calls[backend, method]
             ax = axes[row][col]
-            im = ax.imshow(np.log1p(np.maximum(calls, 0)), cmap="inferno")
-            ax.set_title(f"{backend}, {method}: {calls.mean():.2f} calls/ray", fontsize=9)
+            im = ax.imshow(np.log1p(c), cmap="inferno", vmin=0, vmax=top)
+            ax.set_title(f"{backend}, {method}: {c.mean():.2f} calls/ray", fontsize=9)
             ax.axis("off")
-            fig.colorbar(im, ax=ax, fraction=0.04, label="log(1 + calls)")
+    fig.colorbar(im, ax=axes, fraction=0.03, label="log(1 + intersector calls)")
     fig.suptitle(f"intersector calls per pixel: {args.file.split('/')[-1]}")
-    fig.tight_layout()
     fig.savefig(args.out, dpi=110)
     print(f"wrote {args.out}")
     if args.show:

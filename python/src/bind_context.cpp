@@ -26,9 +26,16 @@ auto option(const Table& table, const std::string& name, ArgName arg) {
 // tmin, tmax) packed into the library's Ray structs. An infinite tmax (Python's default
 // bound) becomes the largest float, which every backend's arithmetic handles.
 struct RayInput {
-  pyb::array given;             // a ray_dtype array used in place, or empty
-  std::vector<api::Ray> packed; // else the rays packed here
+  pyb::array given;                       // a ray_dtype array used in place, or empty
+  std::vector<api::Ray>& packed = buffer(); // else the rays packed here
   std::span<const api::Ray> rays;
+
+  // Packed rays reuse one buffer per thread: a fresh one would cost its page faults on
+  // every trace (a million rays: 32 MB).
+  static std::vector<api::Ray>& buffer() {
+    thread_local std::vector<api::Ray> rays;
+    return rays;
+  }
 };
 
 void check_ray_array(const pyb::array& a, const char* function) {
@@ -37,6 +44,8 @@ void check_ray_array(const pyb::array& a, const char* function) {
   if (!(a.flags() & pyb::array::c_style))
     throw pyb::value_error(name.text() + ": the array is not C-contiguous; pass numpy.ascontiguousarray(rays)");
   const auto* r = static_cast<const api::Ray*>(a.data());
+  static_assert(sizeof(api::Ray) == 8 * sizeof(float));
+  if (!any_nonfinite(reinterpret_cast<const float*>(r), 8 * static_cast<std::size_t>(a.shape(0)))) return;
   for (pyb::ssize_t i = 0; i < a.shape(0); ++i) {
     const float v[8] = {r[i].org.x, r[i].org.y, r[i].org.z, r[i].tmin, r[i].dir.x, r[i].dir.y, r[i].dir.z, r[i].tmax};
     for (int k = 0; k < 8; ++k)
@@ -62,6 +71,7 @@ RayInput ray_input(const pyb::handle& origins, const pyb::handle& directions, co
     for (const api::Ray& r : in.rays) any_inf |= std::isinf(r.tmax);
     if (!any_inf) return in;
     in.packed.assign(in.rays.begin(), in.rays.end());
+    in.given = pyb::array();
   } else {
     if (directions.is_none())
       throw pyb::type_error(std::string(function) +
@@ -116,10 +126,26 @@ pyb::dict accel_options(const api::Accel& a) {
   return d;
 }
 
+// The hit array to write: `out` when given (checked: hit_dtype, one record per ray,
+// C-contiguous, writeable), else a new one.
+pyb::array hit_output(const pyb::handle& out, std::size_t rays) {
+  if (out.is_none()) return record_array(hit_dtype(), rays);
+  ArgName name{"Context.trace", "out"};
+  if (!pyb::isinstance<pyb::array>(out)) throw pyb::type_error(name.text() + ": expected a masq.hit_dtype array");
+  auto a = pyb::reinterpret_borrow<pyb::array>(out);
+  if (!a.dtype().equal(hit_dtype()))
+    throw pyb::type_error(name.text() + ": expected dtype masq.hit_dtype, got " + pyb::str(a.dtype()).cast<std::string>());
+  if (a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != rays)
+    throw pyb::value_error(name.text() + ": expected " + std::to_string(rays) + " records (one per ray)");
+  if (!(a.flags() & pyb::array::c_style)) throw pyb::value_error(name.text() + ": the array is not C-contiguous");
+  if (!a.writeable()) throw pyb::value_error(name.text() + ": the array is read-only");
+  return a;
+}
+
 pyb::object trace(api::Context& ctx, const api::Accel& accel, const pyb::handle& origins, const pyb::handle& directions,
-                  const pyb::handle& tmin, const pyb::handle& tmax, bool stats) {
+                  const pyb::handle& tmin, const pyb::handle& tmax, bool stats, const pyb::handle& out) {
   RayInput in = ray_input(origins, directions, tmin, tmax, "Context.trace");
-  pyb::array hits = record_array(hit_dtype(), in.rays.size());
+  pyb::array hits = hit_output(out, in.rays.size());
   pyb::array counters = record_array(stats_dtype(), stats ? in.rays.size() : 0);
   std::span<api::Hit> hit_span{static_cast<api::Hit*>(hits.mutable_data()), in.rays.size()};
   std::span<api::RayStats> stat_span;
@@ -195,10 +221,10 @@ void bind_context(pyb::module_& m) {
       .def_property_readonly("device", &api::Context::device)
       .def("trace", &trace, pyb::arg("accel"), pyb::arg("origins"), pyb::arg("directions") = pyb::none(),
            pyb::arg("tmin") = 0.0, pyb::arg("tmax") = std::numeric_limits<double>::infinity(),
-           pyb::arg("stats") = false,
+           pyb::arg("stats") = false, pyb::arg("out") = pyb::none(),
            "Closest hits: origins and directions (n, 3) with tmin, tmax numbers or (n,) arrays, or one "
-           "masq.ray_dtype array (used in place). Returns a masq.hit_dtype array (prim < 0: no hit), and with "
-           "stats=True also per-ray counters (masq.stats_dtype).")
+           "masq.ray_dtype array (used in place). Returns a masq.hit_dtype array (prim < 0: no hit; `out`, "
+           "when given, is written and returned), and with stats=True also per-ray counters (masq.stats_dtype).")
       .def("occluded", &occluded, pyb::arg("accel"), pyb::arg("origins"), pyb::arg("directions") = pyb::none(),
            pyb::arg("tmin") = 0.0, pyb::arg("tmax") = std::numeric_limits<double>::infinity(),
            "Shadow rays: a bool array, True where anything lies on the ray within [tmin, tmax].")
