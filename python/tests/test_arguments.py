@@ -143,3 +143,25 @@ def test_a_named_device_is_honoured_or_named_in_the_error(backends):
         masq.Context("vulkan", device="no-such-gpu")
     ctx = masq.Context("vulkan", device="0")
     assert ctx.device and ctx.backend == "vulkan"
+
+
+def test_out_is_written_in_place_or_refused_naming_it():
+    ctx = masq.Context("cpu")
+    s = masq.Scene()
+    s.add_spheres(np.array([[0, 0, 5]], np.float32), 1.0)
+    accel = masq.Accel.build(s)
+    o = np.zeros((2, 3), np.float32)
+    d = np.array([[0, 0, 1], [0, 1, 0]], np.float32)
+    out = np.empty(2, masq.hit_dtype)
+    hits = ctx.trace(accel, o, d, out=out)
+    assert hits is out and out["prim"][0] == 0 and out["prim"][1] < 0 and abs(out["t"][0] - 4) < 1e-5
+    with pytest.raises(ValueError, match="out: expected 2 records"):
+        ctx.trace(accel, o, d, out=np.empty(3, masq.hit_dtype))
+    with pytest.raises(TypeError, match="out: expected dtype masq.hit_dtype"):
+        ctx.trace(accel, o, d, out=np.empty(2, masq.ray_dtype))
+    with pytest.raises(ValueError, match="out: the array is not C-contiguous"):
+        ctx.trace(accel, o, d, out=np.empty(4, masq.hit_dtype)[::2])
+    ro = np.empty(2, masq.hit_dtype)
+    ro.flags.writeable = False
+    with pytest.raises(ValueError, match="out: the array is read-only"):
+        ctx.trace(accel, o, d, out=ro)

@@ -173,3 +173,32 @@ def test_loaded_hair_traces_alike_on_every_backend(backends, data_dir):
             continue
         same = np.mean(hits["prim"] == first["prim"])
         assert same > 0.995, f"{backend}: {same:.4f} of the rays hit what {backends[0]} hit"
+
+
+def test_threads_trace_at_once_as_they_would_one_after_the_other(backends):
+    # Traces release the GIL: Python threads on their own Contexts run at once and must
+    # give what each gives alone.
+    import threading
+    rng = np.random.default_rng(9)
+    scene, _, _ = sphere_scene(rng, 200)
+    o, d = random_rays(rng, 50000)
+    accel = masq.Accel.build(scene, method="masq")
+    alone = {b: masq.Context(b).trace(accel, o, d) for b in backends}
+    results, errors = {}, []
+
+    def run(key, backend):
+        try:
+            ctx = masq.Context(backend)
+            for _ in range(3):
+                results[key] = ctx.trace(accel, o, d)
+        except Exception as e:  # reported below, with the thread's backend
+            errors.append(f"{backend}: {e}")
+
+    threads = [threading.Thread(target=run, args=((b, k), b)) for b in backends for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors
+    for (b, _), hits in results.items():
+        assert np.array_equal(hits["prim"], alone[b]["prim"]) and np.array_equal(hits["t"], alone[b]["t"]), b
