@@ -67,6 +67,17 @@ int count_geometry(const std::vector<Hit>& hits, int g) {
 
 } // namespace
 
+// What `f` throws as masq::Error, or "(no error)".
+template <class F>
+std::string message(F&& f) {
+  try {
+    f();
+  } catch (const masq::Error& e) {
+    return std::string(e.what());
+  }
+  return std::string("(no error)");
+}
+
 TEST(Api, EveryBackendAndMethodAgreeOnAMixedScene) {
   Scene scene = mixed_scene();
   std::vector<Ray> rays = grid_rays();
@@ -212,14 +223,6 @@ TEST(Api, LoadsFilesAndFramesACamera) {
 }
 
 TEST(Api, BadInputAndMisuseThrowErrorsNamingTheCause) {
-  auto message = [](auto&& f) {
-    try {
-      f();
-    } catch (const masq::Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
   Scene s;
   Vec3 v[] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   std::uint32_t bad[] = {0, 1, 7};
@@ -304,14 +307,6 @@ TEST(Api, BestContextOpensAndReportsItself) {
 // next Context's choice as it was, and a selector naming nothing (or a host backend
 // given a device) is one masq::Error naming it.
 TEST(Api, ContextOnANamedDevice) {
-  auto message = [](auto&& f) {
-    try {
-      f();
-    } catch (const masq::Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
   EXPECT_NE(message([] { Context("cpu", "0"); }).find("no device to choose"), std::string::npos);
   EXPECT_NE(message([] { Context("best", "0"); }).find("no device to choose"), std::string::npos);
   EXPECT_NE(message([] { Context("warp", "0"); }).find("unknown backend 'warp'"), std::string::npos);
