@@ -1,6 +1,7 @@
 // A result table written once and rendered two ways: aligned columns for the terminal
 // and GitHub Markdown for the results document.
 #pragma once
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -17,5 +18,12 @@ struct Table {
   std::string text() const;
   std::string markdown() const;
 };
+
+// The table as JSON, {title, header, rows, notes, left_columns}: results.json keeps every
+// suite's tables so that `masq report` can merge runs. from_json checks every field and
+// throws masq::Error naming the bad one by its JSON pointer relative to the table
+// ("/rows/2/0: not a string"), which the reader prefixes with the file and the table's place.
+void to_json(nlohmann::json& j, const Table& t);
+void from_json(const nlohmann::json& j, Table& t);
 
 } // namespace masq
