@@ -44,9 +44,10 @@ Action add_report(CLI::App& app) {
       "report", "Merge the results.json of several bench runs (machines, devices) into one RESULTS.md, a column per device");
   cmd->add_option("runs", c->files, "results.json files written by masq bench --suite (format version 2)")->required();
   cmd->add_option("--out", c->out_dir, "Output directory of RESULTS.md and report.json")->capture_default_str();
-  cmd->add_option("--label", c->labels,
+  cmd->add_option("--label", c->labels, // one FILE=NAME per --label: the run files may follow it
                   "FILE=NAME: name a run (default: its file's folder name); a column's label gets it where two "
-                  "devices would be named alike");
+                  "devices would be named alike")
+      ->allow_extra_args(false);
   cmd->footer("Examples:\n"
               "  masq report runs/*/results.json --out report          one column per backend of each run\n"
               "  masq report a/results.json b/results.json --label a/results.json=laptop\n"
