@@ -5,25 +5,28 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <set>
 
 namespace masq {
 
 namespace {
 
 // The union of several sequences in the order first seen: a key new in a later sequence
-// goes right after the key before it there, so each run's order survives the merge.
+// goes right before the next key of that sequence already placed (at the end if none),
+// so each run's order survives the merge and a later run's new columns or rows follow
+// the earlier runs' ones at the same place.
 std::vector<std::string> merged_order(const std::vector<std::vector<std::string>>& sequences) {
   std::vector<std::string> out;
+  std::set<std::string> placed;
   for (const auto& seq : sequences) {
-    std::size_t next = 0; // where a new key goes: after the last key of seq found in out
-    for (const std::string& key : seq) {
-      auto it = std::find(out.begin(), out.end(), key);
-      if (it != out.end()) {
-        next = std::size_t(it - out.begin()) + 1;
-      } else {
-        out.insert(out.begin() + std::ptrdiff_t(next), key);
-        ++next;
-      }
+    const std::set<std::string> placed_before(placed);
+    for (std::size_t i = 0; i < seq.size(); ++i) {
+      if (placed.count(seq[i])) continue;
+      auto next = std::find_if(seq.begin() + std::ptrdiff_t(i) + 1, seq.end(),
+                               [&](const std::string& k) { return placed_before.count(k) > 0; });
+      auto at = next == seq.end() ? out.end() : std::find(out.begin(), out.end(), *next);
+      out.insert(at, seq[i]);
+      placed.insert(seq[i]);
     }
   }
   return out;
@@ -88,7 +91,7 @@ using DeviceIndex = std::map<std::pair<std::size_t, std::string>, std::size_t>; 
 MergedTable merge_table(const std::vector<TableSource>& sources, const std::vector<ReportRun>& runs,
                         const std::vector<ReportDevice>& devices, const DeviceIndex& device_of) {
   const Table& first = *sources.front().table;
-  const std::size_t label_count = std::size_t(first.left_columns);
+  const std::size_t label_count = std::size_t(first.row_label_columns());
   std::vector<std::vector<std::string>> column_orders, row_orders, note_orders;
   for (const TableSource& s : sources) {
     column_orders.push_back(s.column_keys);
@@ -108,7 +111,7 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
     std::optional<std::size_t> device;
   };
   std::vector<Column> out;
-  std::size_t left_columns = 0;
+  std::size_t label_columns = 0; // leading label columns of the merged table
   for (const std::string& key : columns) {
     const bool label = std::find(label_keys.begin(), label_keys.end(), key) != label_keys.end();
     std::vector<const TableSource*> having;
@@ -121,7 +124,7 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
       }
     if (label) {
       out.push_back({header, nullptr, key, std::nullopt});
-      if (out.size() == left_columns + 1) ++left_columns;
+      if (out.size() == label_columns + 1) ++label_columns;
       continue;
     }
     if (!backend.empty()) { // one column per run that has it: its device
@@ -158,7 +161,8 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
 
   MergedTable m;
   m.table.title = first.title;
-  m.table.left_columns = int(left_columns);
+  m.table.label_columns = int(label_columns);
+  m.table.left_columns = std::min(first.left_columns, int(label_columns));
   m.table.notes = merged_order(note_orders);
   for (const Column& c : out) m.table.header.push_back(c.header);
   for (const std::string& r : rows) {
@@ -203,7 +207,7 @@ std::vector<ReportDevice> collect_devices(const std::vector<ReportRun>& runs, De
   for (std::size_t r = 0; r < runs.size(); ++r)
     for (const ReportSuite& s : runs[r].suites)
       for (const Table& t : s.tables)
-        for (std::size_t c = std::size_t(t.left_columns); c < t.header.size(); ++c) {
+        for (std::size_t c = std::size_t(t.row_label_columns()); c < t.header.size(); ++c) {
           std::string b = backend_of(t.header[c], runs[r]);
           if (b.empty() || device_of.count({r, b})) continue;
           device_of[{r, b}] = devices.size();
@@ -285,7 +289,7 @@ MergedReport merge_runs(std::vector<ReportRun> runs) {
         if (it == title_orders[h].end()) continue;
         const Table& t = having[h].second->tables[std::size_t(it - title_orders[h].begin())];
         if (sources.empty())
-          label_headers.assign(t.header.begin(), t.header.begin() + t.left_columns);
+          label_headers.assign(t.header.begin(), t.header.begin() + t.row_label_columns());
         sources.push_back(index_table(having[h].first, t, label_headers));
       }
       merged.tables.push_back(merge_table(sources, report.runs, report.devices, device_of));

@@ -56,7 +56,8 @@ std::string Table::markdown() const {
 }
 
 void to_json(nlohmann::json& j, const Table& t) {
-  j = {{"title", t.title}, {"header", t.header}, {"rows", t.rows}, {"notes", t.notes}, {"left_columns", t.left_columns}};
+  j = {{"title", t.title}, {"header", t.header}, {"rows", t.rows}, {"notes", t.notes}, {"left_columns", t.left_columns},
+       {"label_columns", t.row_label_columns()}};
 }
 
 namespace {
@@ -91,11 +92,15 @@ void from_json(const nlohmann::json& j, Table& t) {
     t.rows.push_back(string_list(rows[r], pointer));
   }
   t.notes = string_list(table_field(j, "notes", &json::is_array, "an array"), "/notes");
-  const json& left = table_field(j, "left_columns", &json::is_number_integer, "an integer");
-  t.left_columns = left.get<int>();
-  if (t.left_columns < 0 || t.left_columns > int(t.header.size()))
-    throw Error("/left_columns: " + std::to_string(t.left_columns) + " is not between 0 and the header's " +
-                std::to_string(t.header.size()) + " columns");
+  auto column_count = [&](const char* key) {
+    int n = table_field(j, key, &json::is_number_integer, "an integer").get<int>();
+    if (n < 0 || n > int(t.header.size()))
+      throw Error("/" + std::string(key) + ": " + std::to_string(n) + " is not between 0 and the header's " +
+                  std::to_string(t.header.size()) + " columns");
+    return n;
+  };
+  t.left_columns = column_count("left_columns");
+  t.label_columns = j.contains("label_columns") ? column_count("label_columns") : -1;
 }
 
 } // namespace masq

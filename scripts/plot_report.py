@@ -31,7 +31,7 @@ def is_number(text):
 def row_labels(table):
     """Each row's label cells joined, a number with its column's name ("N=1000 r=0.002 tilt=15",
     "bear fur (TressFX 3) capsule"); an empty cell repeats the row above's."""
-    left = table["left_columns"]
+    left = table["label_columns"]
     names = table["header"][:left]
     labels, above = [], [""] * left
     for row in table["rows"]:

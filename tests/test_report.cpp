@@ -134,6 +134,9 @@ TEST(Report, DeviceColumnsLabelsAndSharedColumns) {
   EXPECT_EQ(t.header, header);
   EXPECT_EQ(t.left_columns, 2);
   ASSERT_EQ(t.rows.size(), 4u);
+  // b's new row follows a's rows; each run's own order kept.
+  EXPECT_EQ(t.rows[2][0], "100");
+  EXPECT_EQ(t.rows[3][0], "1000");
   EXPECT_EQ(row_of(t, "1"), (std::vector<std::string>{"1", "0.1", "1.05x", "0.93x", "0.95x", "2.00x / 1.0x",
                                                        "3.00x / 1.0x", "0.50x / 1.0x", "4.00x / 1.0x"}));
   // A row one run lacks: '-' in that run's columns, the shared columns from the other.
@@ -168,7 +171,7 @@ TEST(Report, GeometricMeansAndMissingSuite) {
   EXPECT_EQ(j["suites"][0]["plot_table"], 0);
   EXPECT_EQ(j["suites"][0]["tables"][0]["device_columns"][1]["device"], "cpu · Intel Xeon");
   EXPECT_EQ(j["suites"][0]["tables"][0]["device_columns"][1]["ratios"][0], 3.0);
-  EXPECT_TRUE(j["suites"][0]["tables"][0]["device_columns"][1]["ratios"][3].is_null()); // N=100: not on b
+  EXPECT_TRUE(j["suites"][0]["tables"][0]["device_columns"][1]["ratios"][2].is_null()); // N=100: not on b
 }
 
 TEST(Report, AlikeDevicesGetTheRunLabel) {
@@ -251,7 +254,7 @@ TEST(Report, BadInputNamesTheFile) {
 // The real writer and reader: two runs of write_results, merged.
 TEST(Report, RoundTripThroughWriteResults) {
   TempDir dir;
-  auto run = [&](const std::string& name, const std::string& device, const std::string& speedup) {
+  auto run = [&](const std::string& name, const std::string& device, const std::string& speedup, bool extra_row) {
     SuiteResult s;
     s.name = "fig3";
     s.title = "Fig. 3: synthetic bundles";
@@ -259,6 +262,9 @@ TEST(Report, RoundTripThroughWriteResults) {
     Table t;
     t.title = "speedup masq/ref per backend";
     t.header = {"N", "RT model", "vulkan", "vulkan calls/ray"};
+    t.left_columns = 0; // numbers aligned right, as fig3's; N still names the row
+    t.label_columns = 1;
+    if (extra_row) t.add({"10", "2.35x", "2.00x", "0.5 -> 0.1 (5.0x)"}); // first: rows match by N, not by place
     t.add({"1", "0.93x", speedup, "0.43 -> 0.25 (1.8x)"});
     t.notes = {"a note"};
     s.tables = {t};
@@ -270,8 +276,8 @@ TEST(Report, RoundTripThroughWriteResults) {
     write_results(out, {s}, machine, ResultsRun{"masq bench --suite fig3 --quick", true, 2.0});
     return out + "/results.json";
   };
-  std::string a = run("lavapipe", "llvmpipe (LLVM 15.0.6) [Mesa]", "1.10x");
-  std::string b = run("gpu", "NVIDIA H100 [NVIDIA 550]", "3.00x");
+  std::string a = run("lavapipe", "llvmpipe (LLVM 15.0.6) [Mesa]", "1.10x", false);
+  std::string b = run("gpu", "NVIDIA H100 [NVIDIA 550]", "3.00x", true);
   json written = json::parse(std::ifstream(a));
   EXPECT_EQ(written["format"], results_format);
   EXPECT_EQ(written["format_version"], results_format_version);
@@ -282,8 +288,11 @@ TEST(Report, RoundTripThroughWriteResults) {
   const Table& t = fig3_table(r).table;
   EXPECT_EQ(t.header, (std::vector<std::string>{"N", "RT model", "vulkan · llvmpipe", "vulkan · NVIDIA H100",
                                                 "vulkan · llvmpipe calls/ray", "vulkan · NVIDIA H100 calls/ray"}));
-  ASSERT_EQ(t.rows.size(), 1u);
-  EXPECT_EQ(t.rows[0], (std::vector<std::string>{"1", "0.93x", "1.10x", "3.00x", "0.43 -> 0.25 (1.8x)",
+  EXPECT_EQ(written["suites"]["fig3"]["tables"][0]["label_columns"], 1);
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.label_columns, 1);
+  EXPECT_EQ(t.rows[0], (std::vector<std::string>{"10", "2.35x", "-", "2.00x", "-", "0.5 -> 0.1 (5.0x)"})); // b's order
+  EXPECT_EQ(t.rows[1], (std::vector<std::string>{"1", "0.93x", "1.10x", "3.00x", "0.43 -> 0.25 (1.8x)",
                                                  "0.43 -> 0.25 (1.8x)"}));
   EXPECT_EQ(r.suites[0].method, "tiny bundles");
   std::string out = (dir.path / "report").string();
