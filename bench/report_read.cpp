@@ -166,7 +166,8 @@ std::vector<ReportRun> read_results_files(const std::vector<std::string>& files,
   std::map<std::string, int> seen;
   for (ReportRun& r : runs) {
     int n = ++seen[r.label];
-    if (n > 1) r.label += " " + std::to_string(n);
+    // Appends rather than " " + s: GCC 12 reports a false -Wstringop-overflow on that operator+.
+    if (n > 1) r.label.append(" ").append(std::to_string(n));
   }
   return runs;
 }
