@@ -142,14 +142,12 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
     }
     bool agree = true; // a shared column: once if every run that has a row says the same
     for (const std::string& r : rows) {
-      const std::string* seen = nullptr;
-      std::string value;
+      std::optional<std::string> seen;
       for (const TableSource* s : having)
         if (const auto* row = s->row(r)) {
           std::string v = cell(*row, *s->column(key));
-          if (seen && v != value) agree = false;
-          value = v;
-          seen = &value;
+          if (seen && v != *seen) agree = false;
+          seen = v;
         }
     }
     if (agree) {
