@@ -1,6 +1,7 @@
 #include "bench/results_doc.h"
 #include "peers/embree_peer.h"
 #include "masq/error.h"
+#include "masq/masq.h"
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -88,6 +89,9 @@ void write_results(const std::string& out_dir, const std::vector<SuiteResult>& s
   md << "Ratios (masq/ref, masq/Embree) are measured in the same run on the same rays; absolute rays/s on this shared "
         "2-core machine move by 10-20% between runs.\n\n";
   nlohmann::json all;
+  all["format"] = results_format;
+  all["format_version"] = results_format_version;
+  all["masq_version"] = api::version();
   all["machine"] = machine;
   all["run"] = {{"command", run.command}, {"quick", run.quick}, {"seconds", run.seconds}};
   for (const SuiteResult& s : suites) {
@@ -95,7 +99,8 @@ void write_results(const std::string& out_dir, const std::vector<SuiteResult>& s
     if (!s.method.empty()) md << s.method << "\n\n";
     for (const Table& t : s.tables) md << t.markdown() << "\n";
     for (const SuiteImage& img : s.images) md << "![" << img.caption << "](" << img.file << ")\n\n*" << img.caption << "*\n\n";
-    all["suites"][s.name] = {{"title", s.title}, {"seconds", s.seconds}, {"data", s.data}};
+    all["suites"][s.name] = {{"title", s.title}, {"seconds", s.seconds}, {"method", s.method}, {"data", s.data},
+                             {"tables", s.tables}};
   }
   auto write = [&](const std::string& name, const std::string& text) {
     std::string path = (std::filesystem::path(out_dir) / name).string();

@@ -9,6 +9,13 @@
 
 namespace masq {
 
+// results.json names its format and version, so that `masq report` (bench/report_read.h)
+// can refuse a file it would misread. Version 1 (no "format" field) had no tables;
+// version 2 added "format", "format_version", "masq_version" and each suite's "tables"
+// and "method". Raise the version when a field changes meaning or goes away.
+inline constexpr const char* results_format = "masq-results";
+inline constexpr int results_format_version = 2;
+
 // CPU, memory, OS, compiler, date, git commit, and each backend's device and driver.
 nlohmann::json machine_description(BackendPool& pool, const std::vector<std::string>& backends);
 

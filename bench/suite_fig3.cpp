@@ -113,7 +113,8 @@ SuiteResult run_fig3(SuiteContext& ctx) {
   t.title = fmt::format("speedup masq/ref and intersector-call ratio ref/masq per backend ({}x{} orthographic primary rays)", side, side);
   t.header = {"N", "r", "tilt", "paper RTX 8000", "RT model", "calls ref/masq"};
   for (const std::string& b : opt.backends) t.header.push_back(b);
-  t.left_columns = 0;
+  t.left_columns = 0;  // numbers, aligned right
+  t.label_columns = 3; // N, r, tilt name a cell
   res.data["cells"] = nlohmann::json::array();
   std::vector<Fig3Measured> grid;
   for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -159,6 +160,7 @@ SuiteResult run_fig3(SuiteContext& ctx) {
   mt.header = {"N", "r", "tilt"};
   for (const std::string& b : opt.backends) mt.header.push_back(b);
   mt.left_columns = 0;
+  mt.label_columns = 3;
   MethodTally tally;
   for (std::size_t i = 0; i < cells.size(); ++i) {
     std::vector<std::string> line = {std::to_string(cells[i].n), fmt::format("{:g}", cells[i].r),

@@ -9,4 +9,5 @@ Action add_info(CLI::App& app);
 Action add_render(CLI::App& app);
 Action add_bench(CLI::App& app);
 Action add_stress(CLI::App& app);
+Action add_report(CLI::App& app);
 } // namespace masq::cli

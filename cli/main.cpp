@@ -13,9 +13,11 @@ int main(int argc, char** argv) {
              "  masq bench --prim curve --subdiv 4 --mode fast\n"
              "  masq render --backend vulkan --out bundle   # bundle_shaded.png, bundle_heat.png\n"
              "  masq stress --quick                 # numerical stress suite vs the long-double oracle\n"
+             "  masq report a/results.json b/results.json   # several runs side by side, a column per device\n"
              "Every subcommand's --help shows its own examples (masq bench --help).\n"
              "Exit codes: 0 ok; 1 runtime error, one line on stderr (bad scene file, device or driver\n"
-             "failure, `info` finding no backend, `stress --check` bounds missed); 2 usage error\n"
+             "failure, `info` finding no backend, `stress --check` bounds missed,\n"
+             "a `report` input that is not a results.json of this version); 2 usage error\n"
              "(unknown subcommand, option or value; the message names it).");
   app.require_subcommand(1);
   masq::cli::Action action;
@@ -23,6 +25,7 @@ int main(int argc, char** argv) {
   masq::cli::Action render = masq::cli::add_render(app);
   masq::cli::Action bench = masq::cli::add_bench(app);
   masq::cli::Action stress = masq::cli::add_stress(app);
+  masq::cli::Action report = masq::cli::add_report(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -34,6 +37,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("render")) return render();
     if (app.got_subcommand("bench")) return bench();
     if (app.got_subcommand("stress")) return stress();
+    if (app.got_subcommand("report")) return report();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "masq: %s\n", e.what());
     return 1;

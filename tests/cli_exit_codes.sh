@@ -13,7 +13,7 @@ expect() { # expect CODE ARGS...: run masq ARGS, check its exit code
   fi
 }
 expect 0 --help
-for sub in info render bench stress; do
+for sub in info render bench stress report; do
   expect 0 "$sub" --help
   # Captured first: `masq ... | grep -q` under pipefail fails when grep stops reading early.
   help=$("$masq" "$sub" --help)
@@ -42,6 +42,18 @@ fi
 MASQ_CL_DEVICE=no-such-gpu expect 1 stress --quick --backend opencl
 expect 1 render --backend vulkan --device no-such-gpu --out /tmp/masq_cli_exit
 expect 2 bench --device metal=0
+# masq report: a bad input file stops it with one line naming the file (docs/bench.md, "masq report").
+expect 2 report                                                              # no results file
+expect 1 report /nonexistent/results.json --out /tmp/masq_cli_exit
+if [ "$(wc -l </tmp/masq_cli_out.$$)" -ne 1 ] || ! grep -q "^masq: /nonexistent/results.json: " /tmp/masq_cli_out.$$; then
+  echo "FAIL: masq report of a missing file: not one line naming it"; sed 's/^/  | /' /tmp/masq_cli_out.$$ | tail -5; fail=1
+fi
+echo '{"machine": {}}' >/tmp/masq_cli_report.$$.json
+expect 1 report /tmp/masq_cli_report.$$.json --out /tmp/masq_cli_exit
+if [ "$(wc -l </tmp/masq_cli_out.$$)" -ne 1 ] || ! grep -q "^masq: /tmp/masq_cli_report.$$.json: not a masq results file" /tmp/masq_cli_out.$$; then
+  echo "FAIL: masq report of a non-results JSON file: not one line naming it"; sed 's/^/  | /' /tmp/masq_cli_out.$$ | tail -5; fail=1
+fi
+rm -f /tmp/masq_cli_report.$$.json
 rm -f /tmp/masq_cli_out.$$
 [ $fail -eq 0 ] && echo "cli exit codes: ok"
 exit $fail

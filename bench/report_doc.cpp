@@ -1,0 +1,142 @@
+#include "bench/report_doc.h"
+#include "masq/error.h"
+#include "masq/masq.h"
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <sstream>
+
+namespace masq {
+
+namespace {
+
+// "24684092 kB" (/proc/meminfo) as "23.5 GiB"; anything else as it is.
+std::string memory_text(const std::string& meminfo) {
+  std::size_t end = 0;
+  try {
+    double kb = std::stod(meminfo, &end);
+    if (meminfo.substr(end) == " kB") return fmt::format("{:.1f} GiB", kb / (1024.0 * 1024.0));
+  } catch (const std::exception&) {
+  }
+  return meminfo;
+}
+
+// The first table of a suite whose device columns hold ratios: the one plotted.
+const MergedTable* plotted_table(const MergedSuite& s) {
+  for (const MergedTable& t : s.tables)
+    if (t.has_ratios()) return &t;
+  return nullptr;
+}
+
+std::string runs_text(const MergedReport& report, const std::vector<std::size_t>& runs) {
+  std::string out;
+  for (std::size_t r : runs)
+    out += (out.empty() ? "" : ", ") + report.runs[r].label + " (`" + report.runs[r].file + "`)";
+  return out;
+}
+
+Table devices_table(const MergedReport& report) {
+  Table t;
+  t.header = {"column", "run", "backend", "device and driver", "CPU", "threads", "memory", "OS", "date", "commit",
+              "masq", "variant", "command"};
+  t.left_columns = int(t.header.size());
+  for (const ReportDevice& d : report.devices) {
+    const ReportRun& r = report.runs[d.run];
+    const auto& m = r.machine;
+    t.add({d.label, r.label + " (`" + r.file + "`)", d.backend, d.device, m.value("cpu", ""),
+           m.contains("hardware_threads") ? m["hardware_threads"].dump() : "", memory_text(m.value("memory", "")),
+           m.value("os", ""), m.value("date", ""), m.value("git_commit", ""), r.masq_version,
+           r.quick ? "quick" : "full", "`" + r.command + "`"});
+  }
+  return t;
+}
+
+} // namespace
+
+std::string report_plot_file(const std::string& suite) { return "report_" + suite + ".png"; }
+
+std::string report_markdown(const MergedReport& report, const std::string& command) {
+  std::ostringstream md;
+  md << "# masq benchmark results: " << report.runs.size() << " runs side by side\n\n";
+  md << "Merged by `" << command << "` (masq " << api::version() << ") from ";
+  std::vector<std::size_t> all;
+  for (std::size_t r = 0; r < report.runs.size(); ++r) all.push_back(r);
+  md << runs_text(report, all) << ". Do not edit by hand: rerun the command.\n\n";
+  md << "Each device column is one backend of one run. A ratio (masq/ref, masq/Embree) was measured within one run on "
+        "one device, on the same rays, so ratios compare across devices; absolute rays/s compare only as far as the "
+        "machines were quiet. Label columns and the columns the runs agree on appear once; a row one run lacks shows "
+        "`-` in that run's columns; a shared column the runs disagree on appears once per run.\n\n";
+  md << "## Devices\n\n" << devices_table(report).markdown() << "\n";
+  for (const MergedSuite& s : report.suites) {
+    md << "## " << s.title << " (`" << s.name << "`)\n\n";
+    if (!s.missing_in.empty()) md << "Not in " << runs_text(report, s.missing_in) << ": that run did not run this suite.\n\n";
+    if (!s.method.empty()) md << s.method << "\n\n";
+    for (const MergedTable& t : s.tables) {
+      md << t.table.markdown() << "\n";
+      if (!t.has_ratios()) continue;
+      for (std::size_t c = 0; c < t.device_columns.size(); ++c) {
+        if (!t.geomeans[c]) continue;
+        int rows = int(std::count_if(t.ratios[c].begin(), t.ratios[c].end(), [](const auto& v) { return v && *v > 0; }));
+        md << "- geometric mean of the first ratio per cell, " << report.devices[t.device_columns[c].second].label
+           << ": " << fmt::format("{:.2f}x", *t.geomeans[c]) << " over " << rows << (rows == 1 ? " row" : " rows")
+           << "\n";
+      }
+      md << "\n";
+    }
+    if (const MergedTable* p = plotted_table(s))
+      md << "![" << p->table.title << ", per device](" << report_plot_file(s.name) << ")\n\n*" << p->table.title
+         << ": one bar per device (scripts/plot_report.py)*\n\n";
+  }
+  return md.str();
+}
+
+nlohmann::json report_json(const MergedReport& report, const std::string& command) {
+  using nlohmann::json;
+  json j;
+  j["format"] = report_format;
+  j["format_version"] = report_format_version;
+  j["masq_version"] = api::version();
+  j["command"] = command;
+  j["runs"] = json::array();
+  for (const ReportRun& r : report.runs)
+    j["runs"].push_back({{"file", r.file}, {"label", r.label}, {"masq_version", r.masq_version},
+                         {"command", r.command}, {"quick", r.quick}, {"machine", r.machine}});
+  j["devices"] = json::array();
+  for (const ReportDevice& d : report.devices)
+    j["devices"].push_back({{"label", d.label}, {"run", d.run}, {"backend", d.backend}, {"device", d.device}});
+  j["suites"] = json::array();
+  for (const MergedSuite& s : report.suites) {
+    json suite = {{"name", s.name}, {"title", s.title}, {"missing_in", s.missing_in}, {"tables", json::array()}};
+    const MergedTable* plotted = plotted_table(s);
+    suite["plot"] = plotted ? json(report_plot_file(s.name)) : json();
+    for (const MergedTable& t : s.tables) {
+      json table = t.table;
+      table["device_columns"] = json::array();
+      for (std::size_t c = 0; c < t.device_columns.size(); ++c) {
+        json ratios = json::array();
+        for (const auto& v : t.ratios[c]) ratios.push_back(v ? json(*v) : json());
+        table["device_columns"].push_back({{"column", t.device_columns[c].first},
+                                           {"device", report.devices[t.device_columns[c].second].label},
+                                           {"ratios", ratios},
+                                           {"geomean", t.geomeans[c] ? json(*t.geomeans[c]) : json()}});
+      }
+      if (&t == plotted) suite["plot_table"] = suite["tables"].size();
+      suite["tables"].push_back(table);
+    }
+    j["suites"].push_back(suite);
+  }
+  return j;
+}
+
+void write_report(const std::string& out_dir, const MergedReport& report, const std::string& command) {
+  std::filesystem::create_directories(out_dir);
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::string path = (std::filesystem::path(out_dir) / name).string();
+    std::ofstream f(path);
+    if (!f || !(f << text)) throw Error("report: cannot write '" + path + "'");
+  };
+  write("RESULTS.md", report_markdown(report, command));
+  write("report.json", report_json(report, command).dump(1) + "\n");
+}
+
+} // namespace masq
