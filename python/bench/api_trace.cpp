@@ -1,7 +1,10 @@
 // The C++ side of the Python overhead benchmark (python/bench/trace_overhead.py): the same
 // scene, accel, rays and timed traces through the public C++ API, so the script can
 // compare a trace from Python with the same trace from C++.
-// Usage: masq_api_trace FILE BACKEND METHOD WIDTH HEIGHT REPS
+// Usage: masq_api_trace FILE BACKEND METHOD WIDTH HEIGHT REPS [reuse|fresh]
+// reuse (default): every trace writes one hit vector kept from trace to trace; fresh:
+// each trace returns a new vector (Context::trace(accel, rays)), as a Python trace
+// without out= returns a new array.
 // Prints one line per timed trace: "trace_seconds <wall seconds>".
 #include "masq/masq.h"
 #include <chrono>
@@ -12,8 +15,9 @@
 #include <vector>
 
 int main(int argc, char** argv) {
-  if (argc != 7) {
-    std::fprintf(stderr, "usage: %s FILE BACKEND METHOD WIDTH HEIGHT REPS\n", argv[0]);
+  const std::string output = argc == 8 ? argv[7] : "reuse";
+  if ((argc != 7 && argc != 8) || (output != "reuse" && output != "fresh")) {
+    std::fprintf(stderr, "usage: %s FILE BACKEND METHOD WIDTH HEIGHT REPS [reuse|fresh]\n", argv[0]);
     return 2;
   }
   try {
@@ -28,7 +32,8 @@ int main(int argc, char** argv) {
     ctx.trace(accel, rays, hits); // upload and compile, untimed
     for (int rep = 0; rep < std::atoi(argv[6]); ++rep) {
       auto t0 = std::chrono::steady_clock::now();
-      ctx.trace(accel, rays, hits);
+      if (output == "reuse") ctx.trace(accel, rays, hits);
+      else hits = ctx.trace(accel, rays); // the old vector is freed after the trace, as Python's would be
       std::chrono::duration<double> dt = std::chrono::steady_clock::now() - t0;
       std::printf("trace_seconds %.6f\n", dt.count());
     }

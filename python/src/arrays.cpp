@@ -117,7 +117,8 @@ pyb::array_t<float> float_blocks(const pyb::handle& value, ArgName name, std::si
   return f;
 }
 
-std::vector<float> per_row_float(const pyb::handle& value, ArgName name, std::size_t rows, bool allow_inf) {
+PerRowFloat per_row_float(const pyb::handle& value, ArgName name, std::size_t rows, bool allow_inf) {
+  PerRowFloat out;
   const bool sequence = pyb::isinstance<pyb::list>(value) || pyb::isinstance<pyb::tuple>(value);
   const bool zero_d = pyb::isinstance<pyb::array>(value) && pyb::reinterpret_borrow<pyb::array>(value).ndim() == 0;
   if (!sequence && (zero_d || !pyb::isinstance<pyb::array>(value))) {
@@ -132,10 +133,12 @@ std::vector<float> per_row_float(const pyb::handle& value, ArgName name, std::si
     if (std::isnan(d) || (!allow_inf && std::isinf(d)))
       throw pyb::value_error(name.text() + ": " + (std::isnan(d) ? "NaN" : "infinite value") +
                              " (coordinates, radii and ray bounds must be finite numbers)");
-    return std::vector<float>(rows, static_cast<float>(d));
+    out.scalar_ = static_cast<float>(d);
+    return out;
   }
-  pyb::array_t<float> f = float_rows(value, name, 0, static_cast<long>(rows), allow_inf);
-  return std::vector<float>(f.data(), f.data() + rows);
+  out.array_ = float_rows(value, name, 0, static_cast<long>(rows), allow_inf);
+  out.values_ = out.array_.data();
+  return out;
 }
 
 std::vector<std::uint32_t> index_rows(const pyb::handle& value, ArgName name, std::size_t columns) {

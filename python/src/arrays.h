@@ -32,8 +32,18 @@ pyb::array_t<float> float_rows(const pyb::handle& value, ArgName name, std::size
 pyb::array_t<float> float_blocks(const pyb::handle& value, ArgName name, std::size_t a, std::size_t b);
 
 // A per-row float: a Python number (the same for every row) or a 1-D array of `rows`
-// values (checked as float_rows). Returns `rows` values.
-std::vector<float> per_row_float(const pyb::handle& value, ArgName name, std::size_t rows, bool allow_inf = false);
+// values (checked as float_rows), read in place.
+class PerRowFloat {
+ public:
+  float operator[](std::size_t row) const { return values_ ? values_[row] : scalar_; }
+
+ private:
+  friend PerRowFloat per_row_float(const pyb::handle&, ArgName, std::size_t, bool);
+  pyb::array_t<float> array_; // keeps values_ alive
+  const float* values_ = nullptr;
+  float scalar_ = 0;
+};
+PerRowFloat per_row_float(const pyb::handle& value, ArgName name, std::size_t rows, bool allow_inf = false);
 
 // An integer array of `columns` columns per row (any signed or unsigned integer dtype,
 // C-contiguous), every value in [0, 2^32); returned as uint32.

@@ -38,15 +38,20 @@ struct RayInput {
   }
 };
 
-void check_ray_array(const pyb::array& a, const char* function) {
+// Checks a ray_dtype array; returns whether any tmax is +inf (allowed, but replaced).
+bool check_ray_array(const pyb::array& a, const char* function) {
   ArgName name{function, "rays"};
   if (a.ndim() != 1) throw pyb::value_error(name.text() + ": a ray_dtype array must be 1-D");
   if (!(a.flags() & pyb::array::c_style))
     throw pyb::value_error(name.text() + ": the array is not C-contiguous; pass numpy.ascontiguousarray(rays)");
   const auto* r = static_cast<const api::Ray*>(a.data());
   static_assert(sizeof(api::Ray) == 8 * sizeof(float));
-  if (!any_nonfinite(reinterpret_cast<const float*>(r), 8 * static_cast<std::size_t>(a.shape(0)))) return;
+  // One pass over the rays in the common case; the slow scan only when something is not
+  // finite, to name it or to find an infinite tmax.
+  if (!any_nonfinite(reinterpret_cast<const float*>(r), 8 * static_cast<std::size_t>(a.shape(0)))) return false;
+  bool infinite_tmax = false;
   for (pyb::ssize_t i = 0; i < a.shape(0); ++i) {
+    infinite_tmax |= std::isinf(r[i].tmax);
     const float v[8] = {r[i].org.x, r[i].org.y, r[i].org.z, r[i].tmin, r[i].dir.x, r[i].dir.y, r[i].dir.z, r[i].tmax};
     for (int k = 0; k < 8; ++k)
       if (std::isnan(v[k]) || (k != 7 && std::isinf(v[k])))
@@ -55,7 +60,11 @@ void check_ray_array(const pyb::array& a, const char* function) {
                                (k < 3 ? "origin" : k == 3 ? "tmin" : k < 7 ? "direction" : "tmax") +
                                " (coordinates and ray bounds must be finite; tmax may be +inf)");
   }
+  return infinite_tmax;
 }
+
+// tmax as the kernels take it: +inf (Python's "no bound") as the largest float.
+float largest_bound(float tmax) { return tmax == std::numeric_limits<float>::infinity() ? std::numeric_limits<float>::max() : tmax; }
 
 RayInput ray_input(const pyb::handle& origins, const pyb::handle& directions, const pyb::handle& tmin,
                    const pyb::handle& tmax, const char* function) {
@@ -65,13 +74,13 @@ RayInput ray_input(const pyb::handle& origins, const pyb::handle& directions, co
     if (!directions.is_none())
       throw pyb::value_error(std::string(function) + ": directions: not used with a ray_dtype array (it holds them)");
     in.given = pyb::reinterpret_borrow<pyb::array>(origins);
-    check_ray_array(in.given, function);
+    const bool infinite_tmax = check_ray_array(in.given, function);
     in.rays = {static_cast<const api::Ray*>(in.given.data()), static_cast<std::size_t>(in.given.shape(0))};
-    bool any_inf = false;
-    for (const api::Ray& r : in.rays) any_inf |= std::isinf(r.tmax);
-    if (!any_inf) return in;
+    if (!infinite_tmax) return in;
     in.packed.assign(in.rays.begin(), in.rays.end());
     in.given = pyb::array();
+    for (api::Ray& r : in.packed)
+      if (std::isinf(r.tmax)) r.tmax = largest_bound(r.tmax);
   } else {
     if (directions.is_none())
       throw pyb::type_error(std::string(function) +
@@ -80,17 +89,15 @@ RayInput ray_input(const pyb::handle& origins, const pyb::handle& directions, co
     auto o = float_rows(origins, {function, "origins"}, 3);
     const std::size_t n = row_count(o);
     auto d = float_rows(directions, {function, "directions"}, 3, static_cast<long>(n));
-    std::vector<float> t0 = per_row_float(tmin, {function, "tmin"}, n);
-    std::vector<float> t1 = per_row_float(tmax, {function, "tmax"}, n, true);
+    PerRowFloat t0 = per_row_float(tmin, {function, "tmin"}, n);
+    PerRowFloat t1 = per_row_float(tmax, {function, "tmax"}, n, true);
     in.packed.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       const float* po = o.data() + 3 * i;
       const float* pd = d.data() + 3 * i;
-      in.packed[i] = {{po[0], po[1], po[2]}, t0[i], {pd[0], pd[1], pd[2]}, t1[i]};
+      in.packed[i] = {{po[0], po[1], po[2]}, t0[i], {pd[0], pd[1], pd[2]}, largest_bound(t1[i])};
     }
   }
-  for (api::Ray& r : in.packed)
-    if (std::isinf(r.tmax)) r.tmax = r.tmax > 0 ? std::numeric_limits<float>::max() : r.tmax;
   in.rays = in.packed;
   return in;
 }

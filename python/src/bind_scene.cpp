@@ -33,8 +33,8 @@ std::uint32_t add_triangles(api::Scene& scene, const pyb::handle& vertices, cons
 std::uint32_t add_capsules(api::Scene& scene, const pyb::handle& a, const pyb::handle& b, const pyb::handle& radius) {
   auto pa = float_rows(a, {"Scene.add_capsules", "a"}, 3);
   auto pb = float_rows(b, {"Scene.add_capsules", "b"}, 3, static_cast<long>(row_count(pa)));
-  std::vector<float> r = per_row_float(radius, {"Scene.add_capsules", "radius"}, row_count(pa));
-  std::vector<api::Capsule> caps(r.size());
+  PerRowFloat r = per_row_float(radius, {"Scene.add_capsules", "radius"}, row_count(pa));
+  std::vector<api::Capsule> caps(row_count(pa));
   for (std::size_t i = 0; i < caps.size(); ++i) caps[i] = {vec3_at(pa.data() + 3 * i), vec3_at(pb.data() + 3 * i), r[i]};
   return scene.add_capsules(caps);
 }
@@ -44,8 +44,8 @@ std::uint32_t add_round_cones(api::Scene& scene, const pyb::handle& a, const pyb
   auto pa = float_rows(a, {"Scene.add_round_cones", "a"}, 3);
   const std::size_t n = row_count(pa);
   auto pb = float_rows(b, {"Scene.add_round_cones", "b"}, 3, static_cast<long>(n));
-  std::vector<float> r0 = per_row_float(ra, {"Scene.add_round_cones", "ra"}, n);
-  std::vector<float> r1 = per_row_float(rb, {"Scene.add_round_cones", "rb"}, n);
+  PerRowFloat r0 = per_row_float(ra, {"Scene.add_round_cones", "ra"}, n);
+  PerRowFloat r1 = per_row_float(rb, {"Scene.add_round_cones", "rb"}, n);
   std::vector<api::RoundCone> cones(n);
   for (std::size_t i = 0; i < n; ++i) cones[i] = {vec3_at(pa.data() + 3 * i), r0[i], vec3_at(pb.data() + 3 * i), r1[i]};
   return scene.add_round_cones(cones);
@@ -53,16 +53,16 @@ std::uint32_t add_round_cones(api::Scene& scene, const pyb::handle& a, const pyb
 
 std::uint32_t add_spheres(api::Scene& scene, const pyb::handle& centers, const pyb::handle& radius) {
   auto c = float_rows(centers, {"Scene.add_spheres", "centers"}, 3);
-  std::vector<float> r = per_row_float(radius, {"Scene.add_spheres", "radius"}, row_count(c));
-  std::vector<api::Sphere> spheres(r.size());
+  PerRowFloat r = per_row_float(radius, {"Scene.add_spheres", "radius"}, row_count(c));
+  std::vector<api::Sphere> spheres(row_count(c));
   for (std::size_t i = 0; i < spheres.size(); ++i) spheres[i] = {vec3_at(c.data() + 3 * i), r[i]};
   return scene.add_spheres(spheres);
 }
 
 std::uint32_t add_curves(api::Scene& scene, const pyb::handle& points, const pyb::handle& radius) {
   auto p = float_blocks(points, {"Scene.add_curves", "points"}, 4, 3);
-  std::vector<float> r = per_row_float(radius, {"Scene.add_curves", "radius"}, row_count(p));
-  std::vector<api::Curve> curves(r.size());
+  PerRowFloat r = per_row_float(radius, {"Scene.add_curves", "radius"}, row_count(p));
+  std::vector<api::Curve> curves(row_count(p));
   for (std::size_t i = 0; i < curves.size(); ++i) {
     for (int k = 0; k < 4; ++k) curves[i].p[k] = vec3_at(p.data() + 12 * i + 3 * k);
     curves[i].radius = r[i];
