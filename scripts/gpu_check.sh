@@ -152,7 +152,7 @@ if [ $smoke -eq 1 ]; then
 else
   # Every backend against the oracle and each other, and the device choice itself.
   ctest --test-dir "$build_dir" \
-    -R '^(CrossBackend|Types/EveryPrimitive|Backends/NodeFormatsAgree|EveryBackend/Occlusion|DeviceChoice|RealDevices)\.' \
+    -R '^(CrossBackend|Types/EveryPrimitive|Backends/NodeFormatsAgree|EveryBackend/Occlusion|DeviceChoice|RealDevices)\.|^python_pytest$' \
     --output-on-failure --timeout 600 -j"$(nproc)"
 fi
 
@@ -166,4 +166,13 @@ else
   /usr/bin/python3 scripts/plot_results.py "$out" || echo "gpu_check: plots skipped (matplotlib missing?)"
 fi
 [ -s "$out/RESULTS.md" ] || { echo "gpu_check: $out/RESULTS.md was not written" >&2; exit 1; }
+# This device's run beside the repository's own quick run (lavapipe, PoCL and the cpu
+# backend on the 2-core machine that made it): one document, a column per device.
+baseline=bench/results-quick/results.json
+if "$masq" report "$baseline" "$out/results.json" --label "$baseline=repository" --label "$out/results.json=$slug" \
+    --out "$out/report" >/dev/null; then
+  echo "gpu_check: beside the repository's quick run: $out/report/RESULTS.md"
+else
+  echo "gpu_check: no side-by-side report (the line above says why)"
+fi
 echo "gpu_check: done on '$device_name'; results in $out/RESULTS.md (and results.json beside it)"
