@@ -1,4 +1,5 @@
 #include "bench/report_read.h"
+#include "bench/json_field.h"
 #include "bench/results_doc.h"
 #include "masq/error.h"
 #include "masq/masq.h"
@@ -11,42 +12,6 @@ namespace masq {
 
 namespace {
 using nlohmann::json;
-
-// One file's fields, each checked: a failure names the file and the field's JSON pointer.
-struct Checked {
-  std::string file;
-
-  [[noreturn]] void fail(const std::string& pointer, const std::string& why) const {
-    throw Error(file + ": " + pointer + ": " + why);
-  }
-  const json& field(const json& parent, const std::string& pointer, const std::string& key, json::value_t type) const {
-    auto it = parent.find(key);
-    std::string at = pointer + "/" + key;
-    if (it == parent.end()) fail(at, "missing");
-    if (!has_type(*it, type)) fail(at, std::string("not ") + type_name(type) + " (" + it->type_name() + ")");
-    return *it;
-  }
-  std::string string(const json& parent, const std::string& pointer, const std::string& key) const {
-    return field(parent, pointer, key, json::value_t::string).get<std::string>();
-  }
-  // A string that older or hand-written files may lack: "" then.
-  std::string optional_string(const json& parent, const std::string& pointer, const std::string& key) const {
-    return parent.contains(key) ? string(parent, pointer, key) : std::string();
-  }
-  // number_unsigned stands for any integer here.
-  static bool has_type(const json& j, json::value_t type) {
-    return type == json::value_t::number_unsigned ? j.is_number_integer() : j.type() == type;
-  }
-  static const char* type_name(json::value_t type) {
-    switch (type) {
-      case json::value_t::object: return "an object";
-      case json::value_t::array: return "an array";
-      case json::value_t::string: return "a string";
-      case json::value_t::boolean: return "true or false";
-      default: return "an integer";
-    }
-  }
-};
 
 json parse_file(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
@@ -74,23 +39,24 @@ std::string rerun_command(const json& doc) {
 }
 
 // Refuses anything but a results file of the version this masq reads.
-void check_format(const Checked& c, const json& doc) {
-  if (!doc.is_object()) c.fail("", "not a masq results file (a JSON " + std::string(doc.type_name()) + ", not an object)");
+void check_format(const std::string& file, const json& doc) {
+  if (!doc.is_object())
+    throw Error(file + ": not a masq results file (a JSON " + std::string(doc.type_name()) + ", not an object)");
   const bool before_versions = !doc.contains("format") && doc.contains("machine") && doc.contains("suites");
   if (before_versions)
     throw Error(fmt::format("{}: a masq results file of format version 1 (written before masq {} added the format "
                             "version and the tables); masq report reads version {}: rerun `{}` with this masq",
-                            c.file, api::version(), results_format_version, rerun_command(doc)));
+                            file, api::version(), results_format_version, rerun_command(doc)));
   if (!doc.contains("format") || doc["format"] != results_format)
     throw Error(fmt::format("{}: not a masq results file (no \"format\": \"{}\"; masq bench --suite writes one as "
                             "OUT/results.json)",
-                            c.file, results_format));
-  const json& version = c.field(doc, "", "format_version", json::value_t::number_unsigned);
+                            file, results_format));
+  const json& version = json_field(doc, "", "format_version", json::value_t::number_unsigned);
   if (version.get<long long>() != results_format_version) {
     std::string writer = doc.value("masq_version", json()).is_string() ? doc["masq_version"].get<std::string>() : "?";
     throw Error(fmt::format("{}: a masq results file of format version {} (written by masq {}); masq report {} reads "
                             "version {}: rerun `{}` with this masq",
-                            c.file, version.dump(), writer, api::version(), results_format_version,
+                            file, version.dump(), writer, api::version(), results_format_version,
                             rerun_command(doc)));
   }
 }
@@ -100,40 +66,53 @@ std::string parent_folder_name(const std::string& file) {
   std::string name = dir.filename().string();
   return name.empty() ? file : name;
 }
-} // namespace
 
-ReportRun read_results_file(const std::string& file, const std::string& label) {
-  Checked c{file};
-  json doc = parse_file(file);
-  check_format(c, doc);
+
+// The fields of a checked results file; json_field's errors name the field, the caller
+// adds the file.
+ReportRun read_fields(const json& doc) {
   ReportRun run;
-  run.file = file;
-  run.label = label.empty() ? parent_folder_name(file) : label;
-  run.masq_version = c.string(doc, "", "masq_version");
-  run.machine = c.field(doc, "", "machine", json::value_t::object);
-  const json& backends = c.field(run.machine, "/machine", "backends", json::value_t::object);
-  for (auto& [name, device] : backends.items()) run.backends[name] = c.string(backends, "/machine/backends", name);
+  run.masq_version = json_string(doc, "", "masq_version");
+  run.machine = json_field(doc, "", "machine", json::value_t::object);
+  const json& backends = json_field(run.machine, "/machine", "backends", json::value_t::object);
+  for (auto& [name, device] : backends.items()) run.backends[name] = json_string(backends, "/machine/backends", name);
   for (const char* key : {"cpu", "memory", "os", "kernel", "compiler", "date", "git_commit", "embree"})
-    c.optional_string(run.machine, "/machine", key);
-  const json& how = c.field(doc, "", "run", json::value_t::object);
-  run.command = c.string(how, "/run", "command");
-  run.quick = c.field(how, "/run", "quick", json::value_t::boolean).get<bool>();
-  const json& suites = c.field(doc, "", "suites", json::value_t::object);
+    if (run.machine.contains(key)) json_string(run.machine, "/machine", key); // optional, but text where present
+  const json& how = json_field(doc, "", "run", json::value_t::object);
+  run.command = json_string(how, "/run", "command");
+  run.quick = json_field(how, "/run", "quick", json::value_t::boolean).get<bool>();
+  const json& suites = json_field(doc, "", "suites", json::value_t::object);
   for (auto& [name, suite] : suites.items()) {
     std::string at = "/suites/" + name;
-    if (!suite.is_object()) c.fail(at, "not an object");
-    ReportSuite s{name, c.string(suite, at, "title"), c.optional_string(suite, at, "method"), {}};
-    const json& tables = c.field(suite, at, "tables", json::value_t::array);
+    if (!suite.is_object()) throw Error(at + ": not an object");
+    ReportSuite s{name, json_string(suite, at, "title"),
+                  suite.contains("method") ? json_string(suite, at, "method") : std::string(), {}};
+    const json& tables = json_field(suite, at, "tables", json::value_t::array);
     for (std::size_t i = 0; i < tables.size(); ++i) {
-      std::string table_at = at + "/tables/" + std::to_string(i);
       try {
         s.tables.push_back(tables[i].get<Table>());
       } catch (const Error& e) { // from_json: the pointer inside the table, then why
-        throw Error(file + ": " + table_at + e.what());
+        throw Error(at + "/tables/" + std::to_string(i) + e.what());
       }
     }
     run.suites.push_back(std::move(s));
   }
+  return run;
+}
+} // namespace
+
+ReportRun read_results_file(const std::string& file, const std::string& label) {
+  json doc = parse_file(file);
+  ReportRun run;
+  try {
+    check_format(file, doc);
+    run = read_fields(doc);
+  } catch (const Error& e) {
+    const std::string why = e.what();
+    throw why.rfind(file + ": ", 0) == 0 ? e : Error(file + ": " + why);
+  }
+  run.file = file;
+  run.label = label.empty() ? parent_folder_name(file) : label;
   return run;
 }
 

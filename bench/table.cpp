@@ -1,7 +1,7 @@
 #include "bench/table.h"
+#include "bench/json_field.h"
 #include "masq/error.h"
 #include <algorithm>
-#include <nlohmann/json.hpp>
 
 namespace masq {
 
@@ -60,43 +60,25 @@ void to_json(nlohmann::json& j, const Table& t) {
        {"label_columns", t.row_label_columns()}};
 }
 
-namespace {
-using nlohmann::json;
-
-const json& table_field(const json& j, const char* key, bool (json::*is_type)() const noexcept, const char* type) {
-  auto it = j.find(key);
-  if (it == j.end()) throw Error("/" + std::string(key) + ": missing");
-  if (!((*it).*is_type)()) throw Error("/" + std::string(key) + ": not " + type);
-  return *it;
-}
-
-std::vector<std::string> string_list(const json& list, const std::string& pointer) {
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    if (!list[i].is_string()) throw Error(pointer + "/" + std::to_string(i) + ": not a string");
-    out.push_back(list[i].get<std::string>());
-  }
-  return out;
-}
-} // namespace
-
 void from_json(const nlohmann::json& j, Table& t) {
+  using nlohmann::json;
   if (!j.is_object()) throw Error(": not an object");
-  t.title = table_field(j, "title", &json::is_string, "a string").get<std::string>();
-  t.header = string_list(table_field(j, "header", &json::is_array, "an array"), "/header");
-  const json& rows = table_field(j, "rows", &json::is_array, "an array");
+  t.title = json_string(j, "", "title");
+  t.header = json_strings(json_field(j, "", "header", json::value_t::array), "/header");
+  const json& rows = json_field(j, "", "rows", json::value_t::array);
   t.rows.clear();
   for (std::size_t r = 0; r < rows.size(); ++r) {
     std::string pointer = "/rows/" + std::to_string(r);
     if (!rows[r].is_array()) throw Error(pointer + ": not an array");
-    t.rows.push_back(string_list(rows[r], pointer));
+    t.rows.push_back(json_strings(rows[r], pointer));
   }
-  t.notes = string_list(table_field(j, "notes", &json::is_array, "an array"), "/notes");
+  t.notes = json_strings(json_field(j, "", "notes", json::value_t::array), "/notes");
   auto column_count = [&](const char* key) {
-    int n = table_field(j, key, &json::is_number_integer, "an integer").get<int>();
+    int n = json_field(j, "", key, json::value_t::number_unsigned).get<int>();
     if (n < 0 || n > int(t.header.size()))
-      throw Error("/" + std::string(key) + ": " + std::to_string(n) + " is not between 0 and the header's " +
-                  std::to_string(t.header.size()) + " columns");
+      // Appended, not "/" + key: GCC 12 reports a false -Wstringop-overflow on that operator+.
+      throw Error(std::string("/").append(key).append(": ") + std::to_string(n) +
+                  " is not between 0 and the header's " + std::to_string(t.header.size()) + " columns");
     return n;
   };
   t.left_columns = column_count("left_columns");
