@@ -1,9 +1,8 @@
 #include "bench/report_doc.h"
+#include "bench/results_doc.h"
 #include "masq/error.h"
 #include "masq/masq.h"
-#include <filesystem>
 #include <fmt/format.h>
-#include <fstream>
 #include <sstream>
 
 namespace masq {
@@ -129,14 +128,8 @@ nlohmann::json report_json(const MergedReport& report, const std::string& comman
 }
 
 void write_report(const std::string& out_dir, const MergedReport& report, const std::string& command) {
-  std::filesystem::create_directories(out_dir);
-  auto write = [&](const std::string& name, const std::string& text) {
-    std::string path = (std::filesystem::path(out_dir) / name).string();
-    std::ofstream f(path);
-    if (!f || !(f << text)) throw Error("report: cannot write '" + path + "'");
-  };
-  write("RESULTS.md", report_markdown(report, command));
-  write("report.json", report_json(report, command).dump(1) + "\n");
+  write_document(out_dir, "RESULTS.md", report_markdown(report, command), "report");
+  write_document(out_dir, "report.json", report_json(report, command).dump(1) + "\n", "report");
 }
 
 } // namespace masq

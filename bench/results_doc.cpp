@@ -102,13 +102,15 @@ void write_results(const std::string& out_dir, const std::vector<SuiteResult>& s
     all["suites"][s.name] = {{"title", s.title}, {"seconds", s.seconds}, {"method", s.method}, {"data", s.data},
                              {"tables", s.tables}};
   }
-  auto write = [&](const std::string& name, const std::string& text) {
-    std::string path = (std::filesystem::path(out_dir) / name).string();
-    std::ofstream f(path);
-    if (!f || !(f << text)) throw Error("bench: cannot write '" + path + "'");
-  };
-  write("RESULTS.md", md.str());
-  write("results.json", all.dump(1) + "\n");
+  write_document(out_dir, "RESULTS.md", md.str(), "bench");
+  write_document(out_dir, "results.json", all.dump(1) + "\n", "bench");
+}
+
+void write_document(const std::string& out_dir, const std::string& name, const std::string& text, const char* who) {
+  std::filesystem::create_directories(out_dir);
+  std::string path = (std::filesystem::path(out_dir) / name).string();
+  std::ofstream f(path);
+  if (!f || !(f << text)) throw Error(std::string(who) + ": cannot write '" + path + "'");
 }
 
 } // namespace masq

@@ -25,6 +25,10 @@ struct ResultsRun {
   double seconds = 0;   // whole run
 };
 
+// Writes `text` to out_dir/name (out_dir made if missing); throws masq::Error
+// "<who>: cannot write '<path>'" when it cannot. The results and report documents use it.
+void write_document(const std::string& out_dir, const std::string& name, const std::string& text, const char* who);
+
 // Writes out_dir/RESULTS.md and out_dir/results.json.
 void write_results(const std::string& out_dir, const std::vector<SuiteResult>& suites, const nlohmann::json& machine,
                    const ResultsRun& run);
