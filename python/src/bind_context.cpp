@@ -64,7 +64,9 @@ bool check_ray_array(const pyb::array& a, const char* function) {
 }
 
 // tmax as the kernels take it: +inf (Python's "no bound") as the largest float.
-float largest_bound(float tmax) { return tmax == std::numeric_limits<float>::infinity() ? std::numeric_limits<float>::max() : tmax; }
+float largest_bound(float tmax) {
+  return tmax == std::numeric_limits<float>::infinity() ? std::numeric_limits<float>::max() : tmax;
+}
 
 RayInput ray_input(const pyb::handle& origins, const pyb::handle& directions, const pyb::handle& tmin,
                    const pyb::handle& tmax, const char* function) {
@@ -79,8 +81,7 @@ RayInput ray_input(const pyb::handle& origins, const pyb::handle& directions, co
     if (!infinite_tmax) return in;
     in.packed.assign(in.rays.begin(), in.rays.end());
     in.given = pyb::array();
-    for (api::Ray& r : in.packed)
-      if (std::isinf(r.tmax)) r.tmax = largest_bound(r.tmax);
+    for (api::Ray& r : in.packed) r.tmax = largest_bound(r.tmax);
   } else {
     if (directions.is_none())
       throw pyb::type_error(std::string(function) +
