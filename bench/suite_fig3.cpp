@@ -7,6 +7,7 @@
 #include "bench/method_compare.h"
 #include "bench/paper_tables.h"
 #include "bench/suite.h"
+#include "image/image_writer.h"
 #include "scenes/generators.h"
 #include <algorithm>
 #include <chrono>
@@ -190,7 +191,9 @@ SuiteResult run_fig3(SuiteContext& ctx) {
       side, side, mode_name(ctx.config.mode), opt.repetitions, opt.warmup);
   res.images.push_back({"fig3_speedup.png", "Speedup masq/ref per cell and backend beside the paper's (RTX 8000) and "
                                             "the RT model's prediction (scripts/plot_results.py)"});
-  if (!ctx.config.out_dir.empty()) {
+  if (!ctx.config.out_dir.empty() && !image_output_built()) {
+    ctx.say("fig3 heatmap skipped: this masq was built without image output (-DMASQ_WITH_IMAGES=OFF)");
+  } else if (!ctx.config.out_dir.empty()) {
     Scene scene = fig3_scene(kCalibration);
     res.images.push_back(write_call_heatmaps(ctx, scene, "heatmap_bundle.png",
                                              "Intersector calls per pixel, ref (left) vs masq (right), bundle N=1000 r=0.002 tilt 15"));

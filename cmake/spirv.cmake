@@ -46,5 +46,8 @@ function(masq_add_spirv)
     COMMENT "GLSL -> SPIR-V ${ARG_NAME} (glslang, spirv-val)"
     VERBATIM)
   target_sources(${ARG_TARGET} PRIVATE ${hdr})
+  # Every module of a target, for the checks that read them all (tests/CMakeLists.txt:
+  # MASQ_SPIRV_MODULES_masq_vulkan are the shipped kernels).
+  set_property(GLOBAL APPEND PROPERTY MASQ_SPIRV_MODULES_${ARG_TARGET} ${spv})
   target_include_directories(${ARG_TARGET} ${ARG_VISIBILITY} ${MASQ_GENERATED_DIR})
 endfunction()

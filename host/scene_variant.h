@@ -15,6 +15,17 @@ struct TraceSwitches {
   bool any_hit = false; // occlusion query: the first hit found ends the ray
 };
 
+// What the environment sets of every kernel variant, for A/B runs (docs/kernels.md):
+//   MASQ_STEP_CHECK=on|off       the step budget and full-stack faults (default on)
+//   MASQ_STACK_FORM=fixed|sized  traversal stacks of MASQ_STACK_MAX entries, or sized by
+//                                the scene's need (default fixed; kernels/variants.h)
+struct KernelKnobs {
+  bool step_check = true;
+  bool stack_sized = false;
+};
+// Read at every call; throws masq::Error naming the knob and its allowed values.
+KernelKnobs kernel_knobs();
+
 // The kernel's value of a host option.
 inline std::int32_t switch_value(bool b) { return b ? 1 : 0; }
 inline std::int32_t switch_value(int i) { return i; }
@@ -23,6 +34,7 @@ inline std::int32_t switch_value(CurveIsect c) { return c == CurveIsect::Roving 
 inline std::int32_t switch_value(NodeFormat f) { return node_format_id(f); }
 inline std::int32_t switch_value(const StackNeed& n) { return kernel_stack_size(n.entries, n.tree); }
 
-KernelVariant kernel_variant(const KernelFeatures& features, const TraceSwitches& trace);
+KernelVariant kernel_variant(const KernelFeatures& features, const TraceSwitches& trace,
+                             const KernelKnobs& knobs = kernel_knobs());
 
 } // namespace masq

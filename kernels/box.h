@@ -9,13 +9,27 @@ KERNEL_NS_BEGIN
 
 // Entry distance of each child box, or +inf when the ray misses it within [tmin, tmax],
 // with the slot's child and count decoded (the WideNode slot rules) whatever the node
-// format. Slots beyond the format's width are not set.
+// format. Slots beyond the format's width hold wide_hits_none's values.
 STRUCT_BEGIN(WideHits)
   float tnear[MASQ_WIDTH8];
   float tfar[MASQ_WIDTH8];
   int child[MASQ_WIDTH8];
   int count[MASQ_WIDTH8];
 STRUCT_END(WideHits)
+
+// Every slot missed and empty (tnear +inf, tfar 0, child -1, count -1). The 4-wide tests
+// start from it, so the slots beyond their width hold these values, not undefined ones
+// (no undefined value may reach a decision: docs/kernels.md, "Values never undefined").
+FN WideHits wide_hits_none() {
+  WideHits r;
+  for (int i = 0; i < MASQ_WIDTH8; ++i) {
+    r.tnear[i] = inf_();
+    r.tfar[i] = 0.0f;
+    r.child[i] = -1;
+    r.count[i] = -1;
+  }
+  return r;
+}
 
 // Widen a slab interval outward by the rounding bound (sign-independent).
 FN float widen_lo(float t) { return t - fabs_(t) * MASQ_BOX_WIDEN; }
@@ -24,7 +38,7 @@ FN float widen_hi(float t) { return t + fabs_(t) * MASQ_BOX_WIDEN; }
 #if defined(MASQ_LANG_CPP)
 // cpu: the w4 test, plain or padded, four slots at once (slab_simd_cpp.h).
 FN WideHits wide_node_simd(WideNode n, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
-  WideHits r;
+  WideHits r = wide_hits_none();
   simd::slab_hits4(n.lo_x, n.hi_x, n.lo_y, n.hi_y, n.lo_z, n.hi_z, n.count, o, inv_d, padded, pad, tmin, tmax,
                    r.tnear, r.tfar);
   for (int i = 0; i < MASQ_WIDTH; ++i) {
@@ -38,7 +52,7 @@ FN WideHits wide_node_simd(WideNode n, vec3 o, vec3 inv_d, int padded, vec3 pad,
 // The one-source form: GLSL and OpenCL run it (PoCL vectorises across work-items); the
 // cpu dialect runs the same operations on four slots at once (slab_simd_cpp.h).
 FN WideHits intersect_wide_node_loop(WideNode n, vec3 o, vec3 inv_d, float tmin, float tmax) {
-  WideHits r;
+  WideHits r = wide_hits_none();
   for (int i = 0; i < MASQ_WIDTH; ++i) {
     float tx0 = (n.lo_x[i] - o.x) * inv_d.x;
     float tx1 = (n.hi_x[i] - o.x) * inv_d.x;
@@ -113,7 +127,7 @@ FN bool hit_unit_box_padded(Affine m, vec3 wo, vec3 wd, vec3 oo, vec3 od, float 
 // the robust mode). lo - pad is rounded to nearest, so the bounds also move outward by
 // 2u of their magnitude; the slab interval is widened as in intersect_wide_node.
 FN WideHits intersect_wide_node_padded_loop(WideNode n, vec3 o, vec3 inv_d, vec3 pad, float tmin, float tmax) {
-  WideHits r;
+  WideHits r = wide_hits_none();
   for (int i = 0; i < MASQ_WIDTH; ++i) {
     float tx0 = (n.lo_x[i] - (pad.x + fabs_(n.lo_x[i]) * 2.0f * MASQ_U) - o.x) * inv_d.x;
     float tx1 = (n.hi_x[i] + (pad.x + fabs_(n.hi_x[i]) * 2.0f * MASQ_U) - o.x) * inv_d.x;

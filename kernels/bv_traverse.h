@@ -36,8 +36,10 @@
 
 KERNEL_NS_BEGIN
 
-// node_count == 0: an empty hierarchy (every ray misses).
-FN TraceOut trace_bv_closest(KD_PARAM Ray ray, int node_count) {
+// node_count == 0: an empty hierarchy (every ray misses). budget: the most loop steps
+// the walk may take (TraceParams::step_budget, the node count); a walk past it, or a push
+// onto a full stack, stops the ray with its fault set (MASQ_STEP_CHECK; layout.h, Hit).
+FN TraceOut trace_bv_closest(KD_PARAM Ray ray, int node_count, int budget) {
   TraceOut res;
   res.stats.tlas_nodes = 0;
   res.stats.blas_nodes = 0;
@@ -62,10 +64,22 @@ FN TraceOut trace_bv_closest(KD_PARAM Ray ray, int node_count) {
     stack_t[0] = troot;
     sp = 1;
   }
+  int steps = 0;
+  int fault = 0;
+  int fault_node = 0;
   while (sp > 0) {
     sp = sp - 1;
+    int node = stack_node[sp];
+    if (MASQ_STEP_CHECK) {
+      if (steps >= budget) {
+        fault = MASQ_FAULT_STEP_BUDGET | (MASQ_LEVEL_BV << 8);
+        fault_node = node;
+        break;
+      }
+      steps = steps + 1;
+    }
     if (stack_t[sp] > best.t) continue;
-    BV_NODE_T nd = KD(BV_NODES)[stack_node[sp]];
+    BV_NODE_T nd = KD(BV_NODES)[node];
     if (MASQ_STATS) res.stats.tlas_nodes = res.stats.tlas_nodes + 1;
     if (nd.count > 0) {
       for (int j = 0; j < nd.count; ++j) {
@@ -82,24 +96,30 @@ FN TraceOut trace_bv_closest(KD_PARAM Ray ray, int node_count) {
     float tr = BV_HIT(KD(BV_NODES)[nd.child + 1], best.t);
     if (MASQ_STATS) res.stats.blas_nodes = res.stats.blas_nodes + 2;
     // Farther first, so the nearer child is popped next. The stack holds the tree's
-    // depth (bvh/bv/bv_scene.cpp sets the need), so the checks never drop a child.
+    // depth (bvh/bv/bv_scene.cpp sets the need); a push beyond it is a fault.
     bool left_first = tl <= tr;
     int near_i = left_first ? nd.child : nd.child + 1;
     int far_i = left_first ? nd.child + 1 : nd.child;
     float near_t = left_first ? tl : tr;
     float far_t = left_first ? tr : tl;
-    if (far_t != inf_() && sp < MASQ_BLAS_STACK) {
+    int pushes = (far_t != inf_() ? 1 : 0) + (near_t != inf_() ? 1 : 0);
+    if (sp + pushes > MASQ_BLAS_STACK) {
+      fault = MASQ_FAULT_STACK_FULL | (MASQ_LEVEL_BV << 8);
+      fault_node = node;
+      break;
+    }
+    if (far_t != inf_()) {
       stack_node[sp] = far_i;
       stack_t[sp] = far_t;
       sp = sp + 1;
     }
-    if (near_t != inf_() && sp < MASQ_BLAS_STACK) {
+    if (near_t != inf_()) {
       stack_node[sp] = near_i;
       stack_t[sp] = near_t;
       sp = sp + 1;
     }
   }
-  res.hit = hit_from_nearest(KD_ARG best);
+  res.hit = fault != 0 ? hit_fault(KD_ARG ray.tmax, fault, fault_node, sp) : hit_from_nearest(KD_ARG best);
   return res;
 }
 

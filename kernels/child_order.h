@@ -46,7 +46,7 @@ FN ChildOrder order_children(WideHits wh, int width) {
   ChildOrder co;
   co.n = 0;
   for (int i = 0; i < MASQ_WIDTH8; ++i) {
-    o.key[i] = i < width ? wh.tnear[i] : inf_(); // slots beyond the width are not set
+    o.key[i] = i < width ? wh.tnear[i] : inf_(); // (slots beyond the width are missed anyway)
     o.slot[i] = i;
     co.n = co.n + (o.key[i] == inf_() ? 0 : 1);
   }

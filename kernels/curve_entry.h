@@ -50,11 +50,8 @@ FN CurveEnvelope curve_envelope(CurvePoint e, float r, float zs) {
 // reaches further (a bound, not a point of the surface); -1 not settled here (the
 // caller splits the piece).
 FN CurveRoot curve_piece_entry(CurveFrame f, float p0, float p1, float s, float sa, float sb, float zs) {
-  CurveRoot rt;
+  CurveRoot rt = curve_root_none(s);
   rt.found = -1;
-  rt.z = 0.0f;
-  rt.s = s;
-  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
   CurveEnvelope v0 = curve_envelope(curve_eval(f, p0), f.r, zs);
   CurveEnvelope v1 = curve_envelope(curve_eval(f, p1), f.r, zs);
   int lo_up = v0.dv >= 0.0f ? 1 : 0;   // z_in rises from p0

@@ -39,6 +39,17 @@ STRUCT_BEGIN(CurveRoot)
   vec3 nrm;
 STRUCT_END(CurveRoot)
 
+// No crossing (at curve parameter s): every field set, as every CurveRoot is before a
+// path may read it (no undefined value may reach a kernel's decisions: docs/kernels.md).
+FN CurveRoot curve_root_none(float s) {
+  CurveRoot rt;
+  rt.found = 0;
+  rt.z = 0.0f;
+  rt.s = s;
+  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
+  return rt;
+}
+
 // de Casteljau: point and derivative; a zero derivative (p0 == p1, ...) is replaced by
 // the limit direction at the nearer end, so no step divides by zero.
 FN CurvePoint curve_eval(CurveFrame f, float s) {

@@ -56,11 +56,7 @@ FN CurveStep curve_step(CurveFrame f, float s, float side) {
 // last two iterates, bisection every 4th iteration; stops when s leaves [0,1]. (Stops
 // also when it converges on a miss, which the paper lets run to the limit: same result.)
 FN CurveRoot curve_chain_fast(CurveFrame f, float s0, float side) {
-  CurveRoot rt;
-  rt.found = 0;
-  rt.z = 0.0f;
-  rt.s = s0;
-  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
+  CurveRoot rt = curve_root_none(s0);
   float s = s0;
   float sold = s0;
   float g1 = 0.0f;

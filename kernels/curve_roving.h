@@ -53,12 +53,15 @@ FN CurveClip curve_clip_hull(float c[7], int n) {
   cl.lo = 2.0f;
   cl.hi = -1.0f;
   float inv = 1.0f / i2f_(n);
-  for (int i = 0; i <= n; ++i) {
-    if (!(c[i] == c[i])) {
-      cl.lo = 0.0f;
-      cl.hi = 1.0f;
-      return cl;
-    }
+  // (No return inside a loop: a compiler merges such returns through a value that is
+  // undefined on the other paths.)
+  int nan = 0;
+  for (int i = 0; i <= n; ++i)
+    if (!(c[i] == c[i])) nan = 1;
+  if (nan != 0) {
+    cl.lo = 0.0f;
+    cl.hi = 1.0f;
+    return cl;
   }
   for (int i = 0; i <= n; ++i) {
     if (c[i] <= 0.0f) {
@@ -130,15 +133,12 @@ FN CurveRoot curve_roving(CurveFrame f, float zlo, float zmax, float tol, float 
   pc.p1 = f.b1;
   pc.p2 = f.b2;
   pc.p3 = f.b3;
+  int missed = 0; // (a flag, not a return inside the loop: see curve_clip_hull)
   for (int it = 0; it < MASQ_ROVING_CLIPS; ++it) {
     CurveClip cl = curve_roving_clip(pc, f.r + pad, zlo);
     if (!(cl.lo <= cl.hi)) {
-      CurveRoot none;
-      none.found = 0;
-      none.z = 0.0f;
-      none.s = 0.0f;
-      none.nrm = VEC3(0.0f, 0.0f, 0.0f);
-      return none;
+      missed = 1;
+      break;
     }
     // Widened by the rounding of the crossings (relative) and of a + w lo (absolute: s
     // is in [0, 1], whose ulp is at most 2^-23).
@@ -152,6 +152,7 @@ FN CurveRoot curve_roving(CurveFrame f, float zlo, float zmax, float tol, float 
     if (more == 0 || it + 1 == MASQ_ROVING_CLIPS) break;
     pc = curve_piece(f, a, nb);
   }
+  if (missed != 0) return curve_root_none(0.0f);
   return curve_subdiv(f, a, w, zlo, zmax, tol, ttol, pad, maybe_inside, MASQ_ROVING_COARSE * f.r);
 }
 

@@ -64,28 +64,36 @@ STRUCT_BEGIN(CurvePiece)
   vec3 p3;
 STRUCT_END(CurvePiece)
 
+// A point of the frame curve and h C'(s) / 3 there (de Casteljau): one end of a piece
+// of parameter width h.
+STRUCT_BEGIN(CurvePieceEnd)
+  vec3 p;
+  vec3 dh;
+STRUCT_END(CurvePieceEnd)
+
+FN CurvePieceEnd curve_piece_end(CurveFrame f, float s, float h) {
+  float t = 1.0f - s;
+  vec3 a = t * f.b0 + s * f.b1;
+  vec3 b = t * f.b1 + s * f.b2;
+  vec3 c = t * f.b2 + s * f.b3;
+  vec3 ab = t * a + s * b;
+  vec3 bc = t * b + s * c;
+  CurvePieceEnd e;
+  e.p = t * ab + s * bc;
+  e.dh = h * (bc - ab);
+  return e;
+}
+
 // The piece of the frame curve on [s0, s1] (de Casteljau at both ends).
 FN CurvePiece curve_piece(CurveFrame f, float s0, float s1) {
   float h = s1 - s0;
+  CurvePieceEnd e0 = curve_piece_end(f, s0, h);
+  CurvePieceEnd e1 = curve_piece_end(f, s1, h);
   CurvePiece pc;
-  for (int k = 0; k < 2; ++k) {
-    float s = k == 0 ? s0 : s1;
-    float t = 1.0f - s;
-    vec3 a = t * f.b0 + s * f.b1;
-    vec3 b = t * f.b1 + s * f.b2;
-    vec3 c = t * f.b2 + s * f.b3;
-    vec3 ab = t * a + s * b;
-    vec3 bc = t * b + s * c;
-    vec3 p = t * ab + s * bc;
-    vec3 dh = h * (bc - ab); // h C'(s) / 3
-    if (k == 0) {
-      pc.p0 = p;
-      pc.p1 = p + dh;
-    } else {
-      pc.p3 = p;
-      pc.p2 = p - dh;
-    }
-  }
+  pc.p0 = e0.p;
+  pc.p1 = e0.p + e0.dh;
+  pc.p2 = e1.p - e1.dh;
+  pc.p3 = e1.p;
   return pc;
 }
 
@@ -247,11 +255,7 @@ FN int curve_runs_along(CurvePiece pc, vec3 ch) {
 // a leaf whose entry is found by curve_refine right away (curve_roving.h, step 3).
 FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zmax, float tol, float ttol, float pad,
                           int maybe_inside, float coarse) {
-  CurveRoot rt;
-  rt.found = 0;
-  rt.z = 0.0f;
-  rt.s = 0.0f;
-  rt.nrm = VEC3(0.0f, 0.0f, 0.0f);
+  CurveRoot rt = curve_root_none(0.0f);
   float r = f.r;
   float rp = r + pad;
   float best = zmax; // entry pass: nearest entry at or after zlo
@@ -275,8 +279,10 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
     uint first = 0u; // bit l: the child of the level-(l-1) node visited first
     uint lbit = 1u;  // 2^level
     float hs = sw;   // 2^-level sw
-    int have = 0;    // pc already holds this node (split from its parent)
-    CurvePiece pc;
+    // pc: the node being visited; the root piece to begin with, so no path reads it
+    // unset (have: pc already holds this node, split from its parent or the root).
+    CurvePiece pc = curve_piece(f, sa, sa + sw);
+    int have = 1;
     for (int it = 0; it < MASQ_CURVE_VISITS; ++it) {
       float s0 = sa + u2f_(idx) * hs;
       if (have == 0) pc = curve_piece(f, s0, s0 + hs);
@@ -310,8 +316,7 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
       int down = 0;
       if (keep != 0) {
         int leaf = dev <= tol || level >= MASQ_CURVE_DEPTH ? 1 : 0;
-        CurveRoot cand; // a coarse leaf's entry, on the curve's surface
-        cand.found = 0;
+        CurveRoot cand = curve_root_none(0.0f); // a coarse leaf's entry, on the curve's surface
         if (leaf == 0 && dev <= max(4.0f * ttol, coarse)) {
           // The piece's solid lies between the capsules of radius r -+ (dev + pad)
           // about its chord: if the ray crosses both within ttol at each end of its

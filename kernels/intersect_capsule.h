@@ -66,10 +66,10 @@ FN PrimHit intersect_capsule(Capsule cap, vec3 o, vec3 d, float tmin, float tmax
   for (int e = 0; e < 2; ++e) {
     vec3 pe = e == 0 ? pa : pb;
     float te = e == 0 ? ta : tb;
-    BallSpan b = ball_span(pe, r, d, dd);
-    if (b.found != 0) {
-      float s0 = b.s0;
-      float q = b.q;
+    BallSpan ball = ball_span(pe, r, d, dd);
+    if (ball.found != 0) {
+      float s0 = ball.s0;
+      float q = ball.q;
       float t0 = te + (s0 - q);
       float t1 = te + (s0 + q);
       if (t0 < t_in) {

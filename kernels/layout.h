@@ -250,6 +250,16 @@ STRUCT_END(Ray)
 // surface was hit from is NOT enforced (outward for capsules, winding for triangles).
 // u, v: triangle barycentrics; capsule/round cone: (axial parameter in [0,1], 0);
 // curve: (curve parameter in [0,1], 0); sphere: (0, 0).
+// fault != 0: the traversal stopped this ray instead of finishing it (a push onto a full
+// stack, or a walk past its step budget: a cycle in the structure or data read wrong);
+// the host turns any such ray into an error (host/trace_faults.h), so a user never sees
+// one as a miss. fault = MASQ_FAULT_* | level << 8 (MASQ_LEVEL_*), fault_node the node
+// the walk was at, fault_depth its stack depth then. All three are 0 otherwise.
+#define MASQ_FAULT_STACK_FULL 1
+#define MASQ_FAULT_STEP_BUDGET 2
+#define MASQ_LEVEL_TLAS 0
+#define MASQ_LEVEL_BLAS 1
+#define MASQ_LEVEL_BV 2
 STRUCT_BEGIN(Hit)
   float t;
   int prim;
@@ -258,7 +268,9 @@ STRUCT_BEGIN(Hit)
   float normal[3];
   float u;
   float v;
-  float pad[3];
+  int fault;
+  int fault_node;
+  int fault_depth;
 STRUCT_END(Hit)
 
 // Per-ray counters, filled only by the stats variant of the kernels.
@@ -269,11 +281,14 @@ STRUCT_BEGIN(RayStats)
   int isect_calls; // primitive intersector calls
 STRUCT_END(RayStats)
 
+// step_budget: the most loop steps one tree walk may take (MASQ_STEP_CHECK); the host
+// passes the node array's length, which no correct walk of any one tree exceeds (each
+// step visits or skips one node, and a walk reaches each node of its tree at most once).
 STRUCT_BEGIN(TraceParams)
   int ray_count;
   int tlas_root;
   int ray_offset;
-  int pad;
+  int step_budget;
 STRUCT_END(TraceParams)
 
 STATIC_ASSERT(sizeof(WideNode) == 128, wide_node_size);

@@ -185,9 +185,9 @@ FN WideHits hits_w4(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad,
 // box.h's w4 loop, read word by word. (Assembling a WideNode from the words and calling
 // intersect_wide_node instead took NodeFormatsAgree/vulkan_bound on lavapipe from 56 s
 // to over 600 s under ctest.)
-// Slots 4..7 are left unset: node_width() is 4 for this layout.
+// Slots 4..7 stay as wide_hits_none leaves them: node_width() is 4 for this layout.
 FN WideHits hits_box4_words(KD_PARAM int b, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
-  WideHits r;
+  WideHits r = wide_hits_none();
 #if defined(MASQ_LANG_CPP)
   const uint* w = KD(node_words) + b;
   const WideNode* n = (const WideNode*)w;

@@ -13,7 +13,7 @@ layout(push_constant) uniform PushConstants { TraceParams params; };
 void main() {
   int i = int(gl_GlobalInvocationID.x);
   if (i >= params.ray_count) return;
-  TraceOut o = trace_closest(rays[params.ray_offset + i], params.tlas_root);
+  TraceOut o = trace_closest(rays[params.ray_offset + i], params.tlas_root, params.step_budget);
   hits[i] = o.hit;
   if (MASQ_STATS) stats[i] = o.stats;
 }

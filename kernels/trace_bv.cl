@@ -10,7 +10,7 @@ __kernel void trace_bv(MASQ_CL_SCENE_PARAMS __global const Ray* rays, __global H
   int i = (int)get_global_id(0);
   if (i >= params.ray_count) return;
   MASQ_CL_SET_KERNEL_DATA
-  TraceOut o = trace_bv_closest(kd, rays[params.ray_offset + i], params.tlas_root);
+  TraceOut o = trace_bv_closest(kd, rays[params.ray_offset + i], params.tlas_root, params.step_budget);
   hits[i] = o.hit;
   if (MASQ_STATS) stats[i] = o.stats;
 }

@@ -28,10 +28,14 @@ STRUCT_BEGIN(TraceOut)
   RayStats stats;
 STRUCT_END(TraceOut)
 
+// fault, fault_node, fault_depth: as in Hit (layout.h); 0 when the walk finished.
 STRUCT_BEGIN(BlasOut)
   Nearest nearest;
   int nodes;
   int isect_calls;
+  int fault;
+  int fault_node;
+  int fault_depth;
 STRUCT_END(BlasOut)
 
 FN Nearest nearest_none(float tmax) {
@@ -107,7 +111,7 @@ FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id
     if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
     PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, lo.nearest.t);
     lo.nearest = nearest_take(lo.nearest, ph, prim, geom_id, inst_id);
-    if (MASQ_ANY_HIT && lo.nearest.prim >= 0) return lo;
+    if (MASQ_ANY_HIT && lo.nearest.prim >= 0) break;
   }
   return lo;
 }
@@ -119,13 +123,20 @@ FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id
 // root_tbound: no primitive of the tree is hit beyond it (the exit distance of the
 // tree's box in the TLAS); the o4 format's rotated nodes pad by it (node_hits), and
 // each node passes its children's exit distances on, held with them on the stack.
+// budget: the most loop steps the walk may take (TraceParams::step_budget); a walk past
+// it, or a push onto a full stack, stops with res.fault set (MASQ_STEP_CHECK).
+// The loops hold no return: an early exit sets `done` and breaks, since a compiler merges
+// returns from inside loops through a value left undefined on the other paths.
 FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, vec3 d, int padded, vec3 pad,
-                         vec3 po, vec3 pd, float tmin, float root_tbound, Nearest nearest) {
+                         vec3 po, vec3 pd, float tmin, float root_tbound, Nearest nearest, int budget) {
   const bool tbounds = MASQ_NODE_FORMAT == MASQ_NODES_O4;
   BlasOut res;
   res.nearest = nearest;
   res.nodes = 0;
   res.isect_calls = 0;
+  res.fault = 0;
+  res.fault_node = 0;
+  res.fault_depth = 0;
   Geometry g = KD(geoms)[geom_id];
   vec3 inv_d = safe_rcp3(d);
   int stack_node[MASQ_STACK_DIM(MASQ_BLAS_STACK)];
@@ -138,7 +149,9 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
   float node_t = tmin;
   float node_tf = root_tbound;
   bool held = true;
-  while (held || sp > 0) {
+  int steps = 0;
+  bool done = false; // an occlusion query's hit, or a fault
+  while (!done && (held || sp > 0)) {
     if (!held) {
       sp = sp - 1;
       node = stack_node[sp];
@@ -146,6 +159,15 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
       if (tbounds) node_tf = stack_tf[sp];
     }
     held = false;
+    if (MASQ_STEP_CHECK) {
+      if (steps >= budget) {
+        res.fault = MASQ_FAULT_STEP_BUDGET | (MASQ_LEVEL_BLAS << 8);
+        res.fault_node = node;
+        res.fault_depth = sp;
+        break;
+      }
+      steps = steps + 1;
+    }
     if (node_t > res.nearest.t) continue;
     if (MASQ_STATS) res.nodes = res.nodes + 1;
     WideHits wh = node_hits(KD_ARG node, o, d, inv_d, padded, pad, tmin, res.nearest.t, node_tf);
@@ -167,7 +189,13 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
       }
       n = simd::sorted_slots(wh.tnear, hit.inner, slot);
       for (int k = n - 1; k >= 0; --k) {
-        if (held && sp < MASQ_BLAS_STACK) {
+        if (held) {
+          if (sp >= MASQ_BLAS_STACK) {
+            res.fault = MASQ_FAULT_STACK_FULL | (MASQ_LEVEL_BLAS << 8);
+            res.fault_node = node;
+            res.fault_depth = sp;
+            return res;
+          }
           stack_node[sp] = node;
           stack_t[sp] = node_t;
           if (tbounds) stack_tf[sp] = node_tf;
@@ -189,12 +217,23 @@ FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, ve
       LeafOut lo = intersect_leaf(KD_ARG g, wh.child[i], wh.count[i], geom_id, inst_id, po, pd, tmin, res.nearest);
       res.nearest = lo.nearest;
       if (MASQ_STATS) res.isect_calls = res.isect_calls + lo.isect_calls;
-      if (MASQ_ANY_HIT && res.nearest.prim >= 0) return res; // occlusion: any hit will do
+      if (MASQ_ANY_HIT && res.nearest.prim >= 0) {
+        done = true; // occlusion: any hit will do
+        break;
+      }
     }
+    if (done) break;
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
       if (wh.count[i] != 0) continue;
-      if (held && sp < MASQ_BLAS_STACK) {
+      if (held) {
+        if (sp >= MASQ_BLAS_STACK) {
+          res.fault = MASQ_FAULT_STACK_FULL | (MASQ_LEVEL_BLAS << 8);
+          res.fault_node = node;
+          res.fault_depth = sp;
+          done = true;
+          break;
+        }
         stack_node[sp] = node;
         stack_t[sp] = node_t;
         if (tbounds) stack_tf[sp] = node_tf;
@@ -226,9 +265,9 @@ FN Hit hit_from_nearest(KD_PARAM Nearest n) {
   h.normal[2] = wn.z;
   h.u = n.u;
   h.v = n.v;
-  h.pad[0] = 0.0f;
-  h.pad[1] = 0.0f;
-  h.pad[2] = 0.0f;
+  h.fault = 0;
+  h.fault_node = 0;
+  h.fault_depth = 0;
   return h;
 }
 
@@ -244,7 +283,17 @@ FN bool ray_is_valid(vec3 o, vec3 d, float tmin, float tmax) {
          bits_finite(d.z) && dot(d, d) > 0.0f && !bits_nan(tmin) && !bits_nan(tmax) && tmin <= tmax;
 }
 
-FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
+// A ray the walk stopped (fault != 0): a miss carrying the fault (Hit, layout.h).
+FN Hit hit_fault(KD_PARAM float tmax, int fault, int node, int depth) {
+  Hit h = hit_from_nearest(KD_ARG nearest_none(tmax));
+  h.fault = fault;
+  h.fault_node = node;
+  h.fault_depth = depth;
+  return h;
+}
+
+// budget: TraceParams::step_budget, for the TLAS walk and each BLAS walk alike.
+FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
   TraceOut res;
   res.stats.tlas_nodes = 0;
   res.stats.blas_nodes = 0;
@@ -262,12 +311,13 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
   if (MASQ_SINGLE_BLAS) {
     Instance only = KD(instances)[0];
     BlasOut bo = traverse_blas(KD_ARG only.blas_root, only.geom, only.scene_inst, wo, wd, 0, VEC3(0.0f, 0.0f, 0.0f), wo,
-                               wd, tmin, ray.tmax, best);
+                               wd, tmin, ray.tmax, best, budget);
     if (MASQ_STATS) {
       res.stats.blas_nodes = bo.nodes;
       res.stats.isect_calls = bo.isect_calls;
     }
-    res.hit = hit_from_nearest(KD_ARG bo.nearest);
+    res.hit = bo.fault != 0 ? hit_fault(KD_ARG ray.tmax, bo.fault, bo.fault_node, bo.fault_depth)
+                            : hit_from_nearest(KD_ARG bo.nearest);
     return res;
   }
   vec3 inv_d = safe_rcp3(wd);
@@ -277,13 +327,27 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
   int node = tlas_root; // held, as in traverse_blas
   float node_t = tmin;
   bool held = true;
-  while (held || sp > 0) {
+  int steps = 0;
+  bool done = false; // an occlusion query's hit, or a fault (no return inside the loops: traverse_blas)
+  int fault = 0;
+  int fault_node = 0;
+  int fault_depth = 0;
+  while (!done && (held || sp > 0)) {
     if (!held) {
       sp = sp - 1;
       node = stack_node[sp];
       node_t = stack_t[sp];
     }
     held = false;
+    if (MASQ_STEP_CHECK) {
+      if (steps >= budget) {
+        fault = MASQ_FAULT_STEP_BUDGET | (MASQ_LEVEL_TLAS << 8);
+        fault_node = node;
+        fault_depth = sp;
+        break;
+      }
+      steps = steps + 1;
+    }
     if (node_t > best.t) continue;
     if (MASQ_STATS) res.stats.tlas_nodes = res.stats.tlas_nodes + 1;
     // The builders rotate BLAS nodes only (o4), so TLAS nodes carry no exit bounds; the
@@ -299,9 +363,9 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
         int ref = KD(refs)[wh.child[i] + j];
         Affine m;
         int blas_root = -1;
-        int geom;
-        int prim;
-        int scene_inst;
+        int geom = 0;
+        int prim = 0;
+        int scene_inst = 0;
         if (ref >= 0) {
           Instance inst = KD(instances)[ref];
           m = affine_from_instance(inst);
@@ -334,15 +398,22 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
           }
           int padded = (cluster && MASQ_ROBUST) ? 1 : 0;
           BlasOut bo = traverse_blas(KD_ARG blas_root, geom, scene_inst, oo, od, padded, pad, po, pd,
-                                     tmin, wh.tfar[i], best);
+                                     tmin, wh.tfar[i], best, budget);
           best = bo.nearest;
           if (MASQ_STATS) {
             res.stats.blas_nodes = res.stats.blas_nodes + bo.nodes;
             res.stats.isect_calls = res.stats.isect_calls + bo.isect_calls;
           }
+          if (bo.fault != 0) {
+            fault = bo.fault;
+            fault_node = bo.fault_node;
+            fault_depth = bo.fault_depth;
+            done = true;
+            break;
+          }
           if (MASQ_ANY_HIT && best.prim >= 0) {
-            res.hit = hit_from_nearest(KD_ARG best);
-            return res;
+            done = true;
+            break;
           }
         } else {
           // Masquerade: the unit-box test is the OBB cull; the intersector then runs
@@ -357,16 +428,25 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
           PrimHit ph = intersect_primitive(KD_ARG g, prim, affine_point(f, wo), affine_vector(f, wd), tmin, best.t);
           best = nearest_take(best, ph, prim, geom, scene_inst);
           if (MASQ_ANY_HIT && best.prim >= 0) {
-            res.hit = hit_from_nearest(KD_ARG best);
-            return res;
+            done = true;
+            break;
           }
         }
       }
+      if (done) break;
     }
+    if (done) break;
     for (int k = co.n - 1; k >= 0; --k) {
       int i = co.slot[k];
       if (wh.count[i] != 0) continue;
-      if (held && sp < MASQ_TLAS_STACK) {
+      if (held) {
+        if (sp >= MASQ_TLAS_STACK) {
+          fault = MASQ_FAULT_STACK_FULL | (MASQ_LEVEL_TLAS << 8);
+          fault_node = node;
+          fault_depth = sp;
+          done = true;
+          break;
+        }
         stack_node[sp] = node;
         stack_t[sp] = node_t;
         sp = sp + 1;
@@ -376,7 +456,7 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root) {
       held = true;
     }
   }
-  res.hit = hit_from_nearest(KD_ARG best);
+  res.hit = fault != 0 ? hit_fault(KD_ARG ray.tmax, fault, fault_node, fault_depth) : hit_from_nearest(KD_ARG best);
   return res;
 }
 

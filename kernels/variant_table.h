@@ -22,8 +22,9 @@
 //     primitive type); n >= 2 = one generated translation unit per value 0..n-1, so that
 //     the timed cpu kernels carry no branch on it.
 //   host source: FEATURES(member) = KernelFeatures::member of the scene
-//     (bvh/packed_scene.h), TRACE(member) = TraceSwitches::member of the trace call
-//     (host/scene_variant.h); converted to the kernel's value by switch_value().
+//     (bvh/packed_scene.h), TRACE(member) = TraceSwitches::member of the trace call,
+//     KNOBS(member) = KernelKnobs::member, set by an environment knob (host/scene_variant.h);
+//     converted to the kernel's value by switch_value().
 // Comments inside the macro are /* */ ones: a // comment would swallow the line splice.
 #ifndef MASQ_KERNEL_VARIANT_TABLE_H
 #define MASQ_KERNEL_VARIANT_TABLE_H
@@ -31,10 +32,12 @@
 #define MASQ_SPEC_LOCAL_SIZE 3 // the entry points' local_size_x_id
 
 // The largest traversal stack, in entries (a node index and its entry distance each).
-// MASQ_TLAS_STACK and MASQ_BLAS_STACK size the two stacks of a dispatch from its
-// scene's trees (host/stack_size.h rounds the builders' worst case up to one of a few
-// sizes); their default, the size of a kernel compiled without the host's choice and
-// of the cpu's stacks (cpu units 1), is this one (host/stack_size.cpp checks it).
+// MASQ_TLAS_STACK and MASQ_BLAS_STACK bound the pushes of the two stacks of a dispatch
+// by its scene's trees (host/stack_size.h rounds the builders' worst case up to one of a
+// few sizes; a push beyond is a fault, never a silent drop); their default, the size of
+// a kernel compiled without the host's choice, is this one (host/stack_size.cpp checks
+// it). Whether they also size the arrays is MASQ_STACK_SIZED's choice (variants.h,
+// MASQ_STACK_DIM); the cpu's arrays always hold this many.
 #define MASQ_STACK_MAX 64
 
 #define MASQ_VARIANTS(X)                                                                             \
@@ -49,8 +52,10 @@
   X(MASQ_ANY_HIT,        any_hit,     bool, false, 9,  0, TRACE(any_hit))     /* occlusion query */  \
   X(MASQ_SINGLE_BLAS,    single_blas, bool, false, 10, 0, FEATURES(single_blas)) /* no TLAS stage */ \
   X(MASQ_NODE_FORMAT,    node_format, int,  0,     11, 4, FEATURES(nodes))    /* MASQ_NODES_* */ \
-  X(MASQ_TLAS_STACK,     tlas_stack,  int,  64,    12, 1, FEATURES(tlas_stack)) /* entries */      \
-  X(MASQ_BLAS_STACK,     blas_stack,  int,  64,    13, 1, FEATURES(blas_stack)) /* entries */      \
-  X(MASQ_CURVE_ISECT,    curve_isect, int,  0,     14, 0, FEATURES(curve_isect)) /* MASQ_CURVE_* */
+  X(MASQ_TLAS_STACK,     tlas_stack,  int,  64,    12, 0, FEATURES(tlas_stack)) /* entries */      \
+  X(MASQ_BLAS_STACK,     blas_stack,  int,  64,    13, 0, FEATURES(blas_stack)) /* entries */      \
+  X(MASQ_CURVE_ISECT,    curve_isect, int,  0,     14, 0, FEATURES(curve_isect)) /* MASQ_CURVE_* */ \
+  X(MASQ_STEP_CHECK,     step_check,  bool, true,  15, 0, KNOBS(step_check)) /* step budget, full stack */ \
+  X(MASQ_STACK_SIZED,    stack_sized, bool, false, 16, 1, KNOBS(stack_sized)) /* see MASQ_STACK_DIM */
 
 #endif

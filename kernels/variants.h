@@ -39,14 +39,25 @@ KERNEL_NS_END
 #endif
 
 // The dimension of a traversal stack whose switch is NAME (MASQ_TLAS_STACK,
-// MASQ_BLAS_STACK): GLSL sizes the array by the specialization constant and OpenCL C
-// by the -D, so a GPU thread carries only what its scene's trees need; C++ keeps the
-// largest size, since its switches need not be compile-time constants. The pushes are
-// bounded by NAME itself on every backend.
+// MASQ_BLAS_STACK), in one of two forms (the MASQ_STACK_SIZED row; docs/kernels.md,
+// "Stack forms"):
+//  - fixed (MASQ_STACK_SIZED 0, the default): MASQ_STACK_MAX entries, a plain constant,
+//    whatever the scene; nothing depends on how a driver sizes an array by a
+//    specialization constant (the suspect of the H200's hang, docs/results.md);
+//  - sized (1): NAME entries, so a GPU thread carries only what its scene's trees need.
+//    GLSL takes the size from the specialization constant, in SPIR-V modules compiled
+//    for this form (MASQ_STACK_SIZED_MODULE=1, a glslang -D: an array's dimension is not
+//    a branch a specialization constant can choose); OpenCL C from the -D.
+// C++ keeps the largest size either way (its switches need not be compile-time
+// constants). The pushes are bounded by NAME itself on every backend and in both forms.
 #if defined(MASQ_LANG_CPP)
 #define MASQ_STACK_DIM(NAME) MASQ_STACK_MAX
-#else
+#elif defined(MASQ_LANG_OPENCL)
+#define MASQ_STACK_DIM(NAME) (MASQ_STACK_SIZED ? (NAME) : MASQ_STACK_MAX)
+#elif defined(MASQ_STACK_SIZED_MODULE) && MASQ_STACK_SIZED_MODULE
 #define MASQ_STACK_DIM(NAME) NAME
+#else
+#define MASQ_STACK_DIM(NAME) MASQ_STACK_MAX
 #endif
 
 #endif

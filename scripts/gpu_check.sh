@@ -152,7 +152,7 @@ if [ $smoke -eq 1 ]; then
 else
   # Every backend against the oracle and each other, and the device choice itself.
   ctest --test-dir "$build_dir" \
-    -R '^(CrossBackend|Types/EveryPrimitive|Backends/NodeFormatsAgree|EveryBackend/Occlusion|DeviceChoice|RealDevices)\.|^python_pytest$' \
+    -R '^(CrossBackend|Types/EveryPrimitive|Backends/NodeFormatsAgree|EveryBackend/Occlusion|Backends/(Bv)?TraversalFaults|TraceFaults|DeviceChoice|RealDevices)\.|^python_pytest$' \
     --output-on-failure --timeout 600 -j"$(nproc)"
 fi
 

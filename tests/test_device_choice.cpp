@@ -256,7 +256,9 @@ TEST_F(RealDevices, DriverTraversalOnTheVulkanDevice) {
   auto vk = test::open_or_fail("vulkan", [](const std::string& n) { return make_backend(n); });
   for (const char* name : {"rayquery", "rtpipeline"}) {
     auto be = test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
-    if (vk && be) EXPECT_EQ(vk->device_name(), be->device_name()) << name;
+    if (vk && be) {
+      EXPECT_EQ(vk->device_name(), be->device_name()) << name;
+    }
   }
 }
 

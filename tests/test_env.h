@@ -3,9 +3,11 @@
 // one is a broken setup; the variable is for machines without a driver).
 #pragma once
 #include "masq/error.h"
+#include <algorithm>
 #include <cstdlib>
 #include <gtest/gtest.h>
 #include <string>
+#include <vector>
 
 namespace masq::test {
 
@@ -27,16 +29,51 @@ auto open_or_fail(const std::string& name, Make make) -> decltype(make(name)) {
   }
 }
 
+// The backends a test that covers "every backend" runs: backend_names() (host/backend.h),
+// or only those MASQ_TEST_BACKENDS lists (comma-separated), so that one run can check one
+// device's backends (the GPU bundle, scripts/gpu_bundle.sh) or the cpu under valgrind.
+// A listed name no backend has fails the test.
+inline std::vector<std::string> tested_backends(const std::vector<std::string>& all) {
+  const char* v = std::getenv("MASQ_TEST_BACKENDS");
+  if (v == nullptr || *v == '\0') return all;
+  std::vector<std::string> out;
+  std::string list = v;
+  for (std::size_t b = 0; b <= list.size();) {
+    std::size_t e = list.find(',', b);
+    if (e == std::string::npos) e = list.size();
+    std::string name = list.substr(b, e - b);
+    if (!name.empty()) {
+      if (std::find(all.begin(), all.end(), name) == all.end())
+        ADD_FAILURE() << "MASQ_TEST_BACKENDS names '" << name << "', no backend";
+      else
+        out.push_back(name);
+    }
+    b = e + 1;
+  }
+  return out;
+}
+
 // Sets an environment variable (a knob, a fault injection) for the scope of one check.
+// The variable's earlier value (or its absence) comes back at the end of the scope.
 class ScopedEnv {
  public:
-  ScopedEnv(const char* name, const std::string& value) : name_(name) { setenv(name, value.c_str(), 1); }
-  ~ScopedEnv() { unsetenv(name_); }
+  ScopedEnv(const char* name, const std::string& value) : name_(name) {
+    const char* old = std::getenv(name);
+    had_ = old != nullptr;
+    if (had_) old_ = old;
+    setenv(name, value.c_str(), 1);
+  }
+  ~ScopedEnv() {
+    if (had_) setenv(name_, old_.c_str(), 1);
+    else unsetenv(name_);
+  }
   ScopedEnv(const ScopedEnv&) = delete;
   ScopedEnv& operator=(const ScopedEnv&) = delete;
 
  private:
   const char* name_;
+  bool had_ = false;
+  std::string old_;
 };
 
 } // namespace masq::test

@@ -253,7 +253,9 @@ TEST(LocalSize, ThisDevice) {
   EXPECT_GE(l.subgroup_size, 1u);
   EXPECT_LE(size, l.max_group_size_x);
   EXPECT_LE(size, l.max_group_invocations);
-  if (std::getenv("MASQ_VK_LOCAL_SIZE") == nullptr) EXPECT_EQ(size % l.subgroup_size, 0u);
+  if (std::getenv("MASQ_VK_LOCAL_SIZE") == nullptr) {
+    EXPECT_EQ(size % l.subgroup_size, 0u);
+  }
   const std::vector<std::uint32_t> d = device_spirv(*ctx, trace_comp_spv);
   EXPECT_EQ(scan(d).capabilities, l.preserve_float32 ? 1 : 0);
   std::printf("device: subgroup %u, work-group size %u, SignedZeroInfNanPreserve float32 %s\n", l.subgroup_size, size,

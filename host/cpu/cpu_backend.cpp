@@ -4,6 +4,7 @@
 #include "host/device_fill.h"
 #include "host/scene_arrays.h"
 #include "host/scene_variant.h"
+#include "host/trace_faults.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <atomic>
@@ -48,13 +49,14 @@ class CpuBackend final : public Backend {
     const cpu::UnitFn fn = cpu::find_unit(cpu::kTraceUnits, "trace",
                                           [&](std::string_view key) { return switch_value(variant, key); });
     const int n = int(rays.size());
+    const std::int32_t budget = step_budget(scene_.node_count());
     // Small chunks handed out dynamically balance uneven rays across threads.
     const int chunk = 256;
     std::atomic<int> next{0};
     auto worker = [&] {
       for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
         fn(kd_, variant, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
-           scene_.tlas_root);
+           scene_.tlas_root, budget);
     };
     auto start = std::chrono::steady_clock::now();
     std::vector<std::thread> pool;
@@ -63,6 +65,7 @@ class CpuBackend final : public Backend {
     for (std::thread& t : pool) t.join();
     timing_.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     timing_.wall_seconds = timing_.trace_seconds; // traced in place: no upload or readback
+    check_trace_faults("cpu", device_name(), hits, budget);
   }
 
   TraceTiming timing() const override { return timing_; }

@@ -4,6 +4,7 @@
 #include "host/cpu/cpu_units.h"
 #include "host/scene_arrays.h"
 #include "host/scene_variant.h"
+#include "host/trace_faults.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <atomic>
@@ -56,7 +57,7 @@ class CpuBvTracer final : public BvTracer {
     auto worker = [&] {
       for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
         fn(kd_, variant, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
-           nodes);
+           nodes, step_budget(scene_.node_count()));
     };
     auto t0 = std::chrono::steady_clock::now();
     std::vector<std::thread> pool;
@@ -65,6 +66,7 @@ class CpuBvTracer final : public BvTracer {
     for (std::thread& t : pool) t.join();
     timing_.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timing_.wall_seconds = timing_.trace_seconds; // traced in place: no upload or readback
+    check_trace_faults("cpu bv", "host", hits, step_budget(scene_.node_count()));
   }
 
   TraceTiming timing() const override { return timing_; }

@@ -1,3 +1,4 @@
+#include "host/trace_faults.h"
 #include "host/opencl/opencl_backend.h"
 
 #include "host/opencl/cl_runtime.h"
@@ -26,6 +27,7 @@ constexpr std::size_t kDummyBytes = 16;
 struct UploadedScene {
   opencl::SceneBuffers arrays;
   int tlas_root = -1;
+  std::int32_t step_budget = 1; // kernel::TraceParams::step_budget (host/trace_faults.h)
   KernelFeatures features;
 };
 
@@ -56,6 +58,7 @@ class OpenClBackend final : public Backend {
     UploadedScene up;
     up.arrays = opencl::upload_scene_arrays(rt_, "opencl", scene_array_data(scene), KernelFamily::TwoLevel, stand_in_);
     up.tlas_root = scene.tlas_root;
+    up.step_budget = step_budget(scene.node_count());
     up.features = scene.features;
     check(rt_.queue.finish(), "clFinish (scene upload)");
     scene_ = std::move(up);
@@ -106,7 +109,7 @@ class OpenClBackend final : public Backend {
             "clEnqueueWriteBuffer(rays)");
       for (std::size_t c0 = 0; c0 < wn; c0 += chunk) {
         const std::size_t cn = std::min(chunk, wn - c0);
-        const kernel::TraceParams params{int(cn), scene_->tlas_root, int(c0), 0};
+        const kernel::TraceParams params{int(cn), scene_->tlas_root, int(c0), scene_->step_budget};
         check(k.setArg(params_arg, params), "clSetKernelArg(params)");
         const std::size_t global = opencl::padded_global(group, cn);
         const cl::NDRange local = group.local > 0 ? cl::NDRange(group.local) : cl::NullRange;
@@ -130,6 +133,7 @@ class OpenClBackend final : public Backend {
     timing_.upload_seconds = opencl::event_seconds(uploads);
     timing_.readback_seconds = opencl::event_seconds(readbacks);
     timing_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    check_trace_faults("opencl", device_name(), hits, scene_->step_budget);
   }
 
  private:

@@ -2,6 +2,7 @@
 // types) with -D switches. All rays of a trace go up in one buffer (bounded by the
 // device's largest allocation, checked below) and are dispatched in chunks of at most
 // max_rays_per_dispatch (host/limit_knob.h: the watchdog bound) with ray_offset.
+#include "host/trace_faults.h"
 #include "host/bv_tracer.h"
 #include "host/opencl/cl_runtime.h"
 #include "host/opencl/cl_scene_buffers.h"
@@ -68,7 +69,8 @@ class OpenClBvTracer final : public BvTracer {
     const cl::NDRange local = group.local > 0 ? cl::NDRange(group.local) : cl::NullRange;
     for (std::size_t c0 = 0; c0 < n; c0 += chunk) {
       const std::size_t cn = std::min(chunk, n - c0);
-      const kernel::TraceParams params{int(cn), node_count_, int(c0), 0}; // tlas_root: the node count
+      // tlas_root: the node count
+      const kernel::TraceParams params{int(cn), node_count_, int(c0), step_budget(std::size_t(node_count_))};
       check(k.setArg(params_arg, params), "clSetKernelArg(params)");
       const std::size_t global = opencl::padded_global(group, cn);
       check(rt_.queue.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), local, nullptr,
@@ -88,6 +90,7 @@ class OpenClBvTracer final : public BvTracer {
     timing_.upload_seconds = opencl::event_seconds(uploads);
     timing_.readback_seconds = opencl::event_seconds(readbacks);
     timing_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    check_trace_faults("opencl bv", rt_.description, hits, step_budget(std::size_t(node_count_)));
   }
 
  private:

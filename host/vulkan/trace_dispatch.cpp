@@ -106,11 +106,12 @@ void RayBatch::bind_minimal(KernelLayout& layout) { ensure(std::max<std::size_t>
 
 RayBatch::Times RayBatch::run(const char* backend, KernelLayout& layout, VkPipeline pipeline,
                               std::uint32_t local_size, std::int32_t param, std::span<const kernel::Ray> rays,
-                              std::span<kernel::Hit> hits, std::span<kernel::RayStats> stats) {
+                              std::span<kernel::Hit> hits, std::span<kernel::RayStats> stats,
+                              std::int32_t budget) {
   // The group count within the device's limit.
   const std::uint64_t max_launch = std::uint64_t(ctx_.props.limits.maxComputeWorkGroupCount[0]) * local_size;
   return run_chunks(backend, layout, max_launch, rays, hits, stats, [&](std::uint32_t n) {
-    kernel::TraceParams pc{static_cast<int>(n), param, 0, 0};
+    kernel::TraceParams pc{static_cast<int>(n), param, 0, budget};
     return layout.dispatch(pipeline, &pc, (n + local_size - 1) / local_size);
   });
 }

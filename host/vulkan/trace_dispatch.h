@@ -90,13 +90,13 @@ class RayBatch {
     }
   };
   // Traces rays in chunks: binds rays/hits/stats (MASQ_BINDING_RAYS, _HITS, _STATS), dispatches
-  // `pipeline` with push constants {count, param, 0, 0} (kernel::TraceParams layout),
+  // `pipeline` with push constants {count, param, 0, budget} (kernel::TraceParams layout),
   // copies hits and stats back. A chunk holds at most max_rays_per_dispatch rays
   // (host/limit_knob.h: the watchdog bound), besides what one binding and the group
   // count allow.
   Times run(const char* backend, KernelLayout& layout, VkPipeline pipeline, std::uint32_t local_size,
             std::int32_t param, std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits,
-            std::span<kernel::RayStats> stats);
+            std::span<kernel::RayStats> stats, std::int32_t budget = 0);
   // The same chunking with the launch left to the caller: launch(n) traces the n rays
   // now in the ray buffer (bound at MASQ_BINDING_RAYS; hits and stats likewise) and
   // returns its device seconds. max_launch: the most rays one launch may hold.

@@ -233,16 +233,35 @@ void Context::create(const char* backend, DeviceNeed need) {
   VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
                                        want_structures ? &as : nullptr};
   v12.bufferDeviceAddress = buffer_device_address ? VK_TRUE : VK_FALSE;
+  // Compile statistics of the pipelines (registers, spills: the GPU run's record of
+  // what each kernel variant costs a thread), only when asked for: capturing them may
+  // slow a driver's compiles.
+  const char* stats_knob = std::getenv("MASQ_VK_PIPELINE_STATS");
+  pipeline_statistics = stats_knob != nullptr && std::string(stats_knob) == "1" &&
+                        device_has_extension(physical, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+  if (pipeline_statistics) {
+    VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR can{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &can};
+    vkGetPhysicalDeviceFeatures2(physical, &f2);
+    pipeline_statistics = can.pipelineExecutableInfo == VK_TRUE;
+  }
+  if (stats_knob != nullptr && std::string(stats_knob) == "1" && !pipeline_statistics)
+    std::fprintf(stderr, "masq: vulkan: MASQ_VK_PIPELINE_STATS: '%s' has no pipelineExecutableInfo "
+                         "(VK_KHR_pipeline_executable_properties)\n", props.deviceName);
+  VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR exec_features{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR, v12.pNext};
+  exec_features.pipelineExecutableInfo = VK_TRUE;
+  if (pipeline_statistics) v12.pNext = &exec_features;
+  std::vector<const char*> device_extensions;
+  if (want_ray_query) device_extensions.assign(std::begin(kRayQueryExtensions), std::end(kRayQueryExtensions));
+  else if (want_ray_pipeline) device_extensions.assign(std::begin(kRayPipelineExtensions), std::end(kRayPipelineExtensions));
+  if (pipeline_statistics) device_extensions.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &v12};
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
-  if (want_ray_query) {
-    dci.enabledExtensionCount = static_cast<std::uint32_t>(std::size(kRayQueryExtensions));
-    dci.ppEnabledExtensionNames = kRayQueryExtensions;
-  } else if (want_ray_pipeline) {
-    dci.enabledExtensionCount = static_cast<std::uint32_t>(std::size(kRayPipelineExtensions));
-    dci.ppEnabledExtensionNames = kRayPipelineExtensions;
-  }
+  dci.enabledExtensionCount = static_cast<std::uint32_t>(device_extensions.size());
+  dci.ppEnabledExtensionNames = device_extensions.empty() ? nullptr : device_extensions.data();
   r = vkCreateDevice(physical, &dci, nullptr, &device);
   if (r != VK_SUCCESS) {
     device = VK_NULL_HANDLE;
@@ -254,6 +273,13 @@ void Context::create(const char* backend, DeviceNeed need) {
   pci.queueFamilyIndex = queue_family;
   MASQ_VK_CHECK(vkCreateCommandPool(device, &pci, nullptr, &command_pool));
   pipeline_cache_ = std::make_unique<PipelineCache>(physical, device);
+  if (pipeline_statistics) {
+    executable_properties = reinterpret_cast<PFN_vkGetPipelineExecutablePropertiesKHR>(
+        vkGetDeviceProcAddr(device, "vkGetPipelineExecutablePropertiesKHR"));
+    executable_statistics = reinterpret_cast<PFN_vkGetPipelineExecutableStatisticsKHR>(
+        vkGetDeviceProcAddr(device, "vkGetPipelineExecutableStatisticsKHR"));
+    pipeline_statistics = executable_properties != nullptr && executable_statistics != nullptr;
+  }
 
   ray_query = want_ray_query;
   ray_pipeline = want_ray_pipeline;

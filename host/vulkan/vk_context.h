@@ -84,6 +84,12 @@ class Context {
   // patch of every pipeline (host/vulkan/vk_shader_limits.h).
   std::uint32_t subgroup_size = 1;                      // VkPhysicalDeviceSubgroupProperties
   bool signed_zero_inf_nan_preserve_float32 = false;    // VkPhysicalDeviceFloatControlsProperties
+  // MASQ_VK_PIPELINE_STATS=1 and the device has VK_KHR_pipeline_executable_properties:
+  // every compute pipeline's compile statistics (registers, spills, local memory, as
+  // the driver names them) go to stderr (host/vulkan/vk_pipeline.cpp).
+  bool pipeline_statistics = false;
+  PFN_vkGetPipelineExecutablePropertiesKHR executable_properties = nullptr;
+  PFN_vkGetPipelineExecutableStatisticsKHR executable_statistics = nullptr;
 
   std::string device_name() const; // "llvmpipe (...) [Mesa 25.0.7 ...]"
   // Largest storage-buffer binding, after MASQ_VK_MAX_BINDING_BYTES and the test

@@ -1,8 +1,11 @@
 #include "host/vulkan/vk_pipeline.h"
 #include "host/vulkan/vk_shader_limits.h"
 #include "host/vulkan/vk_barriers.h"
+#include <fmt/format.h>
 #include <chrono>
+#include <cstdio>
 #include <map>
+#include <string>
 
 namespace masq::vk {
 
@@ -97,11 +100,53 @@ VkPipeline KernelLayout::create_pipeline(std::span<const std::uint32_t> spirv,
   cpi.stage.pName = "main";
   cpi.stage.pSpecializationInfo = values.empty() ? nullptr : &spec;
   cpi.layout = pipeline_layout_;
+  if (ctx_.pipeline_statistics) cpi.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
   VkPipeline pipeline = VK_NULL_HANDLE;
   VkResult r = vkCreateComputePipelines(ctx_.device, ctx_.pipeline_cache(), 1, &cpi, nullptr, &pipeline);
   vkDestroyShaderModule(ctx_.device, module, nullptr);
   if (r != VK_SUCCESS) throw_vk_error("vkCreateComputePipelines", r, __FILE__, __LINE__);
+  if (ctx_.pipeline_statistics) print_pipeline_statistics(pipeline, spirv.size(), values);
   return pipeline;
+}
+
+// One line per executable of the pipeline: its name and every statistic the driver
+// reports (NVIDIA: registers, shared and local memory...), with the module's size and
+// the specialization constants that tell the variant apart.
+void KernelLayout::print_pipeline_statistics(VkPipeline pipeline, std::size_t module_words,
+                                             std::span<const std::uint32_t> values) const {
+  VkPipelineInfoKHR info{VK_STRUCTURE_TYPE_PIPELINE_INFO_KHR};
+  info.pipeline = pipeline;
+  std::uint32_t n = 0;
+  if (ctx_.executable_properties(ctx_.device, &info, &n, nullptr) != VK_SUCCESS) return;
+  std::vector<VkPipelineExecutablePropertiesKHR> exes(n, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_PROPERTIES_KHR});
+  if (ctx_.executable_properties(ctx_.device, &info, &n, exes.data()) != VK_SUCCESS) return;
+  std::string spec;
+  for (std::uint32_t v : values) {
+    if (!spec.empty()) spec += ',';
+    spec += std::to_string(v);
+  }
+  for (std::uint32_t e = 0; e < n; ++e) {
+    VkPipelineExecutableInfoKHR ei{VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INFO_KHR};
+    ei.pipeline = pipeline;
+    ei.executableIndex = e;
+    std::uint32_t ns = 0;
+    if (ctx_.executable_statistics(ctx_.device, &ei, &ns, nullptr) != VK_SUCCESS) continue;
+    std::vector<VkPipelineExecutableStatisticKHR> stats(ns, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR});
+    if (ctx_.executable_statistics(ctx_.device, &ei, &ns, stats.data()) != VK_SUCCESS) continue;
+    std::string line;
+    for (const VkPipelineExecutableStatisticKHR& s : stats) {
+      line += fmt::format("; {} ", s.name);
+      switch (s.format) {
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR: line += s.value.b32 ? "yes" : "no"; break;
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR: line += std::to_string(s.value.i64); break;
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR: line += std::to_string(s.value.u64); break;
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_FLOAT64_KHR: line += fmt::format("{:g}", s.value.f64); break;
+        default: line += "?";
+      }
+    }
+    std::fprintf(stderr, "masq: vulkan pipeline statistics: module %zu words, spec [%s], executable '%s'%s\n",
+                 module_words, spec.c_str(), exes[e].name, line.c_str());
+  }
 }
 
 void KernelLayout::destroy_pipeline(VkPipeline p) {

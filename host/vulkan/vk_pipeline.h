@@ -48,6 +48,10 @@ class KernelLayout {
 
  private:
   void release() noexcept;
+  // MASQ_VK_PIPELINE_STATS=1 (Context::pipeline_statistics): the driver's statistics of
+  // each executable of `pipeline`, one line each on stderr.
+  void print_pipeline_statistics(VkPipeline pipeline, std::size_t module_words,
+                                 std::span<const std::uint32_t> values) const;
   Context& ctx_;
   std::vector<VkDescriptorType> types_;
   std::uint32_t push_bytes_ = 0;

@@ -57,7 +57,15 @@ std::uint32_t local_size(const Context& ctx) {
   return forced;
 }
 
+bool float_controls_enabled() {
+  const char* v = std::getenv("MASQ_VK_FLOAT_CONTROLS");
+  if (v == nullptr || *v == '\0' || std::string(v) == "on") return true;
+  if (std::string(v) == "off") return false;
+  throw Error(std::string("vulkan: MASQ_VK_FLOAT_CONTROLS='") + v + "' is not 'on' or 'off'");
+}
+
 std::vector<std::uint32_t> device_spirv(const Context& ctx, std::span<const std::uint32_t> spirv) {
+  if (!float_controls_enabled()) return {spirv.begin(), spirv.end()};
   std::vector<std::uint32_t> exact = with_no_contraction(spirv);
   if (!shader_limits(ctx).preserve_float32) return exact;
   return with_signed_zero_inf_nan_preserve(exact);

@@ -31,7 +31,12 @@ std::uint32_t local_size(const Context& ctx);
 
 // The module as the device gets it (host/vulkan/spirv_float_controls.h): every float
 // operation decorated NoContraction, on every device; SignedZeroInfNanPreserve where
-// the device supports it.
+// the device supports it. MASQ_VK_FLOAT_CONTROLS=off (an A/B switch for a driver
+// suspected of mishandling them; the default is on) passes the module as glslang wrote
+// it: the kernels' results may then differ in their last bits from the other backends'.
 std::vector<std::uint32_t> device_spirv(const Context& ctx, std::span<const std::uint32_t> spirv);
+// Whether MASQ_VK_FLOAT_CONTROLS (on|off, default on) asks for the patches above;
+// throws masq::Error for another value.
+bool float_controls_enabled();
 
 } // namespace masq::vk

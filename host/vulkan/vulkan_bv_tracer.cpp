@@ -5,12 +5,14 @@
 #include "host/bv_tracer.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/scene_variant.h"
+#include "host/trace_faults.h"
 #include "host/vulkan/vk_shader_limits.h"
 #include "kernels/kernel_data.h"
 #include "masq/error.h"
 #include "spirv/trace_bv_modules.h"
 #include <chrono>
 #include <map>
+#include <tuple>
 #include <memory>
 #include <utility>
 
@@ -48,7 +50,9 @@ class VulkanBvTracer final : public BvTracer {
              std::span<kernel::RayStats> stats) override {
     if (!have_scene_) throw Error("vulkan bv: trace called before set_scene");
     VkPipeline p = pipeline(!stats.empty());
-    batch_.run(kName, layout_, p, vk::local_size(*ctx_), node_count_, rays, hits, stats).into(timing_);
+    const std::int32_t budget = step_budget(std::size_t(node_count_));
+    batch_.run(kName, layout_, p, vk::local_size(*ctx_), node_count_, rays, hits, stats, budget).into(timing_);
+    check_trace_faults("vulkan bv", ctx_->device_name(), hits, budget);
   }
 
   TraceTiming timing() const override { return timing_; }
@@ -58,10 +62,13 @@ class VulkanBvTracer final : public BvTracer {
   vk::PipelineVariants& variants() {
     const int type = bv_type_kernel_id(type_);
     const bool addressed = scene_.addressed();
-    std::unique_ptr<vk::PipelineVariants>& v = variants_[{type, addressed}];
+    const bool sized = kernel_knobs().stack_sized; // the MASQ_STACK_SIZED row's module (kernels/variants.h)
+    std::unique_ptr<vk::PipelineVariants>& v = variants_[{type, addressed, sized}];
     if (!v)
       for (const vk::TraceBvModule& m : vk::kTraceBvModules)
-        if (m.bv_type == type) v = std::make_unique<vk::PipelineVariants>(layout_, addressed ? m.addressed : m.bound);
+        if (m.bv_type == type)
+          v = std::make_unique<vk::PipelineVariants>(
+              layout_, sized ? (addressed ? m.sized_addressed : m.sized_bound) : (addressed ? m.addressed : m.bound));
     if (!v) throw Error("vulkan bv: no SPIR-V module for bounding-volume type " + std::to_string(type));
     return *v;
   }
@@ -71,7 +78,7 @@ class VulkanBvTracer final : public BvTracer {
         vk::spec_constants(kernel_variant(features_, {stats, false}), vk::local_size(*ctx_));
     const vk::PipelineVariants::Variant& v = variants().get(spec, [&](VkPipeline p) {
       batch_.bind_minimal(layout_); // an empty dispatch triggers the driver's JIT
-      kernel::TraceParams pc{0, node_count_, 0, 0};
+      kernel::TraceParams pc{0, node_count_, 0, step_budget(std::size_t(node_count_))};
       layout_.dispatch(p, &pc, 1);
     });
     timing_.compile_seconds = v.compile_seconds;
@@ -80,7 +87,8 @@ class VulkanBvTracer final : public BvTracer {
 
   std::shared_ptr<vk::Context> ctx_;
   vk::KernelLayout layout_;
-  std::map<std::pair<int, bool>, std::unique_ptr<vk::PipelineVariants>> variants_; // after layout_: destroyed first
+  // By (type, addressed, stacks sized); after layout_: destroyed first.
+  std::map<std::tuple<int, bool, bool>, std::unique_ptr<vk::PipelineVariants>> variants_;
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
   BvType type_ = BvType::Scb;

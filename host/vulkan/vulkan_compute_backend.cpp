@@ -3,15 +3,20 @@
 // and cached; the first dispatch of each is part of its compile time, because lavapipe
 // JIT-compiles there. Where the device has bufferDeviceAddress the addressed module
 // (trace_comp_addr_spv; see SceneBuffers) runs; otherwise the bound one, and scenes with
-// an array over one storage binding are refused.
+// an array over one storage binding are refused. Each in two stack forms (MASQ_STACK_FORM,
+// kernels/variants.h): trace_comp*_spv with fixed stacks, trace_comp_sized*_spv sized by
+// the specialization constants.
 #include "host/device_fill.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vk_lanes.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "host/scene_variant.h"
+#include "host/trace_faults.h"
 #include "host/vulkan/vk_shader_limits.h"
 #include "kernels/kernel_data.h"
 #include "spirv/trace_comp_addr_spv.h"
+#include "spirv/trace_comp_sized_addr_spv.h"
+#include "spirv/trace_comp_sized_spv.h"
 #include "spirv/trace_comp_spv.h"
 #include <chrono>
 #include <cstdlib>
@@ -57,6 +62,7 @@ class VulkanComputeBackend final : public Backend {
     scene_.finish(*ctx_, kName, prefer_addressed());
     scene_.bind(layout_);
     tlas_root_ = scene.tlas_root;
+    budget_ = step_budget(scene.node_count());
     features_ = scene.features;
     have_scene_ = true;
     timing_.scene_seconds = seconds_since(t0);
@@ -66,7 +72,8 @@ class VulkanComputeBackend final : public Backend {
              Query query) override {
     if (!have_scene_) throw Error("vulkan: trace called before set_scene");
     VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
-    batch_.run(kName, layout_, p, vk::local_size(*ctx_), tlas_root_, rays, hits, stats).into(timing_);
+    batch_.run(kName, layout_, p, vk::local_size(*ctx_), tlas_root_, rays, hits, stats, budget_).into(timing_);
+    check_trace_faults(kName, ctx_->device_name(), hits, budget_);
   }
 
   TraceTiming timing() const override { return timing_; }
@@ -75,13 +82,16 @@ class VulkanComputeBackend final : public Backend {
 
  private:
   VkPipeline pipeline(bool stats, bool any_hit) {
-    vk::PipelineVariants& variants = scene_.addressed() ? addressed_ : bound_;
-    const std::vector<std::uint32_t> spec =
-        vk::spec_constants(kernel_variant(features_, {stats, any_hit}), vk::local_size(*ctx_));
+    const KernelVariant kv = kernel_variant(features_, {stats, any_hit});
+    // The module of the variant's stack form (MASQ_STACK_SIZED, kernels/variants.h) and
+    // array access; the other switches are specialization constants.
+    vk::PipelineVariants& variants = kv.stack_sized ? (scene_.addressed() ? sized_addressed_ : sized_bound_)
+                                                    : (scene_.addressed() ? addressed_ : bound_);
+    const std::vector<std::uint32_t> spec = vk::spec_constants(kv, vk::local_size(*ctx_));
     const vk::PipelineVariants::Variant& v = variants.get(spec, [&](VkPipeline p) {
       // An empty dispatch (ray_count 0) triggers the driver's JIT.
       batch_.bind_minimal(layout_);
-      kernel::TraceParams pc{0, tlas_root_, 0, 0};
+      kernel::TraceParams pc{0, tlas_root_, 0, budget_};
       layout_.dispatch(p, &pc, 1);
     });
     timing_.compile_seconds = v.compile_seconds;
@@ -92,9 +102,12 @@ class VulkanComputeBackend final : public Backend {
   vk::KernelLayout layout_;
   vk::PipelineVariants bound_{layout_, trace_comp_spv}; // after layout_: destroyed first
   vk::PipelineVariants addressed_{layout_, trace_comp_addr_spv};
+  vk::PipelineVariants sized_bound_{layout_, trace_comp_sized_spv};
+  vk::PipelineVariants sized_addressed_{layout_, trace_comp_sized_addr_spv};
   vk::RayBatch batch_;
   vk::SceneBuffers scene_;
   std::int32_t tlas_root_ = -1;
+  std::int32_t budget_ = 1; // kernel::TraceParams::step_budget (host/trace_faults.h)
   KernelFeatures features_;
   bool have_scene_ = false;
   TraceTiming timing_;

@@ -43,11 +43,11 @@
   F(Curve, pad3)
 #define MASQ_LAYOUT_Ray(F, A) A(Ray, org, 3) F(Ray, tmin) A(Ray, dir, 3) F(Ray, tmax)
 #define MASQ_LAYOUT_Hit(F, A) \
-  F(Hit, t) F(Hit, prim) F(Hit, geom) F(Hit, inst) A(Hit, normal, 3) F(Hit, u) F(Hit, v) A(Hit, pad, 3)
+  F(Hit, t) F(Hit, prim) F(Hit, geom) F(Hit, inst) A(Hit, normal, 3) F(Hit, u) F(Hit, v) F(Hit, fault) F(Hit, fault_node) F(Hit, fault_depth)
 #define MASQ_LAYOUT_RayStats(F, A) \
   F(RayStats, tlas_nodes) F(RayStats, blas_nodes) F(RayStats, transforms) F(RayStats, isect_calls)
 #define MASQ_LAYOUT_TraceParams(F, A) \
-  F(TraceParams, ray_count) F(TraceParams, tlas_root) F(TraceParams, ray_offset) F(TraceParams, pad)
+  F(TraceParams, ray_count) F(TraceParams, tlas_root) F(TraceParams, ray_offset) F(TraceParams, step_budget)
 
 #define MASQ_LAYOUT_BvNodeAabb(F, A) A(BvNodeAabb, lo, 3) F(BvNodeAabb, child) A(BvNodeAabb, hi, 3) F(BvNodeAabb, count)
 #define MASQ_LAYOUT_BvNodeSphere(F, A) \

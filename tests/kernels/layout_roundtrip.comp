@@ -264,7 +264,9 @@ void main() {
   for (j = 0; j < 3; ++j) PUTF(ha.normal[j]);
   PUTF(ha.u);
   PUTF(ha.v);
-  for (j = 0; j < 3; ++j) PUTF(ha.pad[j]);
+  PUTI(ha.fault);
+  PUTI(ha.fault_node);
+  PUTI(ha.fault_depth);
   w = base + i * W_HIT;
   Hit hb;
   hb.t = GETF;
@@ -274,7 +276,9 @@ void main() {
   for (j = 0; j < 3; ++j) hb.normal[j] = GETF;
   hb.u = GETF;
   hb.v = GETF;
-  for (j = 0; j < 3; ++j) hb.pad[j] = GETF;
+  hb.fault = GETI;
+  hb.fault_node = GETI;
+  hb.fault_depth = GETI;
   out_hits[i] = hb;
   base += pc.n * W_HIT;
 
@@ -300,13 +304,13 @@ void main() {
   PUTI(pa.ray_count);
   PUTI(pa.tlas_root);
   PUTI(pa.ray_offset);
-  PUTI(pa.pad);
+  PUTI(pa.step_budget);
   w = base + i * W_PARAMS;
   TraceParams pb;
   pb.ray_count = GETI;
   pb.tlas_root = GETI;
   pb.ray_offset = GETI;
-  pb.pad = GETI;
+  pb.step_budget = GETI;
   out_params[i] = pb;
   base += pc.n * W_PARAMS;
 

@@ -1,0 +1,18 @@
+#!/bin/sh
+# ctest kernels_memcheck: the kernels' C++ build reads no uninitialised value and touches
+# no memory it should not. One cross-backend case (every thin primitive type, instanced
+# beside a mesh, robust and fast) on the cpu backend alone, under valgrind's memcheck.
+# Only valgrind's verdict decides: the case's own comparison with the long-double oracle
+# may differ under valgrind, which computes x87 long doubles to 64 bits only (the same
+# case passes in the suite proper), so a gtest failure (exit 1) is not this test's.
+# usage: kernels_memcheck.sh VALGRIND TEST_BINARY
+set -u
+valgrind=$1 binary=$2
+MASQ_TEST_BACKENDS=cpu MASQ_CPU_THREADS=2 "$valgrind" --tool=memcheck --error-exitcode=99 --track-origins=yes \
+  --quiet "$binary" --gtest_brief=1 --gtest_filter='Types/EveryPrimitive.InstancedWithMeshRobustAndFast/*'
+rc=$?
+case $rc in
+  0|1) echo "kernels_memcheck: no memcheck error (the case exited $rc)"; exit 0 ;;
+  99) echo "kernels_memcheck: memcheck found errors (above)" >&2; exit 1 ;;
+  *) echo "kernels_memcheck: the case ended with status $rc under valgrind" >&2; exit 1 ;;
+esac
