@@ -204,7 +204,7 @@ if [ $quick -eq 1 ]; then
   limit=120
 else
   forms="fixed,addressed,on sized,addressed,on fixed,bound,on sized,bound,on fixed,addressed,off"
-  limit=18
+  limit=9 # 2-4 s each on the H200
 fi
 for form in $forms; do
   stack=${form%%,*} rest=${form#*,}
@@ -232,13 +232,13 @@ elif [ $quick -eq 1 ]; then
 else
   # The cases that fit the step (the whole binary needs several minutes there: each
   # variant is a driver compile of 0.3-2 s on NVIDIA's OpenCL, first H200 bundle run).
-  step "cross_backend: every method, instanced scenes, every primitive, invalid rays, counters" 60 \
+  step "cross_backend: every method, instanced scenes, every primitive, invalid rays, counters" 85 \
     env MASQ_TEST_BACKENDS="cpu,$backends" "$bin/test_cross_backend" --gtest_brief=1 \
     --gtest_filter="CrossBackend.DefaultSceneCamera:CrossBackend.RandomInstancedScenes:CrossBackend.InvalidRays*:CrossBackend.ComputeBackendsVisitWhatTheCpuVisits:CrossBackend.SingleIdentityInstance*:Types/EveryPrimitive.BundleCamera/*" ||
     quote_errors 10
   step "occlusion (shadow rays, early exit)" 15 \
     "$bin/test_occlusion" --gtest_brief=1 --gtest_filter="$by_backend" || quote_errors 6
-  step "node formats w4, w8, q8, o4 agree" 30 \
+  step "node formats w4, w8, q8, o4 agree" 35 \
     "$bin/test_node_formats_cross" --gtest_brief=1 --gtest_filter="$by_backend" || quote_errors 6
   step "traversal faults (corrupt structure, full stack)" 15 \
     "$bin/test_traversal_faults" --gtest_brief=1 --gtest_filter="$by_backend:TraceFaults.*" || quote_errors 6
@@ -272,10 +272,10 @@ else
   gpus=$(echo "$backends" | tr ',' ' ')
   bench default 20 2048 3 "$gpus" --method ref masq cluster
   bench bear_capsules 25 2048 3 "$gpus" --file "$bear" --prim capsule --method ref masq
-  bench bear_curves 30 2048 2 "$gpus" --file "$bear" --prim curve --method ref masq
+  bench bear_curves 45 2048 2 "$gpus" --file "$bear" --prim curve --method ref masq
   bench cpu_bear_capsules 10 1024 2 cpu --file "$bear" --prim capsule --method ref masq
   # shellcheck disable=SC2086
-  if step "fig3 grid (the paper's Fig. 3, quick)" 25 "$bin/masq" bench -q --suite fig3 --quick --backend $gpus cpu \
+  if step "fig3 grid (the paper's Fig. 3, quick)" 45 "$bin/masq" bench -q --suite fig3 --quick --backend $gpus cpu \
       --auto-by model --out "$scratch/fig3" --data "$here/data"; then
     cp "$scratch/fig3/results.json" "$out/fig3.json"
     cp "$scratch/fig3/RESULTS.md" "$out/fig3.md" && note "The suite's own tables: fig3.md (raw: fig3.json)"
@@ -287,7 +287,7 @@ else
   fi
   # What each kernel variant costs a GPU thread, as the driver compiled it (registers,
   # local memory), in both stack forms: VK_KHR_pipeline_executable_properties.
-  if step "pipeline statistics (fixed and sized stacks)" 20 sh -c "for f in fixed sized; do \
+  if step "pipeline statistics (fixed and sized stacks)" 10 sh -c "for f in fixed sized; do \
       MASQ_STACK_FORM=\$f MASQ_VK_PIPELINE_STATS=1 '$bin/masq' bench -q --backend vulkan --method ref masq \
         --rays primary --width 64 --height 64 --warmup 0 --reps 1 >/dev/null || exit 1; done"; then
     note '```'
@@ -300,7 +300,7 @@ fi
 if [ $quick -eq 0 ]; then
   note
   note "## 4. Without the step budget (MASQ_STEP_CHECK=off), as the first H200 run traced"
-  step "vulkan, every method, no step budget" 15 env MASQ_STEP_CHECK=off MASQ_TEST_BACKENDS=vulkan \
+  step "vulkan, every method, no step budget" 10 env MASQ_STEP_CHECK=off MASQ_TEST_BACKENDS=vulkan \
     "$bin/test_cross_backend" --gtest_brief=1 --gtest_filter=CrossBackend.DefaultSceneCamera || quote_errors 4
 fi
 
