@@ -41,6 +41,17 @@ inline std::uint64_t lowered_limit(const char* backend, std::uint64_t device, co
   return std::min<std::uint64_t>(limit, n);
 }
 
+// The value of a knob that names one of two choices: true for `on`, false for `off`,
+// `fallback` when unset or empty. Throws masq::Error "<owner>: <env>='<value>' is not
+// '<on>' or '<off>'" (owner: the backend, or "" for a knob of every backend).
+inline bool choice_knob(const char* owner, const char* env, const char* on, const char* off, bool fallback) {
+  const char* v = std::getenv(env);
+  if (v == nullptr || *v == '\0') return fallback;
+  if (std::string(v) == on) return true;
+  if (std::string(v) == off) return false;
+  throw Error(std::string(owner) + (*owner ? ": " : "") + env + "='" + v + "' is not '" + on + "' or '" + off + "'");
+}
+
 // Rays in one dispatch unless MASQ_MAX_RAYS_PER_DISPATCH lowers it. A display GPU's
 // driver resets a kernel that runs past about 2 s (Windows TDR, Linux/macOS watchdogs).
 // masq's slowest traces, the counter variants on dense hair, run near 1 Mrays/s on the

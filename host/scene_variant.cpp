@@ -1,25 +1,12 @@
 #include "host/scene_variant.h"
-#include "masq/error.h"
-#include <cstdlib>
-#include <string>
+#include "host/limit_knob.h"
 
 namespace masq {
 
-namespace {
-// The value of an on/off knob (unset or empty: `fallback`).
-bool knob_choice(const char* name, const char* on, const char* off, bool fallback) {
-  const char* v = std::getenv(name);
-  if (v == nullptr || *v == '\0') return fallback;
-  if (std::string(v) == on) return true;
-  if (std::string(v) == off) return false;
-  throw Error(std::string(name) + "='" + v + "' is not '" + on + "' or '" + off + "'");
-}
-} // namespace
-
 KernelKnobs kernel_knobs() {
   KernelKnobs k;
-  k.step_check = knob_choice("MASQ_STEP_CHECK", "on", "off", true);
-  k.stack_sized = knob_choice("MASQ_STACK_FORM", "sized", "fixed", false);
+  k.step_check = choice_knob("", "MASQ_STEP_CHECK", "on", "off", true);
+  k.stack_sized = choice_knob("", "MASQ_STACK_FORM", "sized", "fixed", false);
   return k;
 }
 

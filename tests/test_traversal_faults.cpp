@@ -68,6 +68,18 @@ long stopped(const std::string& msg, const char* what) {
   return std::regex_search(msg, m, count) ? std::stol(m[1]) : -1;
 }
 
+// The error `trace` throws (a test failure, and "", if it returns).
+template <class Trace>
+std::string error_of(Trace trace) {
+  try {
+    trace();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the trace returned";
+  return "";
+}
+
 struct Case {
   std::string backend;
   Method method; // Ref: a BLAS walk; Masq: the TLAS walk
@@ -88,13 +100,7 @@ class TraversalFaults : public ::testing::TestWithParam<Case> {
   std::string trace_error() {
     be_->set_scene(packed_);
     std::vector<kernel::Hit> hits(rays_.size());
-    try {
-      be_->trace(rays_, hits, {});
-    } catch (const Error& e) {
-      return e.what();
-    }
-    ADD_FAILURE() << "the trace returned";
-    return "";
+    return error_of([&] { be_->trace(rays_, hits, {}); });
   }
   std::unique_ptr<Backend> be_;
   Scene scene_;
@@ -174,16 +180,10 @@ TEST_P(BvTraversalFaults, CycleAndSmallStackAreErrors) {
   BvOptions opt;
   opt.type = BvType::Aabb;
   const BvScene sound = build_bv_scene(scene, opt);
-  auto error_of = [&](const BvScene& s) -> std::string {
+  auto bv_error = [&](const BvScene& s) {
     tracer->set_scene(s);
     std::vector<kernel::Hit> hits(rays.size());
-    try {
-      tracer->trace(rays, hits, {});
-    } catch (const Error& e) {
-      return e.what();
-    }
-    ADD_FAILURE() << "the trace returned";
-    return "";
+    return error_of([&] { tracer->trace(rays, hits, {}); });
   };
   {
     BvScene cyc = sound;
@@ -192,7 +192,7 @@ TEST_P(BvTraversalFaults, CycleAndSmallStackAreErrors) {
     if (cyc.bv_aabb[c].count != 0) ++c;
     ASSERT_EQ(cyc.bv_aabb[c].count, 0);
     cyc.bv_aabb[c].child = c; // its children: itself and its sibling
-    const std::string msg = error_of(cyc);
+    const std::string msg = bv_error(cyc);
     EXPECT_NE(msg.find("of " + std::to_string(rays.size()) + " rays"), std::string::npos) << msg;
     EXPECT_GT(stopped(msg, "on a full stack") + stopped(msg, "past the step budget"), 0) << msg;
   }
@@ -200,7 +200,7 @@ TEST_P(BvTraversalFaults, CycleAndSmallStackAreErrors) {
     BvScene shallow = sound;
     ASSERT_GT(shallow.prims.features.blas_stack.entries, 8);
     shallow.prims.features.blas_stack.entries = 1;
-    const std::string msg = error_of(shallow);
+    const std::string msg = bv_error(shallow);
     EXPECT_GT(stopped(msg, "on a full stack"), 0) << msg;
   }
   tracer->set_scene(sound);

@@ -1,4 +1,5 @@
 #include "host/vulkan/vk_shader_limits.h"
+#include "host/limit_knob.h"
 #include "host/vulkan/spirv_float_controls.h"
 #include "masq/error.h"
 #include <algorithm>
@@ -57,12 +58,7 @@ std::uint32_t local_size(const Context& ctx) {
   return forced;
 }
 
-bool float_controls_enabled() {
-  const char* v = std::getenv("MASQ_VK_FLOAT_CONTROLS");
-  if (v == nullptr || *v == '\0' || std::string(v) == "on") return true;
-  if (std::string(v) == "off") return false;
-  throw Error(std::string("vulkan: MASQ_VK_FLOAT_CONTROLS='") + v + "' is not 'on' or 'off'");
-}
+bool float_controls_enabled() { return choice_knob("vulkan", "MASQ_VK_FLOAT_CONTROLS", "on", "off", true); }
 
 std::vector<std::uint32_t> device_spirv(const Context& ctx, std::span<const std::uint32_t> spirv) {
   if (!float_controls_enabled()) return {spirv.begin(), spirv.end()};

@@ -7,6 +7,7 @@
 // kernels/variants.h): trace_comp*_spv with fixed stacks, trace_comp_sized*_spv sized by
 // the specialization constants.
 #include "host/device_fill.h"
+#include "host/limit_knob.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vk_lanes.h"
 #include "host/vulkan/vulkan_backends.h"
@@ -37,12 +38,7 @@ const char* const kName = "vulkan";
 // one binding. Default addressed: on lavapipe it traced 1.3-1.7x faster than bound in
 // interleaved runs (bench/addressed_cost.cpp; docs/results.md), as llvmpipe
 // bounds-checks every descriptor access. MASQ_VK_ADDRESSING=bound|addressed picks.
-bool prefer_addressed() {
-  const char* v = std::getenv("MASQ_VK_ADDRESSING");
-  if (v == nullptr || *v == '\0' || std::string(v) == "addressed") return true;
-  if (std::string(v) == "bound") return false;
-  throw Error(std::string("vulkan: MASQ_VK_ADDRESSING='") + v + "' is not 'bound' or 'addressed'");
-}
+bool prefer_addressed() { return choice_knob("vulkan", "MASQ_VK_ADDRESSING", "addressed", "bound", true); }
 
 class VulkanComputeBackend final : public Backend {
  public:
