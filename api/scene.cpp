@@ -64,10 +64,10 @@ std::uint32_t Scene::add_capsules(std::span<const Capsule> capsules) {
   return push(impl_->scene, std::move(g));
 }
 
-std::uint32_t Scene::add_round_cones(std::span<const RoundCone> cones) {
+std::uint32_t Scene::add_round_cones(std::span<const RoundCone> round_cones) {
   masq::Geometry g;
   g.type = PrimType::RoundCone;
-  for (const RoundCone& c : cones) g.cones.push_back({to_glm(c.a), c.ra, to_glm(c.b), c.rb});
+  for (const RoundCone& c : round_cones) g.round_cones.push_back({to_glm(c.a), c.ra, to_glm(c.b), c.rb});
   return push(impl_->scene, std::move(g));
 }
 

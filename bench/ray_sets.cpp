@@ -43,7 +43,7 @@ double hit_radius(const Scene& scene, const kernel::Hit& h) {
   switch (g.type) {
     case PrimType::Triangle: return 0.0;
     case PrimType::Capsule: r = g.capsules[p].radius; break;
-    case PrimType::RoundCone: r = std::max(g.cones[p].ra, g.cones[p].rb); break;
+    case PrimType::RoundCone: r = std::max(g.round_cones[p].ra, g.round_cones[p].rb); break;
     case PrimType::Sphere: r = g.spheres[p].radius; break;
     case PrimType::Curve: r = g.curves[p].radius; break;
   }

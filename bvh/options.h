@@ -32,7 +32,7 @@ using api::node_format_table;
 inline const char* node_format_name(NodeFormat f) { return node_format_table.name(f); }
 inline NodeFormat parse_node_format(std::string_view name) { return node_format_table.parse(name); } // throws
 
-// The binary-BVH builders (bvh/build/builder.h, docs/builders.md); their parts are columns of
+// The binary-BVH builders (bvh/binary/builder.h, docs/builders.md); their parts are columns of
 // builder_table.
 using Builder = api::Builder;
 using api::builder_table;

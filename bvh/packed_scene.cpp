@@ -61,7 +61,7 @@ std::size_t PackedScene::tlas_entry(std::int32_t ref) const {
 
 std::size_t PackedScene::primitive_bytes() const {
   return geoms.size() * sizeof(kernel::Geometry) + triangles.size() * sizeof(kernel::Triangle) +
-         capsules.size() * sizeof(kernel::Capsule) + cones.size() * sizeof(kernel::RoundCone) +
+         capsules.size() * sizeof(kernel::Capsule) + round_cones.size() * sizeof(kernel::RoundCone) +
          spheres.size() * sizeof(kernel::Sphere) + curves.size() * sizeof(kernel::Curve);
 }
 

@@ -35,7 +35,7 @@ struct StackNeed {
 struct KernelFeatures {
   bool triangles = false;
   bool capsules = false;
-  bool cones = false;
+  bool round_cones = false;
   bool spheres = false;
   bool curves = false;
   Mode mode = Mode::Robust;
@@ -100,7 +100,7 @@ struct PackedScene {
   std::vector<kernel::Geometry> geoms;
   std::vector<kernel::Triangle> triangles;
   std::vector<kernel::Capsule> capsules;
-  std::vector<kernel::RoundCone> cones;
+  std::vector<kernel::RoundCone> round_cones;
   std::vector<kernel::Sphere> spheres;
   std::vector<kernel::Curve> curves;
   std::int32_t tlas_root = -1;

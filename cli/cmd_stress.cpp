@@ -77,7 +77,7 @@ Action add_stress(CLI::App& app) {
   cmd->add_option("--rays", c->opt.sweep.rays_per_cell, "Rays per cell")->capture_default_str()->check(CLI::Range(16, 1 << 24));
   cmd->add_flag("--quick", c->opt.sweep.quick, "Fewer sweep points (the ctest subset)");
   cmd->add_option("--prim", c->types, "Primitive types (default: all): " + prim_type_table.help())
-      ->check(CLI::IsMember(prim_type_table.names()));
+      ->check(CLI::IsMember(prim_type_table.accepted_names()));
   cmd->add_option("--sweep", c->opt.sweep.sweeps,
                   "Sweeps (default: all): " + fmt::format("{}", fmt::join(stress::sweep_names(), ", ")))
       ->check(CLI::IsMember(stress::sweep_names()));

@@ -13,7 +13,7 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
       ->check(CLI::IsMember(embedded_scene_table.names()));
   cmd.add_option("--file", opt.file,
                  "Scene file instead of --scene: .tfx (TressFX 3/4), .hair, .swc, .trk, .tck, .ply, .obj, .nff, .json (scene "
-                 "description); strands use --prim capsule, cone or curve (Catmull-Rom through the points)");
+                 "description); strands use --prim capsule, round_cone or curve (Catmull-Rom through the points)");
   cmd.add_option("--file-radius", opt.file_radius, "Strand radius where the file has none (0: the loader's default)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
@@ -28,9 +28,9 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
   auto strand = [](const PrimTypeRow& r) { return r.value != PrimType::Triangle; };
   cmd.add_option("--prim", opt.prim,
                  "Strand primitive: " + prim_type_table.help(strand) +
-                     "; the bundle's cones taper from r to r/2, its curves bend and its spheres are beads")
+                     "; the bundle's round cones taper from r to r/2, its curves bend and its spheres are beads")
       ->capture_default_str()
-      ->check(CLI::IsMember(prim_type_table.names(strand)));
+      ->check(CLI::IsMember(prim_type_table.accepted_names(strand)));
   cmd.add_option("--subdiv", opt.subdivisions, "Curves: pre-subdivide each cubic into k pieces (1, 2, 4, 8...)")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));

@@ -20,9 +20,9 @@ FN PrimHit intersect_primitive(KD_PARAM Geometry g, int prim, vec3 o, vec3 d, fl
                        : intersect_capsule_fast(KD(capsules)[i], o, d, tmin, tmax);
   if (MASQ_HAVE_CURVES && g.type == MASQ_PRIM_CURVE)
     return curve_intersect_mode(KD(curves)[i], o, d, tmin, tmax, MASQ_ROBUST ? 1 : 0, MASQ_CURVE_ISECT);
-  if (MASQ_HAVE_CONES && g.type == MASQ_PRIM_ROUND_CONE)
-    return MASQ_ROBUST ? intersect_round_cone(KD(cones)[i], o, d, tmin, tmax)
-                       : intersect_round_cone_fast(KD(cones)[i], o, d, tmin, tmax);
+  if (MASQ_HAVE_ROUND_CONES && g.type == MASQ_PRIM_ROUND_CONE)
+    return MASQ_ROBUST ? intersect_round_cone(KD(round_cones)[i], o, d, tmin, tmax)
+                       : intersect_round_cone_fast(KD(round_cones)[i], o, d, tmin, tmax);
   if (MASQ_HAVE_SPHERES && g.type == MASQ_PRIM_SPHERE)
     return MASQ_ROBUST ? intersect_sphere(KD(spheres)[i], o, d, tmin, tmax)
                        : intersect_sphere_fast(KD(spheres)[i], o, d, tmin, tmax);

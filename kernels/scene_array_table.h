@@ -32,7 +32,7 @@
   X(Geometry,     geoms,          4,  BOTH,      SCENE)                             \
   X(Triangle,     triangles,      5,  BOTH,      SCENE)                             \
   X(Capsule,      capsules,       6,  BOTH,      SCENE)                             \
-  X(RoundCone,    cones,          10, BOTH,      SCENE)                             \
+  X(RoundCone,    round_cones,          10, BOTH,      SCENE)                             \
   X(Sphere,       spheres,        11, BOTH,      SCENE)                             \
   X(Curve,        curves,         12, BOTH,      SCENE)                             \
   X(BvNodeAabb,   bv_aabb,        13, BV,        BV) /* one of the four node arrays */ \

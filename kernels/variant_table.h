@@ -44,7 +44,7 @@
   X(MASQ_STATS,          stats,       bool, false, 0,  2, TRACE(stats))       /* per-ray counters */ \
   X(MASQ_HAVE_TRIANGLES, triangles,   bool, true,  1,  1, FEATURES(triangles))                       \
   X(MASQ_HAVE_CAPSULES,  capsules,    bool, true,  2,  1, FEATURES(capsules))                        \
-  X(MASQ_HAVE_CONES,     cones,       bool, true,  4,  1, FEATURES(cones))                           \
+  X(MASQ_HAVE_ROUND_CONES,     round_cones,       bool, true,  4,  1, FEATURES(round_cones))                           \
   X(MASQ_HAVE_SPHERES,   spheres,     bool, true,  5,  1, FEATURES(spheres))                         \
   X(MASQ_HAVE_CURVES,    curves,      bool, true,  6,  1, FEATURES(curves))                          \
   X(MASQ_ROBUST,         robust,      bool, true,  7,  2, FEATURES(mode))     /* robust or fast */   \

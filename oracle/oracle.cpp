@@ -19,7 +19,7 @@ PrimResult intersect(const Geometry& g, std::size_t p, const PrimRay& ray) {
       return oracle_triangle(g.vertices[tri.x], g.vertices[tri.y], g.vertices[tri.z], ray);
     }
     case PrimType::Capsule: return oracle_capsule(g.capsules[p], ray);
-    case PrimType::RoundCone: return oracle_round_cone(g.cones[p], ray);
+    case PrimType::RoundCone: return oracle_round_cone(g.round_cones[p], ray);
     case PrimType::Sphere: return oracle_sphere(g.spheres[p], ray);
     case PrimType::Curve: return oracle_curve(g.curves[p], ray);
   }

@@ -9,7 +9,7 @@
 //    closest approach to the centre; capsule and cone: to the axis, within the solid's
 //    axial extent), so its terms live on the primitive's scale rather than the distance
 //    travelled or the length, and with the cancellation-free root pair (solve.h).
-//  - Clearance of spheres, capsules and cones is the exact gap between the ray segment
+//  - Clearance of spheres, capsules and round cones is the exact gap between the ray segment
 //    and the solid (closed form, see linear_core_gap); curves: see oracle_curve.
 //  - Convex solids (sphere, capsule, cone): the ray meets the boundary at its entry and
 //    exit, so the crossing interval is [min, max] of the boundary crossings found

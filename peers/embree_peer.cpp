@@ -3,11 +3,11 @@
 // long-double oracle in tests/test_embree_peer.cpp):
 //  - Round linear curve segments take their neighbours from RTC_BUFFER_TYPE_FLAGS; with
 //    a neighbour, the parts of a segment's end ball inside the neighbouring cone are cut
-//    away. Capsules and cones are independent, so each segment indexes its own two
+//    away. Capsules and round cones are independent, so each segment indexes its own two
 //    vertices (index 2*i) and the flags are set explicitly to 0, not left to Embree:
 //    both end balls are whole and the segment is the convex hull of its two balls,
 //    masq's capsule / round cone, also when one ball contains the other (Embree then
-//    reports that ball alone; 100% agreement on the generator's contained cones).
+//    reports that ball alone; 100% agreement on the generator's contained round cones).
 //  - Round Bezier curves are open tubes: Embree's sweep has no end balls, so rays that
 //    hit masq's round curve ends miss, or enter the open end and hit the inside wall.
 //    Away from the ends the surfaces agree. Sphere points close the ends (CurveEnds in
@@ -192,7 +192,7 @@ void put4(float* dst, const glm::vec3& p, float r) {
   dst[3] = r;
 }
 
-// Round linear curve of independent two-vertex segments (capsules and cones).
+// Round linear curve of independent two-vertex segments (capsules and round cones).
 RTCGeometry make_segments(RTCDevice device, std::size_t n, auto&& vertex_pair) {
   RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
   float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, 2 * n, 4);
@@ -217,9 +217,9 @@ RTCGeometry EmbreePeer::Impl::make_geometry(const Geometry& g) {
         put4(b, g.capsules[i].b, g.capsules[i].radius);
       });
     case PrimType::RoundCone:
-      return make_segments(device, g.cones.size(), [&](std::size_t i, float* a, float* b) {
-        put4(a, g.cones[i].a, g.cones[i].ra);
-        put4(b, g.cones[i].b, g.cones[i].rb);
+      return make_segments(device, g.round_cones.size(), [&](std::size_t i, float* a, float* b) {
+        put4(a, g.round_cones[i].a, g.round_cones[i].ra);
+        put4(b, g.round_cones[i].b, g.round_cones[i].rb);
       });
     case PrimType::Curve: {
       std::size_t n = g.curves.size();

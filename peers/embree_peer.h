@@ -75,7 +75,7 @@ class EmbreePeer {
   // miss: t = +inf, prim = geom = inst = -1, normal and u, v zero. Hit: t in units of
   // ray.dir, prim/geom/inst the masq indices, normal the unit world-space geometric
   // normal (Embree's Ng), u, v as kernel::Hit documents (triangles: Embree's
-  // barycentrics; capsules, cones, curves: Embree's u, v = 0; spheres: 0, 0).
+  // barycentrics; capsules, round cones, curves: Embree's u, v = 0; spheres: 0, 0).
   // Invalid rays (non-finite, zero direction, tmin > tmax) miss without reaching Embree.
   void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits);
 

@@ -61,7 +61,7 @@ void frame_scene(Scene& scene) {
       grow(xf, c.a, c.radius);
       grow(xf, c.b, c.radius);
     }
-    for (const RoundConePrim& c : g.cones) {
+    for (const RoundConePrim& c : g.round_cones) {
       grow(xf, c.a, c.ra);
       grow(xf, c.b, c.rb);
     }

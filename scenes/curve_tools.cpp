@@ -65,7 +65,7 @@ Scene curves_to_segments(const Scene& scene, int n, PrimType type) {
       for (int i = 0; i < n; ++i) {
         glm::vec3 a(bezier_point(c, double(i) / n)), b(bezier_point(c, double(i + 1) / n));
         if (type == PrimType::Capsule) seg.capsules.push_back({a, b, c.radius});
-        else seg.cones.push_back({a, c.radius, b, c.radius});
+        else seg.round_cones.push_back({a, c.radius, b, c.radius});
       }
     g = std::move(seg);
   }
@@ -102,7 +102,7 @@ Scene segments_to_curves(const Scene& scene) {
           [](const CapsulePrim& c) { return std::pair(c.b, c.radius); });
     else if (g.type == PrimType::RoundCone)
       strands = chain_segments(
-          g.cones, [](const RoundConePrim& c) { return std::pair(c.a, c.ra); },
+          g.round_cones, [](const RoundConePrim& c) { return std::pair(c.a, c.ra); },
           [](const RoundConePrim& c) { return std::pair(c.b, c.rb); });
     else
       continue;

@@ -29,7 +29,7 @@ Geometry make_bundle(const BundleParams& p) {
     glm::dvec3 a = c - half * axis, b = c + half * axis;
     switch (p.prim) {
       case PrimType::Capsule: g.capsules.push_back({glm::vec3(a), glm::vec3(b), p.radius}); break;
-      case PrimType::RoundCone: g.cones.push_back({glm::vec3(a), p.radius, glm::vec3(b), 0.5f * p.radius}); break;
+      case PrimType::RoundCone: g.round_cones.push_back({glm::vec3(a), p.radius, glm::vec3(b), 0.5f * p.radius}); break;
       case PrimType::Curve: {
         glm::dvec3 bend = 0.05 * e1;
         CurvePrim cv{};
@@ -102,7 +102,7 @@ Geometry make_random_cones(int count, float min_radius, float max_radius, double
     // Every 8th: the b ball lies inside the a ball.
     double l = i % 8 == 7 ? 0.5 * ra : len(rng);
     if (i % 8 == 7) rb = 0.4 * ra;
-    g.cones.push_back({glm::vec3(a), float(ra), glm::vec3(a + l * dir), float(rb)});
+    g.round_cones.push_back({glm::vec3(a), float(ra), glm::vec3(a + l * dir), float(rb)});
   }
   return g;
 }

@@ -35,7 +35,7 @@ void check_point(const glm::vec3& p, std::size_t g, const char* what, std::size_
 void check_only_own_type(const Geometry& geo, std::size_t g) {
   const std::pair<PrimType, bool> holds[] = {{PrimType::Triangle, !geo.triangles.empty()},
                                              {PrimType::Capsule, !geo.capsules.empty()},
-                                             {PrimType::RoundCone, !geo.cones.empty()},
+                                             {PrimType::RoundCone, !geo.round_cones.empty()},
                                              {PrimType::Sphere, !geo.spheres.empty()},
                                              {PrimType::Curve, !geo.curves.empty()}};
   for (auto [type, present] : holds)
@@ -65,8 +65,8 @@ void validate_geometry(const Geometry& geo, std::size_t g) {
       }
       break;
     case PrimType::RoundCone:
-      for (std::size_t i = 0; i < geo.cones.size(); ++i) {
-        const RoundConePrim& c = geo.cones[i];
+      for (std::size_t i = 0; i < geo.round_cones.size(); ++i) {
+        const RoundConePrim& c = geo.round_cones[i];
         check_point(c.a, g, "round cone", i);
         check_point(c.b, g, "round cone", i);
         check_radius(c.ra, g, "round cone", i);

@@ -13,24 +13,24 @@ namespace masq {
 
 enum class PrimType { Triangle, Capsule, RoundCone, Sphere, Curve };
 
-// A primitive type's row: its name in options and files ("cone"), help, and the noun
-// messages use ("round cone").
+// A primitive type's row: its one name (options, files, output and messages), help, and
+// the older name users may still type (the JSON scene format's and the CLI's "cone").
 struct PrimTypeRow {
   PrimType value;
   const char* name;
   const char* help;
-  const char* noun;
+  const char* alias;
 };
 inline constexpr PrimTypeRow prim_type_rows[] = {
-    {PrimType::Triangle, "triangle", "watertight triangles", "triangle"},
-    {PrimType::Capsule, "capsule", "a segment swept by a ball", "capsule"},
-    {PrimType::RoundCone, "cone", "round cone: the hull of two balls, Han et al.'s link", "round cone"},
-    {PrimType::Sphere, "sphere", "a ball", "sphere"},
-    {PrimType::Curve, "curve", "cubic Bezier swept by a ball", "curve"},
+    {PrimType::Triangle, "triangle", "watertight triangles", nullptr},
+    {PrimType::Capsule, "capsule", "a segment swept by a ball", nullptr},
+    {PrimType::RoundCone, "round_cone", "the hull of two balls, Han et al.'s link", "cone"},
+    {PrimType::Sphere, "sphere", "a ball", nullptr},
+    {PrimType::Curve, "curve", "cubic Bezier swept by a ball", nullptr},
 };
 inline constexpr NameTable prim_type_table{"primitive type", prim_type_rows};
-inline const char* prim_type_name(PrimType t) { return prim_type_table.row(t).noun; } // for messages
-inline const char* prim_type_key(PrimType t) { return prim_type_table.name(t); }     // for options and files
+inline const char* prim_type_name(PrimType t) { return prim_type_table.name(t); } // for messages
+inline const char* prim_type_key(PrimType t) { return prim_type_table.name(t); }  // for options and files
 inline PrimType parse_prim_type(std::string_view key) { return prim_type_table.parse(key); } // throws masq::Error
 
 struct CapsulePrim {
@@ -63,14 +63,14 @@ struct Geometry {
   std::vector<glm::vec3> vertices;      // triangles: vertex positions
   std::vector<glm::uvec3> triangles;    // triangles: vertex indices
   std::vector<CapsulePrim> capsules;    // capsules
-  std::vector<RoundConePrim> cones;     // round cones
+  std::vector<RoundConePrim> round_cones;     // round cones
   std::vector<SpherePrim> spheres;      // spheres
   std::vector<CurvePrim> curves;        // cubic curves
   std::size_t primitive_count() const {
     switch (type) {
       case PrimType::Triangle: return triangles.size();
       case PrimType::Capsule: return capsules.size();
-      case PrimType::RoundCone: return cones.size();
+      case PrimType::RoundCone: return round_cones.size();
       case PrimType::Sphere: return spheres.size();
       case PrimType::Curve: return curves.size();
     }

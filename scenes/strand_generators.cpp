@@ -59,7 +59,7 @@ Geometry strands_to_geometry(const std::vector<Strand>& strands, PrimType type) 
       float ra = float(s.radii[i]), rb = float(s.radii[i + 1]);
       switch (type) {
         case PrimType::Capsule: g.capsules.push_back({a, b, 0.5f * (ra + rb)}); break;
-        case PrimType::RoundCone: g.cones.push_back({a, ra, b, rb}); break;
+        case PrimType::RoundCone: g.round_cones.push_back({a, ra, b, rb}); break;
         case PrimType::Curve: {
           // Catmull-Rom through the points (end points repeated), as Bezier pieces.
           const glm::dvec3& p0 = s.points[i > 0 ? i - 1 : i];

@@ -28,7 +28,7 @@ LAYERS = {
     "bvh/bv": 40,
     "bvh/twolevel": 38,
     "bvh/nodes": 36,
-    "bvh/build": 34,
+    "bvh/binary": 34,
     "bvh/bounds": 32,
     "bvh": 30,
     "oracle": 25,

@@ -247,7 +247,7 @@ Built build_scene(const CellSpec& c, Rng& rng) {
       case PrimType::RoundCone: {
         float rb = 0.5f * rf;
         if (c.degenerate == "contained") e = a + 0.3 * r * w; // ball b inside ball a
-        g.cones.push_back({glm::vec3(a), rf, glm::vec3(e), rb});
+        g.round_cones.push_back({glm::vec3(a), rf, glm::vec3(e), rb});
         pr.p = {glm::dvec3(glm::vec3(a)), glm::dvec3(glm::vec3(e))};
         pr.ra = rf;
         pr.rb = rb;

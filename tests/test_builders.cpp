@@ -1,8 +1,8 @@
-// The BVH builders of bvh/build/builder.h: clipped bounds are conservative, SBVH keeps every
+// The BVH builders of bvh/binary/builder.h: clipped bounds are conservative, SBVH keeps every
 // primitive and its budget, reinsertion never raises the SAH cost and keeps a valid
 // tree, and every builder traces the same hits as the default on every backend.
 #include "bvh/twolevel/build_accel.h"
-#include "bvh/build/builder.h"
+#include "bvh/binary/builder.h"
 #include "bvh/bounds/clip_bounds.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "bvh/twolevel/structure_cost.h"
@@ -46,7 +46,7 @@ glm::dvec3 sample_point(const Geometry& g, std::size_t p, std::mt19937_64& rng) 
     }
     case PrimType::RoundCone: {
       // (1-t)(a + ra u) + t(b + rb u): a point of the hull of the end balls.
-      const RoundConePrim& c = g.cones[p];
+      const RoundConePrim& c = g.round_cones[p];
       double r = (1 - t) * c.ra + t * c.rb;
       return glm::mix(glm::dvec3(c.a), glm::dvec3(c.b), t) + depth * r * random_unit(rng);
     }

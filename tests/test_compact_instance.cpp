@@ -42,7 +42,7 @@ Case random_case(std::mt19937_64& rng, int trial, double far_max) {
       break;
     case 1:
       c.g.type = PrimType::RoundCone;
-      c.g.cones.push_back({a, r, b, float(r * (0.2 + 0.8 * u01(rng)))});
+      c.g.round_cones.push_back({a, r, b, float(r * (0.2 + 0.8 * u01(rng)))});
       break;
     case 2:
       c.g.type = PrimType::Sphere;

@@ -64,7 +64,7 @@ std::vector<kernel::Ray> rays_at_primitives(const Scene& s, int n, std::uint64_t
         p = glm::mix(glm::dvec3(g.capsules[k].a), glm::dvec3(g.capsules[k].b), w), r = g.capsules[k].radius;
         break;
       case PrimType::RoundCone:
-        p = glm::mix(glm::dvec3(g.cones[k].a), glm::dvec3(g.cones[k].b), w), r = g.cones[k].ra;
+        p = glm::mix(glm::dvec3(g.round_cones[k].a), glm::dvec3(g.round_cones[k].b), w), r = g.round_cones[k].ra;
         break;
       case PrimType::Sphere: p = glm::dvec3(g.spheres[k].center), r = g.spheres[k].radius; break;
       case PrimType::Curve: {

@@ -39,7 +39,7 @@ double scale_of(const Scene& s, int geom, int prim, double t) {
   std::size_t p = std::size_t(prim);
   switch (g.type) {
     case PrimType::Capsule: return g.capsules[p].radius;
-    case PrimType::RoundCone: return std::max(g.cones[p].ra, g.cones[p].rb);
+    case PrimType::RoundCone: return std::max(g.round_cones[p].ra, g.round_cones[p].rb);
     case PrimType::Sphere: return g.spheres[p].radius;
     case PrimType::Curve: return g.curves[p].radius;
     case PrimType::Triangle: return t;

@@ -37,10 +37,10 @@ std::string error_of(F&& f) {
 }
 
 bool same_prims(const Geometry& a, const Geometry& b) {
-  if (a.type != b.type || a.capsules.size() != b.capsules.size() || a.cones.size() != b.cones.size()) return false;
+  if (a.type != b.type || a.capsules.size() != b.capsules.size() || a.round_cones.size() != b.round_cones.size()) return false;
   if (!a.capsules.empty() && std::memcmp(a.capsules.data(), b.capsules.data(), a.capsules.size() * sizeof(CapsulePrim)))
     return false;
-  if (!a.cones.empty() && std::memcmp(a.cones.data(), b.cones.data(), a.cones.size() * sizeof(RoundConePrim)))
+  if (!a.round_cones.empty() && std::memcmp(a.round_cones.data(), b.round_cones.data(), a.round_cones.size() * sizeof(RoundConePrim)))
     return false;
   return true;
 }
@@ -87,12 +87,12 @@ void check_tfx(const TfxCase& c) {
   Scene k = load_tressfx(bytes, path, cone);
   const Geometry& gk = k.geometries[0];
   EXPECT_EQ(gk.type, PrimType::RoundCone);
-  ASSERT_EQ(gk.cones.size(), g.capsules.size());
-  for (std::size_t i = 0; i < gk.cones.size(); ++i) {
-    ASSERT_EQ(gk.cones[i].a, g.capsules[i].a);
-    ASSERT_EQ(gk.cones[i].b, g.capsules[i].b);
-    ASSERT_EQ(gk.cones[i].ra, 0.25f);
-    ASSERT_EQ(gk.cones[i].rb, 0.25f);
+  ASSERT_EQ(gk.round_cones.size(), g.capsules.size());
+  for (std::size_t i = 0; i < gk.round_cones.size(); ++i) {
+    ASSERT_EQ(gk.round_cones[i].a, g.capsules[i].a);
+    ASSERT_EQ(gk.round_cones[i].b, g.capsules[i].b);
+    ASSERT_EQ(gk.round_cones[i].ra, 0.25f);
+    ASSERT_EQ(gk.round_cones[i].rb, 0.25f);
   }
 }
 
@@ -327,7 +327,7 @@ Scene strands(PrimType type, const std::vector<int>& segs, R r) {
       glm::vec3 a(float(s) * 1.25f, 0.1f * float(k), std::sin(float(k + s)));
       glm::vec3 b(float(s) * 1.25f, 0.1f * float(k + 1), std::sin(float(k + 1 + s)));
       if (type == PrimType::Capsule) g.capsules.push_back({a, b, r(s, k)});
-      else g.cones.push_back({a, r(s, k), b, r(s, k + 1)});
+      else g.round_cones.push_back({a, r(s, k), b, r(s, k + 1)});
     }
   }
   return scene_of(std::move(g), "strands");
@@ -524,8 +524,8 @@ TEST(Hair, NegativeThicknessRepaired) {
   opt.strand_type = PrimType::RoundCone;
   opt.warn = [&](const std::string& w) { warnings.push_back(w); };
   Scene s = load_hair(b, "neg.hair", opt);
-  EXPECT_EQ(s.geometries[0].cones[2].rb, 0.25f);
-  EXPECT_EQ(s.geometries[0].cones[3].ra, 0.25f);
+  EXPECT_EQ(s.geometries[0].round_cones[2].rb, 0.25f);
+  EXPECT_EQ(s.geometries[0].round_cones[3].ra, 0.25f);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("offset " + std::to_string(kThick + 16)), std::string::npos) << warnings[0];
   EXPECT_NE(warnings[0].find("strand 1 point 2"), std::string::npos) << warnings[0];

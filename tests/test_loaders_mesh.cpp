@@ -1,5 +1,5 @@
 // PLY and NFF loaders: real data (Stanford bunny, SPD 3.14 scenes), binary/ASCII
-// equivalence, strands, three-line NFF cones, and one broken input per error class.
+// equivalence, strands, three-line NFF round cones, and one broken input per error class.
 #include "masq/error.h"
 #include "scenes/loaders/load_nff.h"
 #include "scenes/loaders/load_ply.h"
@@ -115,7 +115,7 @@ TEST(PlyReal, StanfordBunny) {
   EXPECT_NEAR(g.vertices[0].x, -0.0378297f, 1e-6f);
 }
 
-struct SpdCase { const char* file; std::size_t cones, spheres; };
+struct SpdCase { const char* file; std::size_t round_cones, spheres; };
 
 class NffReal : public ::testing::TestWithParam<SpdCase> {};
 
@@ -124,11 +124,11 @@ TEST_P(NffReal, Counts) {
   const std::string p = data_path(std::string("spd/") + c.file);
   SKIP_IF_ABSENT(p);
   Scene s = load_nff(p);
-  const Geometry* cones = find_geom(s, PrimType::RoundCone);
+  const Geometry* round_cones = find_geom(s, PrimType::RoundCone);
   const Geometry* spheres = find_geom(s, PrimType::Sphere);
   const Geometry* tris = find_geom(s, PrimType::Triangle);
-  ASSERT_TRUE(cones && spheres && tris);
-  EXPECT_EQ(cones->cones.size(), c.cones);
+  ASSERT_TRUE(round_cones && spheres && tris);
+  EXPECT_EQ(round_cones->round_cones.size(), c.round_cones);
   EXPECT_EQ(spheres->spheres.size(), c.spheres);
   // One 4-vertex polygon (the floor / back plane) in each file -> 2 triangles.
   EXPECT_EQ(tris->vertices.size(), 4u);
@@ -153,7 +153,7 @@ TEST(NffReal, TreeCameraAndFirstCone) {
   Scene s = load_nff(p);
   EXPECT_EQ(s.camera.eye, glm::dvec3(4.5, 0.4, 2));
   EXPECT_EQ(s.camera.target, glm::dvec3(0, 0, 1.5));
-  const RoundConePrim& c = find_geom(s, PrimType::RoundCone)->cones[0];  // c 0 0 0 0.15 0 0 1 0.1005
+  const RoundConePrim& c = find_geom(s, PrimType::RoundCone)->round_cones[0];  // c 0 0 0 0.15 0 0 1 0.1005
   EXPECT_EQ(c.a, glm::vec3(0, 0, 0));
   EXPECT_FLOAT_EQ(c.ra, 0.15f);
   EXPECT_EQ(c.b, glm::vec3(0, 0, 1));
@@ -219,9 +219,9 @@ TEST(Ply, EdgesToRoundCones) {
   Scene s = ply(kStrandPly, o);
   const Geometry& g = s.geometries[0];
   ASSERT_EQ(g.type, PrimType::RoundCone);
-  ASSERT_EQ(g.cones.size(), 2u);
-  EXPECT_FLOAT_EQ(g.cones[1].ra, 0.2f);
-  EXPECT_FLOAT_EQ(g.cones[1].rb, 0.4f);
+  ASSERT_EQ(g.round_cones.size(), 2u);
+  EXPECT_FLOAT_EQ(g.round_cones[1].ra, 0.2f);
+  EXPECT_FLOAT_EQ(g.round_cones[1].rb, 0.4f);
 }
 
 TEST(Ply, EdgeRadiusFromOptionsOrDefault) {
@@ -332,9 +332,9 @@ TEST(Nff, OneAndThreeLineConesAgree) {
   Scene one = nff("c 0 0 0 0.5 0 0 2 0.25\n");
   Scene three = nff("c\n0 0 0 0.5\n0 0 2 0.25\n");
   ASSERT_EQ(three.geometries.size(), 1u);
-  ASSERT_EQ(three.geometries[0].cones.size(), 1u);
-  const RoundConePrim& a = one.geometries[0].cones[0];
-  const RoundConePrim& b = three.geometries[0].cones[0];
+  ASSERT_EQ(three.geometries[0].round_cones.size(), 1u);
+  const RoundConePrim& a = one.geometries[0].round_cones[0];
+  const RoundConePrim& b = three.geometries[0].round_cones[0];
   EXPECT_EQ(a.a, b.a);
   EXPECT_EQ(a.b, b.b);
   EXPECT_EQ(b.b, glm::vec3(0, 0, 2));

@@ -65,9 +65,9 @@ TEST(Swc, RealNeurons) {
     const Geometry& g = s.geometries[0];
     EXPECT_EQ(g.type, PrimType::RoundCone) << f;
     // Each file has one root (the soma), so segments = samples - 1, samples in [4911, 5543].
-    EXPECT_GE(g.cones.size() + 1, 4911u) << f;
-    EXPECT_LE(g.cones.size() + 1, 5543u) << f;
-    for (const RoundConePrim& c : g.cones) {
+    EXPECT_GE(g.round_cones.size() + 1, 4911u) << f;
+    EXPECT_LE(g.round_cones.size() + 1, 5543u) << f;
+    for (const RoundConePrim& c : g.round_cones) {
       ASSERT_GE(c.ra, 0.0f) << f;
       ASSERT_GE(c.rb, 0.0f) << f;
     }
@@ -80,14 +80,14 @@ TEST(Swc, RealNeurons) {
   // Exact counts (samples - roots), as counted independently from the files.
   {
     Scene a = load_swc(dir + "/C040600B3.CNG.swc");
-    EXPECT_EQ(a.geometries[0].cones.size(), 5542u);
+    EXPECT_EQ(a.geometries[0].round_cones.size(), 5542u);
     Scene b = load_swc(dir + "/C220498B-I4.CNG.swc");
-    EXPECT_EQ(b.geometries[0].cones.size(), 4910u);
+    EXPECT_EQ(b.geometries[0].round_cones.size(), 4910u);
     Scene c = load_swc(dir + "/C080400A3.CNG.swc");
-    EXPECT_EQ(c.geometries[0].cones.size(), 5242u);
+    EXPECT_EQ(c.geometries[0].round_cones.size(), 5242u);
     WarnLog log;
     Scene d = load_swc(dir + "/C031097B-I4.CNG.swc", log.opts());
-    EXPECT_EQ(d.geometries[0].cones.size(), 5419u);
+    EXPECT_EQ(d.geometries[0].round_cones.size(), 5419u);
     ASSERT_EQ(log.lines.size(), 1u);
     EXPECT_NE(log.lines[0].find("negative radius"), std::string::npos);
   }
@@ -108,27 +108,27 @@ TEST(Swc, GapsRootsForwardParentsComments) {
   Scene s = load_swc(bytes_of(text), "mem.swc");
   const Geometry& g = s.geometries[0];
   ASSERT_EQ(g.type, PrimType::RoundCone);
-  ASSERT_EQ(g.cones.size(), 4u);
+  ASSERT_EQ(g.round_cones.size(), 4u);
   // 12 -> 10
-  EXPECT_EQ(g.cones[0].a, glm::vec3(0, 0, 0));
-  EXPECT_FLOAT_EQ(g.cones[0].ra, 2.0f);
-  EXPECT_EQ(g.cones[0].b, glm::vec3(1, 0, 0));
-  EXPECT_FLOAT_EQ(g.cones[0].rb, 0.5f);
+  EXPECT_EQ(g.round_cones[0].a, glm::vec3(0, 0, 0));
+  EXPECT_FLOAT_EQ(g.round_cones[0].ra, 2.0f);
+  EXPECT_EQ(g.round_cones[0].b, glm::vec3(1, 0, 0));
+  EXPECT_FLOAT_EQ(g.round_cones[0].rb, 0.5f);
   // 30 -> 20 (forward reference)
-  EXPECT_EQ(g.cones[1].a, glm::vec3(2, 0, 0));
-  EXPECT_FLOAT_EQ(g.cones[1].rb, 0.25f);
+  EXPECT_EQ(g.round_cones[1].a, glm::vec3(2, 0, 0));
+  EXPECT_FLOAT_EQ(g.round_cones[1].rb, 0.25f);
   // Radius scale.
   LoadOptions o;
   o.radius = 2.0f;
   Scene t = load_swc(bytes_of(text), "mem.swc", o);
-  EXPECT_FLOAT_EQ(t.geometries[0].cones[0].ra, 4.0f);
+  EXPECT_FLOAT_EQ(t.geometries[0].round_cones[0].ra, 4.0f);
 }
 
 TEST(Swc, NegativeRadiusRepairedWithWarning) {
   WarnLog log;
   Scene s = load_swc(bytes_of("1 1 0 0 0 1 -1\n2 3 1 0 0 -0.275 1\n"), "neg.swc", log.opts());
-  ASSERT_EQ(s.geometries[0].cones.size(), 1u);
-  EXPECT_FLOAT_EQ(s.geometries[0].cones[0].rb, 0.275f);
+  ASSERT_EQ(s.geometries[0].round_cones.size(), 1u);
+  EXPECT_FLOAT_EQ(s.geometries[0].round_cones[0].rb, 0.275f);
   ASSERT_EQ(log.lines.size(), 1u);
   EXPECT_NE(log.lines[0].find("neg.swc"), std::string::npos);
   EXPECT_NE(log.lines[0].find("line 2"), std::string::npos);
@@ -217,8 +217,8 @@ TEST(Trk, RealTracks300) {
   WarnLog log2;
   Scene c = load_trk(path, log2.opts(PrimType::RoundCone, 0.25f));
   EXPECT_EQ(c.geometries[0].type, PrimType::RoundCone);
-  EXPECT_EQ(c.geometries[0].cones.size(), 14276u);
-  EXPECT_FLOAT_EQ(c.geometries[0].cones[0].ra, 0.25f);
+  EXPECT_EQ(c.geometries[0].round_cones.size(), 14276u);
+  EXPECT_FLOAT_EQ(c.geometries[0].round_cones[0].ra, 0.25f);
   EXPECT_TRUE(log2.lines.empty());
 
   // The streamline and point counts, read independently of the loader.
@@ -336,14 +336,14 @@ TEST(Tck, RoundTripAllDatatypes) {
     Scene s = load_tck(write_tck(kTracks, dt), "rt.tck", log.opts(PrimType::RoundCone, 0.5f));
     const Geometry& g = s.geometries[0];
     ASSERT_EQ(g.type, PrimType::RoundCone) << dt;
-    ASSERT_EQ(g.cones.size(), 3u + 1u + 0u + 2u) << dt;
+    ASSERT_EQ(g.round_cones.size(), 3u + 1u + 0u + 2u) << dt;
     std::size_t k = 0;
     for (const auto& t : kTracks)
       for (std::size_t i = 1; i < t.size(); ++i, ++k) {
-        EXPECT_EQ(g.cones[k].a, t[i - 1]) << dt << " segment " << k;
-        EXPECT_EQ(g.cones[k].b, t[i]) << dt << " segment " << k;
-        EXPECT_FLOAT_EQ(g.cones[k].ra, 0.5f);
-        EXPECT_FLOAT_EQ(g.cones[k].rb, 0.5f);
+        EXPECT_EQ(g.round_cones[k].a, t[i - 1]) << dt << " segment " << k;
+        EXPECT_EQ(g.round_cones[k].b, t[i]) << dt << " segment " << k;
+        EXPECT_FLOAT_EQ(g.round_cones[k].ra, 0.5f);
+        EXPECT_FLOAT_EQ(g.round_cones[k].rb, 0.5f);
       }
     EXPECT_TRUE(log.lines.empty()) << dt << ": " << (log.lines.empty() ? "" : log.lines[0]);
     EXPECT_NO_THROW(validate_scene(s));

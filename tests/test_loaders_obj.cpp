@@ -111,14 +111,14 @@ TEST(LoadObj, PolylineAsRoundConesWithDefaultRadius) {
   ASSERT_EQ(s.geometries.size(), 1u);
   const Geometry& g = s.geometries[0];
   EXPECT_EQ(g.type, PrimType::RoundCone);
-  ASSERT_EQ(g.cones.size(), 3u);
+  ASSERT_EQ(g.round_cones.size(), 3u);
   const float expected = 0.002f * std::sqrt(3.0f);  // bounding box (0,0,0)-(1,1,1)
-  for (const RoundConePrim& c : g.cones) {
+  for (const RoundConePrim& c : g.round_cones) {
     EXPECT_NEAR(c.ra, expected, 1e-6f);
     EXPECT_NEAR(c.rb, expected, 1e-6f);
   }
-  EXPECT_EQ(g.cones[1].a, glm::vec3(1, 0, 0));
-  EXPECT_EQ(g.cones[1].b, glm::vec3(1, 1, 0));
+  EXPECT_EQ(g.round_cones[1].a, glm::vec3(1, 0, 0));
+  EXPECT_EQ(g.round_cones[1].b, glm::vec3(1, 1, 0));
   ASSERT_FALSE(warnings.empty());
   EXPECT_NE(warnings.back().find("radius"), std::string::npos) << warnings.back();
 }

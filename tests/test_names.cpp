@@ -84,15 +84,17 @@ TEST(Names, ListsAndHelpComeFromTheRows) {
   EXPECT_EQ(mode_table.help(),
             std::string("robust (") + api::mode_rows[0].help + ") or fast (" + api::mode_rows[1].help + ")");
   auto strands = [](const PrimTypeRow& r) { return r.value != PrimType::Triangle; };
-  EXPECT_EQ(prim_type_table.choices(strands), "capsule, cone, sphere or curve");
+  EXPECT_EQ(prim_type_table.choices(strands), "capsule, round_cone, sphere or curve");
   EXPECT_EQ(all_builders(), builder_table.values());
   // The names messages and files used before the tables.
-  EXPECT_STREQ(prim_type_name(PrimType::RoundCone), "round cone");
-  EXPECT_STREQ(prim_type_key(PrimType::RoundCone), "cone");
+  EXPECT_STREQ(prim_type_name(PrimType::RoundCone), "round_cone");
+  EXPECT_STREQ(prim_type_key(PrimType::RoundCone), "round_cone");
+  EXPECT_EQ(parse_prim_type("cone"), PrimType::RoundCone); // the older name, still typed in scene files
+  EXPECT_EQ(parse_prim_type("round_cone"), PrimType::RoundCone);
   EXPECT_STREQ(stress::ray_kind_name(stress::RayKind::Invalid), "nan/inf");
 }
 
-// The builder's parts, as bvh/build/builder.cpp and bvh/twolevel/build_accel.cpp read them.
+// The builder's parts, as bvh/binary/builder.cpp and bvh/twolevel/build_accel.cpp read them.
 TEST(Names, BuilderColumns) {
   for (Builder b : all_builders()) {
     SCOPED_TRACE(builder_name(b));

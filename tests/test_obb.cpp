@@ -61,7 +61,7 @@ std::vector<glm::dvec3> surface_samples(const Geometry& g, std::mt19937_64& rng)
     double s = s01(rng);
     switch (g.type) {
       case PrimType::RoundCone: {
-        const RoundConePrim& c = g.cones[0];
+        const RoundConePrim& c = g.round_cones[0];
         glm::dvec3 p = glm::mix(glm::dvec3(c.a), glm::dvec3(c.b), s);
         pts.push_back(p + glm::mix(double(c.ra), double(c.rb), s) * dir); // inside the hull
         pts.push_back(glm::dvec3(k % 2 ? c.a : c.b) + double(k % 2 ? c.ra : c.rb) * dir);
@@ -96,7 +96,7 @@ TEST(Obb, EveryThinPrimitiveMapsInsideUnitBox) {
     switch (trial % 3) {
       case 0:
         g.type = PrimType::RoundCone;
-        g.cones.push_back({a, r, trial % 9 == 0 ? a + glm::vec3(0.3f * r, 0, 0) : b, 0.4f * r});
+        g.round_cones.push_back({a, r, trial % 9 == 0 ? a + glm::vec3(0.3f * r, 0, 0) : b, 0.4f * r});
         break;
       case 1:
         g.type = PrimType::Sphere;

@@ -21,7 +21,7 @@ TEST(OracleTrace, EveryTypeThroughAnInstance) {
   cap.type = PrimType::Capsule;
   cap.capsules = {{{-1, 0, 0}, {1, 0, 0}, 0.25f}};
   cone.type = PrimType::RoundCone;
-  cone.cones = {{{0, 0, 0}, 0.5f, {2, 0, 0}, 0.25f}};
+  cone.round_cones = {{{0, 0, 0}, 0.5f, {2, 0, 0}, 0.25f}};
   sph.type = PrimType::Sphere;
   sph.spheres = {{{0, 0, 0}, 0.5f}};
   cur.type = PrimType::Curve;

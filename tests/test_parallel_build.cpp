@@ -1,11 +1,11 @@
-// The parallel host build (bvh/build/parallel.h, docs/builders.md): with any thread count
+// The parallel host build (bvh/binary/parallel.h, docs/builders.md): with any thread count
 // every method and builder makes the same structure as the serial build, byte for byte
 // (nodes, references, instances, compact entries, frames, leaf orders), and the float
 // sums of its statistics are the same to the last bit.
 #include "bvh/twolevel/build_accel.h"
-#include "bvh/build/binned_sah.h"
-#include "bvh/build/parallel.h"
-#include "bvh/build/partition_in_chunks.h"
+#include "bvh/binary/binned_sah.h"
+#include "bvh/binary/parallel.h"
+#include "bvh/binary/partition_in_chunks.h"
 #include "masq/error.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"

@@ -188,7 +188,7 @@ Aabb clip_primitive(const Geometry& g, std::size_t prim, int axis, double lo, do
       return clip_segment(glm::dvec3(c.a), c.radius, glm::dvec3(c.b), c.radius, axis, lo, hi);
     }
     case PrimType::RoundCone: {
-      const RoundConePrim& c = g.cones.at(prim);
+      const RoundConePrim& c = g.round_cones.at(prim);
       return clip_segment(glm::dvec3(c.a), c.ra, glm::dvec3(c.b), c.rb, axis, lo, hi);
     }
     case PrimType::Sphere: {

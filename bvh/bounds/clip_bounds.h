@@ -1,6 +1,6 @@
 // Conservative bounds of the part of one primitive that lies inside an axis-aligned
 // slab {x : lo <= x[axis] <= hi}: the box SBVH's spatial splits give each piece of a
-// split reference (bvh/build/sbvh.h). Every returned box contains that part of the primitive
+// split reference (bvh/binary/sbvh.h). Every returned box contains that part of the primitive
 // (object space, double precision); an empty box means the primitive misses the slab.
 //  capsule / round cone: the sub-segment whose swept balls can reach the slab, boxed and
 //                        inflated by the larger end radius of the piece;

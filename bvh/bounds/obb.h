@@ -20,7 +20,7 @@ struct ObbFrame {
 };
 
 // OBB of a non-triangle primitive in object space: analytic for capsules and round
-// cones (axis and perpendicular radii, both end balls covered), a cube for spheres,
+// round cones (axis and perpendicular radii, both end balls covered), a cube for spheres,
 // `curve_obb` for curves. Conservative for the hull of ball_hull().
 ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb = CurveObb::Tight);
 

@@ -33,7 +33,7 @@ BallHull ball_hull(const Geometry& g, std::size_t prim) {
       return two(c.a, c.radius, c.b, c.radius);
     }
     case PrimType::RoundCone: {
-      const RoundConePrim& c = g.cones.at(prim);
+      const RoundConePrim& c = g.round_cones.at(prim);
       return two(c.a, c.ra, c.b, c.rb);
     }
     case PrimType::Sphere: {
@@ -68,7 +68,7 @@ BallHull ball_hull(const PackedScene& s, int geom, int prim) {
       return two(v3(c.a), c.radius, v3(c.b), c.radius);
     }
     case MASQ_PRIM_ROUND_CONE: {
-      const kernel::RoundCone& c = s.cones.at(i);
+      const kernel::RoundCone& c = s.round_cones.at(i);
       return two(v3(c.a), c.ra, v3(c.b), c.rb);
     }
     case MASQ_PRIM_SPHERE: {

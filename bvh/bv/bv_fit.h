@@ -3,7 +3,7 @@
 // every stored float is rounded outward (with a margin for the double arithmetic), so
 // the volume AS STORED contains the exact hulls; tests/test_bv_hierarchy.cpp checks it.
 #pragma once
-#include "bvh/build/binned_sah.h"
+#include "bvh/binary/binned_sah.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "kernels/layout.h"
 #include <span>

@@ -3,7 +3,7 @@
 // hierarchies Kallberg & Larsson compare ("Ray Tracing using Hierarchies of Slab Cut
 // Balls"). Traced by the bv kernels (kernels/bv_traverse.h) through host/bv_tracer.h.
 #pragma once
-#include "bvh/build/binned_sah.h"
+#include "bvh/binary/binned_sah.h"
 #include "bvh/packed_scene.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "masq/names.h"
@@ -27,7 +27,7 @@ inline const char* bv_type_name(BvType t) { return bv_type_table.name(t); }
 inline BvType parse_bv_type(std::string_view name) { return bv_type_table.parse(name); } // throws masq::Error
 int bv_type_kernel_id(BvType t); // MASQ_BV_*
 
-// The sweep is bvh/bv/obb_sweep_bvh.h, the binned SAH bvh/build/binned_sah.h.
+// The sweep is bvh/bv/obb_sweep_bvh.h, the binned SAH bvh/binary/binned_sah.h.
 enum class BvBuilder { ObbSweep, BinnedSah };
 inline constexpr NameRow<BvBuilder> bv_builder_rows[] = {
     {BvBuilder::ObbSweep, "obb-sweep", "the SCB paper's top-down SAH sweep with OBB areas"},

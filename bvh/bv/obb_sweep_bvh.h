@@ -4,7 +4,7 @@
 // bounding box IN THE NODE'S OBB FRAME. The topology is independent of the bounding
 // volume later fitted to each node (bv_fit.h), so every BV type can share it.
 #pragma once
-#include "bvh/build/binned_sah.h"
+#include "bvh/binary/binned_sah.h"
 #include "bvh/bounds/prim_bounds.h"
 #include <vector>
 

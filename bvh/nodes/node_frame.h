@@ -6,7 +6,7 @@
 #pragma once
 #include "bvh/bounds/aabb.h"
 #include "bvh/bounds/prim_bounds.h"
-#include "bvh/build/binned_sah.h"
+#include "bvh/binary/binned_sah.h"
 #include <array>
 #include <cstdint>
 #include <functional>

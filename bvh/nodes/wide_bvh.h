@@ -2,7 +2,7 @@
 // kernels/layout.h and docs/kernels.md) and append them, in the GPU layout, to the node
 // array shared by the TLAS and every BLAS.
 #pragma once
-#include "bvh/build/binned_sah.h"
+#include "bvh/binary/binned_sah.h"
 #include "bvh/nodes/node_frame.h"
 #include "bvh/packed_scene.h"
 #include "kernels/layout.h"

@@ -1,6 +1,6 @@
 #include "bvh/twolevel/build_accel.h"
-#include "bvh/build/builder.h"
-#include "bvh/build/parallel.h"
+#include "bvh/binary/builder.h"
+#include "bvh/binary/parallel.h"
 #include "bvh/bounds/clip_bounds.h"
 #include "bvh/twolevel/cluster_blas.h"
 #include "bvh/twolevel/masq_fits.h"
@@ -87,14 +87,14 @@ void pack_primitives(const Scene& scene, PackedScene& ps) {
         }
         break;
       case PrimType::RoundCone:
-        kg.first = int(ps.cones.size());
-        for (const RoundConePrim& c : g.cones) {
+        kg.first = int(ps.round_cones.size());
+        for (const RoundConePrim& c : g.round_cones) {
           kernel::RoundCone kc{};
           copy3(kc.a, c.a);
           copy3(kc.b, c.b);
           kc.ra = c.ra;
           kc.rb = c.rb;
-          ps.cones.push_back(kc);
+          ps.round_cones.push_back(kc);
         }
         break;
       case PrimType::Sphere:
@@ -127,7 +127,7 @@ void note_feature(KernelFeatures& f, PrimType t) {
   switch (t) {
     case PrimType::Triangle: f.triangles = true; break;
     case PrimType::Capsule: f.capsules = true; break;
-    case PrimType::RoundCone: f.cones = true; break;
+    case PrimType::RoundCone: f.round_cones = true; break;
     case PrimType::Sphere: f.spheres = true; break;
     case PrimType::Curve: f.curves = true; break;
   }

@@ -7,8 +7,8 @@
 //        unit box onto it would be singular.
 //  cluster, auto: see bvh/twolevel/method_plan.h and docs/methods.md.
 #pragma once
-#include "bvh/build/binned_sah.h"
-#include "bvh/build/builder.h"
+#include "bvh/binary/binned_sah.h"
+#include "bvh/binary/builder.h"
 #include "bvh/twolevel/method_plan.h"
 #include "bvh/bounds/obb.h"
 #include "bvh/nodes/node_frame.h"
@@ -27,7 +27,7 @@ enum class AutoSelect { WholeStructure, MixOnly };
 
 struct AccelOptions {
   SahOptions sah;
-  BuilderOptions builder;               // binary BVH builder (bvh/build/builder.h); sah by default
+  BuilderOptions builder;               // binary BVH builder (bvh/binary/builder.h); sah by default
   CurveObb curve_obb = CurveObb::Tight; // masq: how curve OBBs are oriented
   Mode mode = Mode::Robust;             // kernel intersectors and box test
   int curve_iters = 24;                 // phantom iteration limit (1..64; 24: see docs/robustness.md)
@@ -44,7 +44,7 @@ struct AccelOptions {
   // the masquerade primitives of pairs beyond this many get 64-byte Instances (tests
   // lower it; above MASQ_MAX_OWNERS it has no effect).
   int masq_owner_limit = MASQ_MAX_OWNERS;
-  // Host build threads (bvh/build/parallel.h): 0 every hardware thread, 1 serial. The
+  // Host build threads (bvh/binary/parallel.h): 0 every hardware thread, 1 serial. The
   // structure is the same, bit for bit, with any count (docs/builders.md).
   int build_threads = 0;
 };

@@ -2,7 +2,7 @@
 #include "bvh/bounds/obb.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "bvh/nodes/wide_bvh.h"
-#include "bvh/build/parallel.h"
+#include "bvh/binary/parallel.h"
 #include "masq/error.h"
 #include <cmath>
 #include <algorithm>

@@ -3,8 +3,8 @@
 // TLAS entry per (scene instance, cluster) whose transform maps the world into that
 // frame (kernels/layout.h: MASQ_INST_CLUSTER).
 #pragma once
-#include "bvh/build/binned_sah.h"
-#include "bvh/build/builder.h"
+#include "bvh/binary/binned_sah.h"
+#include "bvh/binary/builder.h"
 #include "bvh/twolevel/clusters.h"
 #include "bvh/packed_scene.h"
 #include "scenes/scene.h"

@@ -1,5 +1,5 @@
 #include "bvh/twolevel/masq_fits.h"
-#include "bvh/build/parallel.h"
+#include "bvh/binary/parallel.h"
 
 namespace masq {
 

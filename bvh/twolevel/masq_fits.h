@@ -1,5 +1,5 @@
 // The masquerade fits of a run of one geometry's primitives (bvh/twolevel/build_accel.cpp),
-// computed on the build's threads (bvh/build/parallel.h), each into its own slot, so the
+// computed on the build's threads (bvh/binary/parallel.h), each into its own slot, so the
 // TLAS entries can then be appended in the serial order whatever the thread count.
 #pragma once
 #include "bvh/bounds/obb.h"

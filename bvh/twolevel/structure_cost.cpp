@@ -2,7 +2,7 @@
 #include "bvh/nodes/compact_instance.h"
 #include "bvh/bounds/obb.h"
 #include "bvh/nodes/wide_bvh.h"
-#include "bvh/build/parallel.h"
+#include "bvh/binary/parallel.h"
 #include <cmath>
 #include <glm/glm.hpp>
 #include <vector>

@@ -27,7 +27,7 @@ struct HitGroupRow {
 inline constexpr HitGroupRow kHitGroups[] = {
     {MASQ_PRIM_TRIANGLE, &KernelVariant::triangles, "triangle"},
     {MASQ_PRIM_CAPSULE, &KernelVariant::capsules, "capsule"},
-    {MASQ_PRIM_ROUND_CONE, &KernelVariant::cones, "round cone"},
+    {MASQ_PRIM_ROUND_CONE, &KernelVariant::round_cones, "round cone"},
     {MASQ_PRIM_SPHERE, &KernelVariant::spheres, "sphere"},
     {MASQ_PRIM_CURVE, &KernelVariant::curves, "curve"},
 };

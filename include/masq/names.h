@@ -52,10 +52,14 @@ class NameTable {
   constexpr std::span<const Row> rows() const { return rows_; }
   constexpr std::size_t size() const { return rows_.size(); }
 
-  /// The row named `name`, or nullptr.
+  /// The row named `name`, or nullptr. A row with an `alias` member (an older name users
+  /// still type, nullptr for none) is found by that name too; lists and output show `name`.
   constexpr const Row* find(std::string_view name) const {
-    for (const Row& r : rows_)
+    for (const Row& r : rows_) {
       if (name == r.name) return &r;
+      if constexpr (requires { r.alias; })
+        if (r.alias != nullptr && name == r.alias) return &r;
+    }
     return nullptr;
   }
   /// The row named `name`; throws masq::Error "unknown <what> '<name>' (expected a, b or c)".
@@ -93,6 +97,15 @@ class NameTable {
     std::vector<std::string> out;
     for (const Row& r : rows_)
       if (keep(r)) out.emplace_back(r.name);
+    return out;
+  }
+  /// names() and every row's alias: what a command line accepts (its help shows names()).
+  template <class Keep = EveryRow>
+  std::vector<std::string> accepted_names(Keep keep = {}) const {
+    std::vector<std::string> out = names(keep);
+    for (const Row& r : rows_)
+      if constexpr (requires { r.alias; })
+        if (r.alias != nullptr && keep(r)) out.emplace_back(r.alias);
     return out;
   }
   /// "a, b or c".

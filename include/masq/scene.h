@@ -46,7 +46,7 @@ class Scene {
   /// Triangles: indices holds 3 vertex indices per triangle. Returns the geometry id.
   std::uint32_t add_triangles(std::span<const Vec3> vertices, std::span<const std::uint32_t> indices);
   std::uint32_t add_capsules(std::span<const Capsule> capsules);
-  std::uint32_t add_round_cones(std::span<const RoundCone> cones);
+  std::uint32_t add_round_cones(std::span<const RoundCone> round_cones);
   std::uint32_t add_spheres(std::span<const Sphere> spheres);
   std::uint32_t add_curves(std::span<const Curve> curves);
   /// Places geometry `geometry` with `object_to_world`. Returns the instance id.

@@ -46,9 +46,9 @@ std::uint32_t add_round_cones(api::Scene& scene, const pyb::handle& a, const pyb
   auto pb = float_rows(b, {"Scene.add_round_cones", "b"}, 3, static_cast<long>(n));
   PerRowFloat r0 = per_row_float(ra, {"Scene.add_round_cones", "ra"}, n);
   PerRowFloat r1 = per_row_float(rb, {"Scene.add_round_cones", "rb"}, n);
-  std::vector<api::RoundCone> cones(n);
-  for (std::size_t i = 0; i < n; ++i) cones[i] = {vec3_at(pa.data() + 3 * i), r0[i], vec3_at(pb.data() + 3 * i), r1[i]};
-  return scene.add_round_cones(cones);
+  std::vector<api::RoundCone> round_cones(n);
+  for (std::size_t i = 0; i < n; ++i) round_cones[i] = {vec3_at(pa.data() + 3 * i), r0[i], vec3_at(pb.data() + 3 * i), r1[i]};
+  return scene.add_round_cones(round_cones);
 }
 
 std::uint32_t add_spheres(api::Scene& scene, const pyb::handle& centers, const pyb::handle& radius) {

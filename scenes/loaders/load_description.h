@@ -17,17 +17,17 @@
 //
 //   {"file": path,
 //    "radius": r,              // optional, LoadOptions::radius (> 0)
-//    "prim": "capsule"|"cone", // optional, LoadOptions::strand_type
+//    "prim": "capsule"|"round_cone", // optional, LoadOptions::strand_type ("cone" is read as "round_cone")
 //    "subdiv": k,              // optional, subdivide_curves(k), k >= 1
 //    "transform": T}           // optional
 //
 //   {"generator": "bundle", "count": n, "radius": r, "tilt": deg, "seed": s,
-//                           "prim": "capsule"|"cone"|"curve"|"sphere"}       (BundleParams)
+//                           "prim": "capsule"|"round_cone"|"curve"|"sphere"}       (BundleParams)
 //   {"generator": "hair"|"fur", "strands": n, "points": n, "length": l, "radius": r,
-//                           "curl": c, "seed": s, "prim": "capsule"|"cone"|"curve"}
+//                           "curl": c, "seed": s, "prim": "capsule"|"round_cone"|"curve"}
 //        (HairParams; hair grows on the head surface, fur on the body ellipsoid)
 //   {"generator": "streamlines", "lines": n, "steps": n, "radius": r, "seed": s,
-//                           "prim": "capsule"|"cone"|"curve"}           (StreamlineParams)
+//                           "prim": "capsule"|"round_cone"|"curve"}           (StreamlineParams)
 //   {"generator": "ground", "height": y, "size": half_side}  (make_ground_plane; default
 //                           height 0, size 1)
 //   Every generator also takes "subdiv": k (curves) and "transform": T. Omitted

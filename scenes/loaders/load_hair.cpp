@@ -160,14 +160,14 @@ Scene load_hair(std::span<const std::byte> data, const std::string& name, const 
   g.type = opt.strand_type;
   const std::size_t nseg = needed - strands; // every strand has >= 1 point
   if (g.type == PrimType::Capsule) g.capsules.reserve(nseg);
-  else g.cones.reserve(nseg);
+  else g.round_cones.reserve(nseg);
   std::size_t i = 0;
   for (std::uint32_t s = 0; s < strands; ++s) {
     const std::uint64_t n = std::uint64_t(segs.empty() ? default_segments : segs[s]) + 1;
     for (std::uint64_t k = 0; k + 1 < n; ++k) {
       const std::size_t a = i + k, b = a + 1;
       if (g.type == PrimType::Capsule) g.capsules.push_back({pts[a], pts[b], rad[a] + 0.5f * (rad[b] - rad[a])});
-      else g.cones.push_back({pts[a], rad[a], pts[b], rad[b]});
+      else g.round_cones.push_back({pts[a], rad[a], pts[b], rad[b]});
     }
     i += n;
   }
@@ -198,7 +198,7 @@ std::vector<std::byte> write_hair(const Scene& scene) {
     if (g.type == PrimType::Capsule) {
       for (const CapsulePrim& c : g.capsules) add(c.a, c.radius, c.b, c.radius);
     } else if (g.type == PrimType::RoundCone) {
-      for (const RoundConePrim& c : g.cones) add(c.a, c.ra, c.b, c.rb);
+      for (const RoundConePrim& c : g.round_cones) add(c.a, c.ra, c.b, c.rb);
     } else if (g.primitive_count() > 0) {
       throw Error(scene.name + ": write_hair: geometry " + std::to_string(gi) + " holds " +
                   prim_type_name(g.type) + " primitives; .hair stores only capsule or round-cone strands");

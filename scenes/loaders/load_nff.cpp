@@ -85,9 +85,9 @@ Scene load_nff(const std::string& path, const LoadOptions& opt) {
 
 Scene load_nff(std::span<const std::byte> data, const std::string& name, const LoadOptions& opt) {
   Tokens tk(std::string_view(reinterpret_cast<const char*>(data.data()), data.size()), name);
-  Geometry spheres, cones, tris;
+  Geometry spheres, round_cones, tris;
   spheres.type = PrimType::Sphere;
-  cones.type = PrimType::RoundCone;
+  round_cones.type = PrimType::RoundCone;
   tris.type = PrimType::Triangle;
   Scene s;
   s.name = name;
@@ -145,7 +145,7 @@ Scene load_nff(std::span<const std::byte> data, const std::string& name, const L
       float ra = radius(L, "cone base radius");
       glm::vec3 b = vec(L, "cone apex");
       float rb = radius(L, "cone apex radius");
-      cones.cones.push_back({a, ra, b, rb});
+      round_cones.round_cones.push_back({a, ra, b, rb});
     } else if (kw == "p" || kw == "pp") {
       const bool normals = kw == "pp";
       double n = tk.number(L, "polygon vertex count");
@@ -166,7 +166,7 @@ Scene load_nff(std::span<const std::byte> data, const std::string& name, const L
     }
   }
 
-  for (Geometry* g : {&spheres, &cones, &tris}) {
+  for (Geometry* g : {&spheres, &round_cones, &tris}) {
     if (g->primitive_count() == 0) continue;
     s.instances.push_back({static_cast<std::uint32_t>(s.geometries.size()), {}});
     s.geometries.push_back(std::move(*g));

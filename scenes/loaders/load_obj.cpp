@@ -169,7 +169,7 @@ Scene load_obj(std::span<const std::byte> data, const std::string& name, const L
     g.type = opt.strand_type;
     for (const glm::uvec2& sg : segments) {
       if (g.type == PrimType::Capsule) g.capsules.push_back({vertices[sg.x], vertices[sg.y], radius});
-      else g.cones.push_back({vertices[sg.x], radius, vertices[sg.y], radius});
+      else g.round_cones.push_back({vertices[sg.x], radius, vertices[sg.y], radius});
     }
     s.geometries.push_back(std::move(g));
   }

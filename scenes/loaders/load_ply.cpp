@@ -398,7 +398,7 @@ Scene load_ply(std::span<const std::byte> data, const std::string& name, const L
       float ra = pr >= 0 ? radii[ed.x] : radius;
       float rb = pr >= 0 ? radii[ed.y] : radius;
       if (g.type == PrimType::Capsule) g.capsules.push_back({vertices[ed.x], vertices[ed.y], 0.5f * (ra + rb)});
-      else g.cones.push_back({vertices[ed.x], ra, vertices[ed.y], rb});
+      else g.round_cones.push_back({vertices[ed.x], ra, vertices[ed.y], rb});
     }
     s.geometries.push_back(std::move(g));
   }

@@ -165,10 +165,10 @@ Scene load_swc(std::span<const std::byte> data, const std::string& name, const L
     if (it == index.end())
       fail_line(name, s.line, "sample " + std::to_string(s.id) + " has parent " + std::to_string(s.parent) + ", which does not exist");
     const Sample& p = samples[it->second];
-    g.cones.push_back(RoundConePrim{p.pos, p.radius, s.pos, s.radius});
+    g.round_cones.push_back(RoundConePrim{p.pos, p.radius, s.pos, s.radius});
   }
   reject_parent_loops(samples, index, name);
-  if (g.cones.empty())
+  if (g.round_cones.empty())
     throw Error(name + ": no segments (" + std::to_string(samples.size()) + " sample(s), " + std::to_string(roots) +
                 " root(s); an SWC file needs samples with parents)");
   return scene_of(std::move(g), name);

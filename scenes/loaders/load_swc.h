@@ -9,7 +9,7 @@
 // Accepted: ids with gaps, several roots (parent -1, or any negative parent), parents
 // listed after their children (resolved once all lines are read), CRLF line ends, extra
 // columns after the seventh (ignored). An isolated root (no children) produces nothing;
-// a root's soma radius only shows up through the cones that touch it.
+// a root's soma radius only shows up through the round cones that touch it.
 // Repaired with one warning per file through LoadOptions::warn: negative radii (made
 // positive; one real NeuroMorpho file has many -0.275 / -0.14 radii).
 // Errors (masq::Error "<file>:<line>: ..."): fewer than 7 fields, a non-numeric field,

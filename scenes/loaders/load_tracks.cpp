@@ -28,10 +28,10 @@ class StrandBuilder {
     if (g_.type == PrimType::Capsule)
       g_.capsules.push_back(CapsulePrim{a, b, radius_});
     else
-      g_.cones.push_back(RoundConePrim{a, radius_, b, radius_});
+      g_.round_cones.push_back(RoundConePrim{a, radius_, b, radius_});
   }
   void reserve(std::size_t n) {
-    if (g_.type == PrimType::Capsule) g_.capsules.reserve(n); else g_.cones.reserve(n);
+    if (g_.type == PrimType::Capsule) g_.capsules.reserve(n); else g_.round_cones.reserve(n);
   }
   Geometry take() { return std::move(g_); }
 

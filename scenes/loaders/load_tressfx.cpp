@@ -106,7 +106,7 @@ Scene load_tressfx(std::span<const std::byte> data, const std::string& name, con
   g.type = opt.strand_type;
   const std::size_t nseg = std::size_t(strands) * (vps - 1);
   if (g.type == PrimType::Capsule) g.capsules.reserve(nseg);
-  else g.cones.reserve(nseg);
+  else g.round_cones.reserve(nseg);
   for (std::uint32_t s = 0; s < strands; ++s) {
     const float rad = thickness.empty() ? base : thickness[s] * base;
     if (!std::isfinite(rad))
@@ -115,7 +115,7 @@ Scene load_tressfx(std::span<const std::byte> data, const std::string& name, con
     const glm::vec3* p = pts.data() + std::size_t(s) * vps;
     for (std::uint32_t v = 0; v + 1 < vps; ++v) {
       if (g.type == PrimType::Capsule) g.capsules.push_back({p[v], p[v + 1], rad});
-      else g.cones.push_back({p[v], rad, p[v + 1], rad});
+      else g.round_cones.push_back({p[v], rad, p[v + 1], rad});
     }
   }
   Scene sc = scene_of(std::move(g), name);

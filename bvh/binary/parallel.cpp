@@ -1,4 +1,4 @@
-#include "bvh/build/parallel.h"
+#include "bvh/binary/parallel.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <string>

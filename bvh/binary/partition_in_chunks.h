@@ -1,7 +1,7 @@
 // A partition of a long index range in chunks, possibly at once, with std::partition's
-// own result (bvh/build/binned_sah.cpp: the leaf order must not depend on the threads).
+// own result (bvh/binary/binned_sah.cpp: the leaf order must not depend on the threads).
 #pragma once
-#include "bvh/build/parallel.h"
+#include "bvh/binary/parallel.h"
 #include <algorithm>
 #include <cstddef>
 #include <utility>

@@ -7,7 +7,7 @@
 // The result is a BinaryBvh whose `order` may name a primitive several times (once per
 // piece); leaf boxes bound the pieces, so the union of a primitive's leaves contains it.
 #pragma once
-#include "bvh/build/binned_sah.h"
+#include "bvh/binary/binned_sah.h"
 #include "bvh/bounds/clip_bounds.h"
 
 namespace masq {

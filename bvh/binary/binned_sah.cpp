@@ -1,6 +1,6 @@
-#include "bvh/build/binned_sah.h"
-#include "bvh/build/parallel.h"
-#include "bvh/build/partition_in_chunks.h"
+#include "bvh/binary/binned_sah.h"
+#include "bvh/binary/parallel.h"
+#include "bvh/binary/partition_in_chunks.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <string>

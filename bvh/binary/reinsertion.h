@@ -8,7 +8,7 @@
 // references are kept as they are: it works the same for a TLAS over instance boxes
 // and for a BLAS (SBVH's duplicate references included).
 #pragma once
-#include "bvh/build/binned_sah.h"
+#include "bvh/binary/binned_sah.h"
 
 namespace masq {
 

@@ -1,4 +1,4 @@
-#include "bvh/build/sbvh.h"
+#include "bvh/binary/sbvh.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <cmath>

@@ -1,19 +1,19 @@
 // Which binary-BVH builder makes a scene's hierarchies (docs/builders.md):
-//  sah            binned SAH (bvh/build/binned_sah.h), the default;
-//  sbvh           spatial splits for every BLAS over primitives (bvh/build/sbvh.h), binned SAH
+//  sah            binned SAH (bvh/binary/binned_sah.h), the default;
+//  sbvh           spatial splits for every BLAS over primitives (bvh/binary/sbvh.h), binned SAH
 //                 for the TLAS and the cluster BLAS;
-//  sah+reinsert   binned SAH, then insertion optimisation (bvh/build/reinsertion.h) of the TLAS
+//  sah+reinsert   binned SAH, then insertion optimisation (bvh/binary/reinsertion.h) of the TLAS
 //                 and of every BLAS;
 //  sbvh+reinsert  both;
 //  sah4           binned SAH pricing every BLAS leaf over primitives per block of four
 //                 (SahOptions::leaf_block), as the cpu's four-lane capsule test costs it.
 // The wide collapse (bvh/nodes/wide_bvh.h) comes after, whichever builder ran.
 #pragma once
-#include "bvh/build/binned_sah.h"
+#include "bvh/binary/binned_sah.h"
 #include "bvh/bounds/clip_bounds.h"
 #include "bvh/options.h"
-#include "bvh/build/reinsertion.h"
-#include "bvh/build/sbvh.h"
+#include "bvh/binary/reinsertion.h"
+#include "bvh/binary/sbvh.h"
 #include <string>
 #include <vector>
 

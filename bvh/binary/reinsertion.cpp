@@ -1,4 +1,4 @@
-#include "bvh/build/reinsertion.h"
+#include "bvh/binary/reinsertion.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "bvh/build/builder.h"
+#include "bvh/binary/builder.h"
 #include "masq/error.h"
 
 namespace masq {
