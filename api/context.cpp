@@ -94,7 +94,7 @@ Context::Context(const std::string& backend, const std::string& device) : impl_(
   std::lock_guard<std::mutex> lock(selector_mutex);
   const DeviceApi api = device_api_table.parse(row->device_api);
   const DeviceSelector before = device_selector(api);
-  const bool before_was_override = before.source != device_api_table.row(api).env;
+  const bool before_was_override = before.source != knob_name(device_api_table.row(api).knob);
   set_device_selector(api, device, "Context device");
   try {
     impl_->backend = make_backend(backend);

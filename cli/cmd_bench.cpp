@@ -8,6 +8,7 @@
 #include "cli/device_option.h"
 #include "cli/scene_options.h"
 #include "masq/error.h"
+#include "masq/knobs.h"
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <algorithm>
@@ -140,7 +141,7 @@ int bench_suites(BenchCli& c) {
   ctx.config.mode = parse_mode(c.scene.mode);
   ctx.config.auto_by = parse_auto_by(c.auto_by);
   if (!c.backends.empty()) ctx.config.backends = c.backends;
-  ctx.config.data_dir = !c.data_dir.empty() ? c.data_dir : std::getenv("MASQ_DATA") ? std::getenv("MASQ_DATA") : MASQ_DATA_DIR;
+  ctx.config.data_dir = !c.data_dir.empty() ? c.data_dir : knob_text(Knob::Data).value_or(MASQ_DATA_DIR);
   ctx.config.progress = progress_line(c.quiet);
   auto t0 = std::chrono::steady_clock::now();
   nlohmann::json machine = machine_description(ctx.pool, ctx.config.backends);

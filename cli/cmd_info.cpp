@@ -1,10 +1,13 @@
 // masq info: which backends run here, on what device and driver, and why not; then
-// every device of every GPU API and which one each backend takes.
+// every device of every GPU API and which one each backend takes. With --env: the
+// environment variables masq reads, with their values (cli/knob_table.h).
 #include "cli/commands.h"
+#include "cli/knob_table.h"
 #include "host/backend.h"
 #include "host/device_list.h"
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <memory>
 #include <set>
 
 namespace masq::cli {
@@ -52,8 +55,18 @@ Action add_info(CLI::App& app) {
               "order); MASQ_VK_DEVICE, MASQ_RQ_DEVICE, MASQ_RT_DEVICE, MASQ_CL_DEVICE or --device choose another.\n\nExamples:\n"
               "  masq info                                    exit 0 when at least one backend runs here, else 1\n"
               "  VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.json masq info   pick the Vulkan driver\n"
-              "  MASQ_VK_DEVICE=1 masq info                   which device each backend takes with that selector");
-  return [] {
+              "  MASQ_VK_DEVICE=1 masq info                   which device each backend takes with that selector\n"
+              "  masq info --env                              every MASQ_* variable: value, default, meaning");
+  auto env = std::make_shared<bool>(false);
+  auto markdown = std::make_shared<bool>(false);
+  cmd->add_flag("--env", *env, "List the environment variables masq reads (its knobs) with their values, not the devices");
+  cmd->add_flag("--markdown", *markdown, "With --env: the table as docs/knobs.md has it, without the values")
+      ->needs(cmd->get_option("--env"));
+  return [env, markdown] {
+    if (*env) {
+      fmt::print("{}", *markdown ? knob_table_markdown() : knob_table_text());
+      return 0;
+    }
     int available = 0;
     for (const BackendRow& r : backend_table.rows()) {
       try {

@@ -10,7 +10,7 @@ namespace {
 // "MASQ_VK_DEVICE, MASQ_RQ_DEVICE, ...": every API's variable, from device_api_table.
 std::string selector_variables() {
   std::string out;
-  for (const DeviceApiRow& r : device_api_table.rows()) out += (out.empty() ? "" : ", ") + std::string(r.env);
+  for (const DeviceApiRow& r : device_api_table.rows()) out += (out.empty() ? "" : ", ") + std::string(knob_name(r.knob));
   return out;
 }
 

@@ -94,7 +94,7 @@ DeviceChoice choose_traversal_device(std::span<const DeviceInfo> devices, const 
   const std::string& gap = need_gap(d, need);
   if (gap.empty()) return c;
   const DeviceApiRow& row = device_api_table.row(api);
-  return {-1, "device '" + d.name + "' " + gap + " (" + row.name + " runs on the vulkan backend's device; " + row.env +
+  return {-1, "device '" + d.name + "' " + gap + " (" + row.name + " runs on the vulkan backend's device; " + knob_name(row.knob) +
                   " names another)"};
 }
 
@@ -103,9 +103,8 @@ DeviceSelector device_selector(DeviceApi api) {
     std::lock_guard<std::mutex> lock(g_override_mutex);
     if (auto it = g_overrides.find(api); it != g_overrides.end()) return it->second;
   }
-  const char* env = device_api_table.row(api).env;
-  const char* v = std::getenv(env);
-  return {v ? std::string(v) : std::string(), env};
+  const Knob knob = device_api_table.row(api).knob;
+  return {knob_text(knob).value_or(""), knob_name(knob)};
 }
 
 void set_device_selector(DeviceApi api, std::string value, std::string source) {

@@ -5,6 +5,7 @@
 // through these functions, so the choice is tested with devices given as data
 // (tests/test_device_choice.cpp).
 #pragma once
+#include "masq/knobs.h"
 #include "masq/names.h"
 #include <cstdint>
 #include <span>
@@ -38,15 +39,15 @@ struct DeviceApiRow {
   DeviceApi value;
   const char* name;
   const char* help;
-  const char* env; // the selector's environment variable
+  Knob knob; // the selector's environment variable
 };
 inline constexpr DeviceApiRow device_api_rows[] = {
     {DeviceApi::Vulkan, "vulkan", "the vulkan backend, and rayquery and rtpipeline unless told otherwise",
-     "MASQ_VK_DEVICE"},
-    {DeviceApi::RayQuery, "rayquery", "the rayquery backend (default: the vulkan backend's device)", "MASQ_RQ_DEVICE"},
+     Knob::VkDevice},
+    {DeviceApi::RayQuery, "rayquery", "the rayquery backend (default: the vulkan backend's device)", Knob::RqDevice},
     {DeviceApi::RtPipeline, "rtpipeline", "the rtpipeline backend (default: the vulkan backend's device)",
-     "MASQ_RT_DEVICE"},
-    {DeviceApi::OpenCl, "opencl", "the opencl backend", "MASQ_CL_DEVICE"},
+     Knob::RtDevice},
+    {DeviceApi::OpenCl, "opencl", "the opencl backend", Knob::ClDevice},
 };
 inline constexpr NameTable device_api_table{"device API", device_api_rows};
 

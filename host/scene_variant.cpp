@@ -5,8 +5,8 @@ namespace masq {
 
 KernelKnobs kernel_knobs() {
   KernelKnobs k;
-  k.step_check = choice_knob("", "MASQ_STEP_CHECK", "on", "off", true);
-  k.stack_sized = choice_knob("", "MASQ_STACK_FORM", "sized", "fixed", false);
+  k.step_check = choice_knob("", Knob::StepCheck, "on");
+  k.stack_sized = choice_knob("", Knob::StackForm, "sized");
   return k;
 }
 

@@ -1,10 +1,9 @@
 #include "host/trace_faults.h"
 #include "masq/error.h"
+#include "masq/knobs.h"
 #include <fmt/format.h>
 #include <algorithm>
-#include <cerrno>
 #include <climits>
-#include <cstdlib>
 
 namespace masq {
 
@@ -13,14 +12,7 @@ std::int32_t step_budget(std::size_t nodes) {
 }
 
 int diagnose_ray_count() {
-  const char* v = std::getenv("MASQ_DIAGNOSE");
-  if (v == nullptr || *v == '\0') return 0;
-  char* end = nullptr;
-  errno = 0;
-  long n = std::strtol(v, &end, 10);
-  if (*end != '\0' || errno != 0 || n < 0 || n > 1000000 || *v == '+' || *v == ' ')
-    throw Error(fmt::format("MASQ_DIAGNOSE='{}' is not a number of rays (0 to 1000000)", v));
-  return int(n);
+  return static_cast<int>(knob_integer(Knob::Diagnose).value_or(0));
 }
 
 std::string describe_fault(std::size_t ray, const kernel::Hit& h) {

@@ -35,6 +35,7 @@ LAYERS = {
     "scenes/loaders": 22,
     "scenes": 20,
     "kernels": 10,
+    "knobs": 5,
     "include/masq": 0,
 }
 SOURCE = re.compile(r"\.(h|hpp|cpp|inc|comp|cl)$")

@@ -112,7 +112,7 @@ TEST(EnvFault, MissingRayPipelineExtension) {
 }
 
 // A scene array larger than one device buffer can hold (lavapipe: maxMemoryAllocationSize
-// 2 GiB; lowered here through the test hook so the scene stays small) is refused with
+// 2 GiB; lowered here through MASQ_VK_MAX_ALLOCATION_BYTES so the scene stays small) is refused with
 // the limit named, and the same context then traces it once the limit is lifted. (Over
 // one storage binding is no error: such scenes are read by address, tests/test_large_scenes.cpp.)
 TEST(DeviceFaults, SceneOverAllocationLimitIsRefusedAndContextRecovers) {
@@ -124,16 +124,15 @@ TEST(DeviceFaults, SceneOverAllocationLimitIsRefusedAndContextRecovers) {
     FAIL() << e.what();
   }
   api::Accel big = capsules(2000);
-  masq::set_limit_overrides_for_testing({0, 0, 0, 64 * 1024});
   api::Ray r;
   r.org = {-0.9995f, 0, -5};
   std::string msg;
   try {
+    masq::test::ScopedEnv allocation("MASQ_VK_MAX_ALLOCATION_BYTES", std::to_string(64 * 1024));
     ctx->trace(big, {&r, 1});
   } catch (const masq::Error& e) {
     msg = e.what();
   }
-  masq::set_limit_overrides_for_testing({});
   EXPECT_NE(msg.find("maxMemoryAllocationSize"), std::string::npos) << msg;
   EXPECT_EQ(msg.rfind("vulkan", 0), 0u) << msg;
   std::printf("over the limit: %s\n", msg.c_str());

@@ -28,7 +28,7 @@ using kernel::RayStats;
 
 namespace {
 
-using Knob = masq::test::ScopedEnv;
+using masq::test::ScopedEnv;
 
 Scene capsule_scene(int count, std::uint64_t seed) {
   Scene s;
@@ -92,11 +92,11 @@ TEST(DispatchLimits, RaysPerDispatchCapKeepsHitsAndCounters) {
     be->set_scene(packed);
     for (Query q : {Query::Closest, Query::Any}) {
       const Result whole = trace(*be, rays, q);
-      Knob cap("MASQ_MAX_RAYS_PER_DISPATCH", "1000"); // 5 dispatches, the last of 99 rays
+      ScopedEnv cap("MASQ_MAX_RAYS_PER_DISPATCH", "1000"); // 5 dispatches, the last of 99 rays
       expect_same(whole, trace(*be, rays, q));
     }
     // The knob is read at every trace: a bad value is refused there, naming it.
-    Knob bad("MASQ_MAX_RAYS_PER_DISPATCH", "0");
+    ScopedEnv bad("MASQ_MAX_RAYS_PER_DISPATCH", "0");
     try {
       trace(*be, rays, Query::Closest);
       ADD_FAILURE() << "no error for MASQ_MAX_RAYS_PER_DISPATCH=0";
@@ -117,7 +117,7 @@ TEST(DispatchLimits, BvTracersRaysPerDispatchCapKeepsHitsAndCounters) {
     if (!t) continue;
     t->set_scene(bv);
     const Result whole = trace(*t, rays);
-    Knob cap("MASQ_MAX_RAYS_PER_DISPATCH", "1000");
+    ScopedEnv cap("MASQ_MAX_RAYS_PER_DISPATCH", "1000");
     expect_same(whole, trace(*t, rays));
   }
 }
@@ -139,14 +139,14 @@ void cluster_scene_within_few_allocations(const std::string& name) {
   const Result free_run = trace(*be, rays, Query::Closest);
   const std::size_t bytes = be->device_bytes();
   {
-    Knob few("MASQ_VK_MAX_ALLOCATIONS", "64");
+    ScopedEnv few("MASQ_VK_MAX_ALLOCATIONS", "64");
     be->set_scene(packed);
     expect_same(free_run, trace(*be, rays, Query::Closest));
     EXPECT_EQ(be->device_bytes(), bytes); // the same compacted structures
   }
   // Far too few for the scene arrays alone: one error naming the limit and the knob.
   std::unique_ptr<Backend> fresh = make_backend(name);
-  Knob none("MASQ_VK_MAX_ALLOCATIONS", "4");
+  ScopedEnv none("MASQ_VK_MAX_ALLOCATIONS", "4");
   try {
     fresh->set_scene(packed);
     ADD_FAILURE() << "no error with MASQ_VK_MAX_ALLOCATIONS=4";

@@ -3,6 +3,7 @@
 // one is a broken setup; the variable is for machines without a driver).
 #pragma once
 #include "masq/error.h"
+#include "masq/knobs.h"
 #include <algorithm>
 #include <cstdlib>
 #include <gtest/gtest.h>
@@ -11,10 +12,7 @@
 
 namespace masq::test {
 
-inline bool missing_backends_allowed() {
-  const char* v = std::getenv("MASQ_ALLOW_MISSING_BACKENDS");
-  return v != nullptr && std::string(v) == "1";
-}
+inline bool missing_backends_allowed() { return knob_flag(Knob::AllowMissingBackends); }
 
 // make(name), or nullptr after a test failure naming the cause (nullptr and no failure
 // when missing backends are allowed). Callers skip the backend on nullptr.
@@ -34,10 +32,9 @@ auto open_or_fail(const std::string& name, Make make) -> decltype(make(name)) {
 // device's backends (the GPU bundle, scripts/gpu_bundle.sh) or the cpu under valgrind.
 // A listed name no backend has fails the test.
 inline std::vector<std::string> tested_backends(const std::vector<std::string>& all) {
-  const char* v = std::getenv("MASQ_TEST_BACKENDS");
-  if (v == nullptr || *v == '\0') return all;
+  const std::string list = knob_text(Knob::TestBackends).value_or("");
+  if (list.empty()) return all;
   std::vector<std::string> out;
-  std::string list = v;
   for (std::size_t b = 0; b <= list.size();) {
     std::size_t e = list.find(',', b);
     if (e == std::string::npos) e = list.size();
@@ -53,7 +50,8 @@ inline std::vector<std::string> tested_backends(const std::vector<std::string>& 
   return out;
 }
 
-// Sets an environment variable (a knob, a fault injection) for the scope of one check.
+// Sets an environment variable (a knob of include/masq/knobs.h, a fault injection) for
+// the scope of one check.
 // The variable's earlier value (or its absence) comes back at the end of the scope.
 class ScopedEnv {
  public:

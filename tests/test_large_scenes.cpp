@@ -32,7 +32,7 @@ using kernel::Ray;
 
 namespace {
 
-using Knob = masq::test::ScopedEnv;
+using masq::test::ScopedEnv;
 
 std::unique_ptr<Backend> backend_or_fail(const std::string& name) {
   return masq::test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
@@ -113,8 +113,8 @@ void check_against_cpu(const std::string& backend, const std::vector<std::pair<c
       cpu->set_scene(packed);
       std::vector<Hit> closest = trace(*cpu, rays, Query::Closest);
       std::vector<Hit> any = trace(*cpu, rays, Query::Any);
-      std::vector<std::unique_ptr<Knob>> set;
-      for (const auto& [name, value] : knobs) set.push_back(std::make_unique<Knob>(name, value));
+      std::vector<std::unique_ptr<ScopedEnv>> set;
+      for (const auto& [name, value] : knobs) set.push_back(std::make_unique<ScopedEnv>(name, value));
       SCOPED_TRACE(backend + " " + method_name(m) + " on " + scene.name);
       be->set_scene(packed);
       Diff c = compare(closest, trace(*be, rays, Query::Closest), true);
@@ -144,7 +144,7 @@ TEST(LargeScenes, VulkanBoundArraysMatchCpu) { check_against_cpu("vulkan", {{"MA
 TEST(LargeScenes, VulkanAddressingKnobRejectsOtherValues) {
   std::unique_ptr<Backend> be = backend_or_fail("vulkan");
   if (!be) return;
-  Knob k("MASQ_VK_ADDRESSING", "fast");
+  ScopedEnv k("MASQ_VK_ADDRESSING", "fast");
   try {
     be->set_scene(build_accel(random_scene(PrimType::Capsule, 3), Method::Ref));
     ADD_FAILURE() << "no error for MASQ_VK_ADDRESSING=fast";
@@ -198,7 +198,7 @@ TEST(LargeScenes, VulkanBvTracerArraysByAddressMatchCpu) {
     std::vector<Hit> want(rays.size()), got(rays.size());
     cpu->set_scene(bv);
     cpu->trace(rays, want, {});
-    Knob k("MASQ_VK_MAX_BINDING_BYTES", "4096");
+    ScopedEnv k("MASQ_VK_MAX_BINDING_BYTES", "4096");
     vk->set_scene(bv);
     vk->trace(rays, got, {});
     Diff d = compare(want, got, true);
@@ -216,7 +216,7 @@ TEST(LargeScenes, ArrayOverOneAllocationIsAClearError) {
     if (!be) continue;
     SCOPED_TRACE(name);
     {
-      Knob k("MASQ_VK_MAX_ALLOCATION_BYTES", "4096"); // e.g. 200 capsules: 6400 bytes
+      ScopedEnv k("MASQ_VK_MAX_ALLOCATION_BYTES", "4096"); // e.g. 200 capsules: 6400 bytes
       try {
         be->set_scene(packed);
         ADD_FAILURE() << "no error for an array over the allocation limit";
@@ -236,7 +236,7 @@ TEST(LargeScenes, ArrayOverOneAllocationIsAClearError) {
       }
     }
     {
-      Knob k("MASQ_VK_MAX_BINDING_BYTES", "12kB");
+      ScopedEnv k("MASQ_VK_MAX_BINDING_BYTES", "12kB");
       try {
         be->set_scene(packed);
         ADD_FAILURE() << "no error for a malformed knob";
@@ -261,7 +261,7 @@ TEST(LargeScenes, OpenClArrayOverOneAllocationIsAClearError) {
   if (!be) return;
   PackedScene packed = build_accel(random_scene(PrimType::Capsule, 5), Method::Ref);
   {
-    Knob k("MASQ_CL_MAX_ALLOC_BYTES", "4096");
+    ScopedEnv k("MASQ_CL_MAX_ALLOC_BYTES", "4096");
     try {
       be->set_scene(packed);
       ADD_FAILURE() << "no error for an array over the allocation limit";
@@ -330,7 +330,7 @@ TEST(LargeScenes, BindingTableOverTheDeviceLimitsIsAClearError) {
   ctx->rt_props = saved;
   EXPECT_EQ(stride.rfind("rtpipeline: a hit record takes ", 0), 0u) << stride;
   EXPECT_NE(stride.find("(maxShaderGroupStride)"), std::string::npos) << stride;
-  Knob small("MASQ_VK_MAX_ALLOCATION_BYTES", "256");
+  ScopedEnv small("MASQ_VK_MAX_ALLOCATION_BYTES", "256");
   const std::string bytes = message();
   EXPECT_EQ(bytes.rfind("rtpipeline: the shader binding table of ", 0), 0u) << bytes;
   EXPECT_NE(bytes.find("the device allows 256"), std::string::npos) << bytes;

@@ -2,7 +2,7 @@
 // "vulkan" runs the identical traversal as a compute shader; "rayquery" lets the
 // driver's own acceleration structures find the candidates and calls the same
 // intersector. Also: stats variants, chunked tracing, and clean errors when a scene
-// exceeds the device's limits (faked small through the test hook).
+// exceeds the device's limits (lowered through the limit knobs, host/limit_knob.h).
 #include "bvh/twolevel/build_accel.h"
 #include "host/cpu/cpu_backend.h"
 #include "host/vulkan/vulkan_backends.h"
@@ -201,11 +201,12 @@ TEST(VulkanBackend, ChunkedTracingMatchesOneChunk) {
     SCOPED_TRACE(be->name());
     be->set_scene(s);
     std::vector<Hit> whole = trace(*be, rays);
-    // 48 * 100 bytes: chunks of 100 rays (the scene arrays still fit).
-    set_limit_overrides_for_testing({sizeof(Hit) * 100, 0, 0});
     std::vector<Hit> chunked;
-    EXPECT_NO_THROW(chunked = trace(*be, rays));
-    set_limit_overrides_for_testing({});
+    {
+      // 48 * 100 bytes: chunks of 100 rays (the scene arrays still fit).
+      test::ScopedEnv binding("MASQ_VK_MAX_BINDING_BYTES", std::to_string(sizeof(Hit) * 100));
+      EXPECT_NO_THROW(chunked = trace(*be, rays));
+    }
     ASSERT_EQ(chunked.size(), whole.size());
     Diff d = compare(whole, chunked);
     EXPECT_EQ(d.hit_miss + d.wrong_prim + d.wrong_t, 0) << d.first;
@@ -220,18 +221,19 @@ TEST(VulkanBackend, TooLargeScenesFailCleanly) {
   // Masquerade: 1000+ instances of 64 bytes cannot fit one 16 KiB buffer (nor, for the
   // compute backend, can the nodes). Over one storage binding is not an error (arrays
   // are then read by address, tests/test_large_scenes.cpp); over one allocation is.
-  set_limit_overrides_for_testing({0, 0, 0, 16 * 1024});
-  for (Backend* be : {vulkan.get(), rayquery.get(), rtpipeline.get()}) {
-    try {
-      be->set_scene(s);
-      ADD_FAILURE() << be->name() << ": no error for a scene over maxMemoryAllocationSize";
-    } catch (const Error& e) {
-      std::string what = e.what();
-      EXPECT_NE(what.find("maxMemoryAllocationSize"), std::string::npos) << what;
-      EXPECT_NE(what.find("bytes in one buffer"), std::string::npos) << what;
+  {
+    test::ScopedEnv allocation("MASQ_VK_MAX_ALLOCATION_BYTES", std::to_string(16 * 1024));
+    for (Backend* be : {vulkan.get(), rayquery.get(), rtpipeline.get()}) {
+      try {
+        be->set_scene(s);
+        ADD_FAILURE() << be->name() << ": no error for a scene over maxMemoryAllocationSize";
+      } catch (const Error& e) {
+        std::string what = e.what();
+        EXPECT_NE(what.find("maxMemoryAllocationSize"), std::string::npos) << what;
+        EXPECT_NE(what.find("bytes in one buffer"), std::string::npos) << what;
+      }
     }
   }
-  set_limit_overrides_for_testing({});
   // After the failures the backends still work.
   for (Backend* be : {vulkan.get(), rayquery.get(), rtpipeline.get()}) {
     be->set_scene(tiny_scene());

@@ -6,10 +6,11 @@
 #include "host/scene_variant.h"
 #include "host/trace_faults.h"
 #include "masq/error.h"
+#include "masq/knobs.h"
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
+#include <climits>
 #include <thread>
 
 namespace masq {
@@ -17,10 +18,7 @@ namespace masq {
 namespace {
 
 int bv_thread_count() {
-  if (const char* env = std::getenv("MASQ_CPU_THREADS")) {
-    int n = std::atoi(env);
-    if (n > 0) return n;
-  }
+  if (std::optional<std::uint64_t> n = knob_integer(Knob::CpuThreads, "cpu")) return int(std::min<std::uint64_t>(*n, INT_MAX));
   return int(std::max(1u, std::thread::hardware_concurrency()));
 }
 

@@ -36,7 +36,7 @@ struct Runtime {
   // max_alloc lowered by MASQ_CL_MAX_ALLOC_BYTES (host/limit_knob.h), for tests of the
   // over-the-limit error on small scenes.
   std::size_t max_alloc_bytes() const {
-    return static_cast<std::size_t>(lowered_limit("opencl", max_alloc, "MASQ_CL_MAX_ALLOC_BYTES"));
+    return static_cast<std::size_t>(lowered_limit("opencl", max_alloc, Knob::ClMaxAllocBytes));
   }
 };
 

@@ -37,7 +37,7 @@ std::vector<ApiDevices> list_devices() {
     ApiDevices a;
     a.api = d.label;
     for (const DeviceApiRow& row : device_api_table.rows())
-      if (d.serves(row.value)) a.selectors += std::string(a.selectors.empty() ? "" : ", ") + row.env;
+      if (d.serves(row.value)) a.selectors += std::string(a.selectors.empty() ? "" : ", ") + knob_name(row.knob);
     try {
       a.devices = d.infos();
     } catch (const BackendUnavailable& e) {

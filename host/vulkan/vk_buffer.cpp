@@ -1,5 +1,6 @@
 #include "host/vulkan/vk_buffer.h"
 #include "host/vulkan/vk_staging.h"
+#include "masq/knobs.h"
 #include <fmt/format.h>
 #include <cstdlib>
 #include <cstring>
@@ -12,8 +13,7 @@ namespace {
 // so lavapipe runs the copies and barriers a GPU needs. Read per buffer, like the limit
 // knobs, so that a test can set it before a context exists.
 bool staging_forced() {
-  const char* v = std::getenv("MASQ_VK_FORCE_STAGING");
-  return v && *v && std::strcmp(v, "0") != 0;
+  return knob_flag(Knob::VkForceStaging, "vulkan");
 }
 
 } // namespace

@@ -19,14 +19,11 @@ namespace masq::vk {
 
 namespace {
 
-bool env_is_one(const char* name) {
-  const char* v = std::getenv(name);
-  return v != nullptr && std::strcmp(v, "1") == 0;
-}
+bool env_is_one(Knob knob) { return knob_flag(knob, "vulkan"); }
 
 } // namespace
 
-std::uint64_t wait_limit_seconds() { return lowered_limit("vulkan", kDefaultWaitSeconds, "MASQ_VK_WAIT_SECONDS"); }
+std::uint64_t wait_limit_seconds() { return lowered_limit("vulkan", kDefaultWaitSeconds, Knob::VkWaitSeconds); }
 
 namespace {
 
@@ -68,18 +65,12 @@ VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(VkDebugUtilsMessageSeverity
   return VK_FALSE; // never abort the call: the error is reported at the next submission
 }
 
-bool validation_requested() {
-  const char* v = std::getenv("MASQ_VK_VALIDATION");
-  return v && *v && std::strcmp(v, "0") != 0;
-}
+bool validation_requested() { return knob_choice(Knob::VkValidation, "vulkan") != "0"; }
 
 // MASQ_VK_VALIDATION=sync adds the layer's synchronization validation (hazards between
 // transfers, shaders and acceleration-structure builds inside a command buffer), asked
 // for through VK_EXT_validation_features, which the layer itself provides.
-bool sync_validation_requested() {
-  const char* v = std::getenv("MASQ_VK_VALIDATION");
-  return v && std::strcmp(v, "sync") == 0;
-}
+bool sync_validation_requested() { return knob_choice(Knob::VkValidation, "vulkan") == "sync"; }
 
 bool layer_has_extension(const char* layer, const char* extension) {
   std::uint32_t n = 0;
@@ -236,8 +227,8 @@ void Context::create(const char* backend, DeviceNeed need) {
   // Compile statistics of the pipelines (registers, spills: the GPU run's record of
   // what each kernel variant costs a thread), only when asked for: capturing them may
   // slow a driver's compiles.
-  const char* stats_knob = std::getenv("MASQ_VK_PIPELINE_STATS");
-  pipeline_statistics = stats_knob != nullptr && std::string(stats_knob) == "1" &&
+  const bool stats_knob = knob_flag(Knob::VkPipelineStats, "vulkan");
+  pipeline_statistics = stats_knob &&
                         device_has_extension(physical, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
   if (pipeline_statistics) {
     VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR can{
@@ -246,7 +237,7 @@ void Context::create(const char* backend, DeviceNeed need) {
     vkGetPhysicalDeviceFeatures2(physical, &f2);
     pipeline_statistics = can.pipelineExecutableInfo == VK_TRUE;
   }
-  if (stats_knob != nullptr && std::string(stats_knob) == "1" && !pipeline_statistics)
+  if (stats_knob && !pipeline_statistics)
     std::fprintf(stderr, "masq: vulkan: MASQ_VK_PIPELINE_STATS: '%s' has no pipelineExecutableInfo "
                          "(VK_KHR_pipeline_executable_properties)\n", props.deviceName);
   VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR exec_features{
@@ -357,17 +348,15 @@ std::string Context::device_name() const {
 }
 
 std::uint64_t Context::max_storage_buffer_range() const {
-  return lowered_limit("vulkan", props.limits.maxStorageBufferRange, "MASQ_VK_MAX_BINDING_BYTES",
-                       limit_overrides_for_testing().max_storage_buffer_range);
+  return lowered_limit("vulkan", props.limits.maxStorageBufferRange, Knob::VkMaxBindingBytes);
 }
 
 std::uint64_t Context::max_allocation_bytes() const {
-  return lowered_limit("vulkan", max_allocation, "MASQ_VK_MAX_ALLOCATION_BYTES",
-                       limit_overrides_for_testing().max_allocation_bytes);
+  return lowered_limit("vulkan", max_allocation, Knob::VkMaxAllocationBytes);
 }
 
 std::uint64_t Context::max_allocation_count() const {
-  return lowered_limit("vulkan", props.limits.maxMemoryAllocationCount, "MASQ_VK_MAX_ALLOCATIONS");
+  return lowered_limit("vulkan", props.limits.maxMemoryAllocationCount, Knob::VkMaxAllocations);
 }
 
 void Context::acquire_allocation() {
@@ -433,8 +422,8 @@ void Context::submit_and_wait(VkCommandBuffer cmd) {
   // MASQ_MAX_RAYS_PER_DISPATCH rays, seconds of work even on a CPU driver, so the
   // default limit only ever catches a kernel that does not terminate.
   r = vkWaitForFences(device, 1, &guard.f, VK_TRUE, seconds * 1000000000ull);
-  if (r == VK_SUCCESS && env_is_one("MASQ_VK_FAULT_DEVICE_LOST")) r = VK_ERROR_DEVICE_LOST;
-  if (r == VK_SUCCESS && env_is_one("MASQ_VK_FAULT_TIMEOUT")) r = VK_TIMEOUT;
+  if (r == VK_SUCCESS && env_is_one(Knob::VkFaultDeviceLost)) r = VK_ERROR_DEVICE_LOST;
+  if (r == VK_SUCCESS && env_is_one(Knob::VkFaultTimeout)) r = VK_TIMEOUT;
   if (r == VK_ERROR_DEVICE_LOST) throw_device_lost("vkWaitForFences");
   if (r == VK_TIMEOUT) {
     // The command buffer and fence may still be in use: leak them (and, at exit, the

@@ -92,10 +92,9 @@ class Context {
   PFN_vkGetPipelineExecutableStatisticsKHR executable_statistics = nullptr;
 
   std::string device_name() const; // "llvmpipe (...) [Mesa 25.0.7 ...]"
-  // Largest storage-buffer binding, after MASQ_VK_MAX_BINDING_BYTES and the test
-  // override (host/limit_knob.h, vulkan_backends.h).
+  // Largest storage-buffer binding, after MASQ_VK_MAX_BINDING_BYTES (host/limit_knob.h).
   std::uint64_t max_storage_buffer_range() const;
-  // Largest single array buffer, after MASQ_VK_MAX_ALLOCATION_BYTES and the override.
+  // Largest single array buffer, after MASQ_VK_MAX_ALLOCATION_BYTES.
   std::uint64_t max_allocation_bytes() const;
   // maxMemoryAllocationCount (4096 on many drivers) after MASQ_VK_MAX_ALLOCATIONS: the
   // device memory allocations this context may hold at once. vk::Buffer takes one per

@@ -1,6 +1,7 @@
 #include "host/vulkan/vk_devices.h"
 #include "host/backend.h"
 #include "host/vulkan/vk_check.h"
+#include "masq/knobs.h"
 #include <fmt/format.h>
 #include <cstdlib>
 #include <cstring>
@@ -12,9 +13,9 @@ namespace {
 
 // Fault injection for tests (tests/test_device_faults.cpp): MASQ_VK_HIDE_EXTENSIONS.
 bool hidden_extension(const char* name) {
-  const char* hide = std::getenv("MASQ_VK_HIDE_EXTENSIONS");
+  const std::optional<std::string> hide = knob_text(Knob::VkHideExtensions);
   if (!hide) return false;
-  std::string list = std::string(",") + hide + ",";
+  std::string list = "," + *hide + ",";
   return list.find(std::string(",") + name + ",") != std::string::npos;
 }
 

@@ -1,5 +1,6 @@
 #include "host/vulkan/vk_pipeline_cache.h"
 #include "host/vulkan/vk_check.h"
+#include "masq/knobs.h"
 #include <fmt/format.h>
 #include <cstdio>
 #include <cstdlib>
@@ -108,9 +109,9 @@ std::vector<std::uint8_t> decode_pipeline_cache(const PipelineCacheKey& key, con
 }
 
 std::string masq_cache_dir() {
-  if (const char* d = std::getenv("MASQ_CACHE_DIR")) return d; // "" turns persistence off
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/masq";
-  if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/masq";
+  if (std::optional<std::string> d = knob_text(Knob::CacheDir)) return *d; // "" turns persistence off
+  if (std::optional<std::string> x = system_env("XDG_CACHE_HOME"); x && !x->empty()) return *x + "/masq";
+  if (std::optional<std::string> h = system_env("HOME"); h && !h->empty()) return *h + "/.cache/masq";
   return "";
 }
 

@@ -17,13 +17,7 @@ constexpr std::uint32_t kPreferredLocalSize = 64;
 // MASQ_VK_LOCAL_SIZE, or 0 when unset.
 std::uint32_t local_size_override() {
   static const std::uint32_t size = [] {
-    const char* v = std::getenv("MASQ_VK_LOCAL_SIZE");
-    if (v == nullptr || *v == '\0') return 0u;
-    char* end = nullptr;
-    long n = std::strtol(v, &end, 10);
-    if (*end != '\0' || n < 1 || n > 1024)
-      throw Error(std::string("vulkan: MASQ_VK_LOCAL_SIZE='") + v + "' is not a work-group size in 1..1024");
-    return std::uint32_t(n);
+    return std::uint32_t(knob_integer(Knob::VkLocalSize, "vulkan").value_or(0));
   }();
   return size;
 }
@@ -58,7 +52,7 @@ std::uint32_t local_size(const Context& ctx) {
   return forced;
 }
 
-bool float_controls_enabled() { return choice_knob("vulkan", "MASQ_VK_FLOAT_CONTROLS", "on", "off", true); }
+bool float_controls_enabled() { return choice_knob("vulkan", Knob::VkFloatControls, "on"); }
 
 std::vector<std::uint32_t> device_spirv(const Context& ctx, std::span<const std::uint32_t> spirv) {
   if (!float_controls_enabled()) return {spirv.begin(), spirv.end()};

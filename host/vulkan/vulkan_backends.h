@@ -14,18 +14,4 @@ std::unique_ptr<Backend> make_vulkan_backend();
 std::unique_ptr<Backend> make_rayquery_backend();
 std::unique_ptr<Backend> make_rtpipeline_backend();
 
-// Test hook: make the backends behave as if the device's limits were at most these
-// (0 keeps the device's own value), so the large-scene paths (arrays by address,
-// split TLAS/BLAS), the too-large-scene errors and the chunked tracing can be exercised
-// with small scenes. Read when a scene is set or traced. The environment knobs of
-// host/limit_knob.h lower the same limits for whole runs (CLI, bench, ctest).
-struct VulkanLimitOverrides {
-  std::uint64_t max_storage_buffer_range = 0; // bytes in one storage-buffer binding
-  std::uint64_t max_instance_count = 0;       // TLAS instances (rayquery, rtpipeline)
-  std::uint64_t max_primitive_count = 0;      // primitives per BLAS (rayquery, rtpipeline)
-  std::uint64_t max_allocation_bytes = 0;     // bytes in one array buffer
-};
-void set_limit_overrides_for_testing(const VulkanLimitOverrides& limits);
-const VulkanLimitOverrides& limit_overrides_for_testing();
-
 } // namespace masq

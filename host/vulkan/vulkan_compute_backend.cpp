@@ -38,7 +38,7 @@ const char* const kName = "vulkan";
 // one binding. Default addressed: on lavapipe it traced 1.3-1.7x faster than bound in
 // interleaved runs (bench/addressed_cost.cpp; docs/results.md), as llvmpipe
 // bounds-checks every descriptor access. MASQ_VK_ADDRESSING=bound|addressed picks.
-bool prefer_addressed() { return choice_knob("vulkan", "MASQ_VK_ADDRESSING", "addressed", "bound", true); }
+bool prefer_addressed() { return choice_knob("vulkan", Knob::VkAddressing, "addressed"); }
 
 class VulkanComputeBackend final : public Backend {
  public:
@@ -109,13 +109,8 @@ class VulkanComputeBackend final : public Backend {
   TraceTiming timing_;
 };
 
-VulkanLimitOverrides g_overrides;
-
 } // namespace
 
 std::unique_ptr<Backend> make_vulkan_backend() { return std::make_unique<VulkanComputeBackend>(); }
-
-void set_limit_overrides_for_testing(const VulkanLimitOverrides& limits) { g_overrides = limits; }
-const VulkanLimitOverrides& limit_overrides_for_testing() { return g_overrides; }
 
 } // namespace masq

@@ -3,6 +3,7 @@
 #include "scenes/camera.h"
 #include "scenes/curve_tools.h"
 #include "masq/error.h"
+#include "masq/knobs.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
 #include "scenes/loaders/loader.h"
@@ -161,10 +162,10 @@ std::string resolve_path(const Ctx& c, const std::string& raw, const std::string
   std::string p = raw;
   const std::string var = "${MASQ_DATA}";
   if (p.rfind(var, 0) == 0) {
-    const char* env = std::getenv("MASQ_DATA");
-    if (env == nullptr || *env == '\0')
+    const std::optional<std::string> env = knob_text(Knob::Data);
+    if (!env || env->empty())
       fail(c, path, "'" + raw + "' uses ${MASQ_DATA} but the environment variable MASQ_DATA is not set");
-    p = std::string(env) + p.substr(var.size());
+    p = *env + p.substr(var.size());
   }
   std::filesystem::path fp(p);
   if (fp.is_relative() && !c.base_dir.empty()) fp = std::filesystem::path(c.base_dir) / fp;
