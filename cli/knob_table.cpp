@@ -70,7 +70,7 @@ std::string knob_table_markdown() {
       "The environment variables masq reads. Generated from `knob_rows` (`include/masq/knobs.h`) by\n"
       "`masq info --env --markdown > docs/knobs.md`; ctest `knob_docs` fails when this page and the table\n"
       "differ. `masq info --env` lists the same rows with the values set now. Every reader goes\n"
-      "through the accessors of `include/masq/knobs.h` (the one `getenv` is in `knobs/knobs.cpp`), so a\n"
+      "through the accessors of `include/masq/knobs.h` (`knobs/knobs.cpp` alone reads the environment), so a\n"
       "value outside its type is one error naming the variable, its value and what is expected. Unset\n"
       "or empty is the default, except where a row says otherwise; knobs are read at each use unless\n"
       "the row says otherwise.\n\n"

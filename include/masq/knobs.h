@@ -1,7 +1,7 @@
 /// @file masq/knobs.h
 /// The environment variables masq reads (its knobs), in one table: name, type, default,
-/// meaning and who reads it. Every reader goes through the accessors below (the one
-/// place that calls getenv is knobs/knobs.cpp), so a bad value is one masq::Error naming
+/// meaning and who reads it. Every reader goes through the accessors below (knobs/knobs.cpp
+/// alone reads the environment), so a bad value is one masq::Error naming
 /// the variable, its value and what is expected; `masq info --env` prints the table with
 /// the current values, and docs/knobs.md is generated from it (`masq info --env
 /// --markdown`; ctest `knob_docs` fails when the two differ).
