@@ -3,6 +3,7 @@
 #include "oracle/oracle.h"
 #include "scenes/camera.h"
 #include "scenes/curve_tools.h"
+#include "scenes/prim_table.h"
 #include "masq/error.h"
 #include <fmt/format.h>
 #include <algorithm>
@@ -18,7 +19,7 @@ constexpr double kAmbiguous = 1e-3;
 
 double curve_radius(const Scene& s) {
   for (const Geometry& g : s.geometries)
-    if (g.type == PrimType::Curve && !g.curves.empty()) return g.curves.front().radius;
+    if (scene_prim_row(g.type).shape == PrimShape::Bezier && !g.curves.empty()) return g.curves.front().radius;
   throw Error("bench --error: the scene has no curves (use --prim curve)");
 }
 

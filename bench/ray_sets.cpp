@@ -1,5 +1,6 @@
 #include "bench/ray_sets.h"
 #include "scenes/camera.h"
+#include "scenes/prim_table.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <cmath>
@@ -39,14 +40,7 @@ double hit_radius(const Scene& scene, const kernel::Hit& h) {
   const Geometry& g = scene.geometries[h.geom];
   const std::size_t p = std::size_t(h.prim);
   if (p >= g.primitive_count()) return 0.0;
-  double r = 0.0;
-  switch (g.type) {
-    case PrimType::Triangle: return 0.0;
-    case PrimType::Capsule: r = g.capsules[p].radius; break;
-    case PrimType::RoundCone: r = std::max(g.round_cones[p].ra, g.round_cones[p].rb); break;
-    case PrimType::Sphere: r = g.spheres[p].radius; break;
-    case PrimType::Curve: r = g.curves[p].radius; break;
-  }
+  const double r = prim_max_radius(g, p);
   double scale = 1.0;
   if (h.inst >= 0 && std::size_t(h.inst) < scene.instances.size()) {
     const glm::dmat3& m = scene.instances[h.inst].object_to_world.linear;

@@ -7,6 +7,7 @@
 #include "peers/embree_peer.h"
 #include "masq/error.h"
 #include "scenes/curve_tools.h"
+#include "scenes/prim_table.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
 #include <algorithm>
@@ -337,7 +338,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
     // Curve scenes: Embree's other curve ends (kEndVariants), each a scene of its own.
     std::vector<std::unique_ptr<EmbreePeer>> variants; // null: the main peer
     bool has_curves = std::any_of(scene.geometries.begin(), scene.geometries.end(),
-                                  [](const Geometry& g) { return g.type == PrimType::Curve; });
+                                  [](const Geometry& g) { return scene_prim_row(g.type).shape == PrimShape::Bezier; });
     if (embree && has_curves) {
       try {
         for (const EndVariant& v : kEndVariants) {

@@ -1,4 +1,5 @@
 #include "bvh/packed_scene.h"
+#include "bvh/prim_rows.h"
 #include "masq/error.h"
 #include <algorithm>
 
@@ -60,9 +61,9 @@ std::size_t PackedScene::tlas_entry(std::int32_t ref) const {
 }
 
 std::size_t PackedScene::primitive_bytes() const {
-  return geoms.size() * sizeof(kernel::Geometry) + triangles.size() * sizeof(kernel::Triangle) +
-         capsules.size() * sizeof(kernel::Capsule) + round_cones.size() * sizeof(kernel::RoundCone) +
-         spheres.size() * sizeof(kernel::Sphere) + curves.size() * sizeof(kernel::Curve);
+  std::size_t bytes = geoms.size() * sizeof(kernel::Geometry);
+  for (std::size_t i = 0; i < prim_type_count; ++i) bytes += bvh_prim_row(static_cast<PrimType>(i)).packed_bytes(*this);
+  return bytes;
 }
 
 } // namespace masq

@@ -1,4 +1,5 @@
 #include "cli/scene_options.h"
+#include "scenes/prim_table.h"
 #include "scenes/curve_tools.h"
 #include "scenes/loaders/load_any.h"
 #include "masq/error.h"
@@ -24,8 +25,8 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
   cmd.add_option("--radius", opt.bundle.radius, "Strand radius")->capture_default_str()->check(CLI::PositiveNumber);
   cmd.add_option("--tilt", opt.bundle.tilt_deg, "Bundle tilt in degrees (X-Y plane)")->capture_default_str();
   cmd.add_option("--seed", opt.bundle.seed, "Random seed of the bundle")->capture_default_str();
-  // Strands are thin primitives: every type but triangles.
-  auto strand = [](const PrimTypeRow& r) { return r.value != PrimType::Triangle; };
+  // Strands are thin primitives: every type but the mesh.
+  auto strand = [](const PrimTypeRow& r) { return !scene_prim_row(r.value).mesh; };
   cmd.add_option("--prim", opt.prim,
                  "Strand primitive: " + prim_type_table.help(strand) +
                      "; the bundle's round cones taper from r to r/2, its curves bend and its spheres are beads")

@@ -12,18 +12,28 @@ namespace {
 using ld = long double;
 const ld kInf = std::numeric_limits<ld>::infinity();
 
+// The oracle's table of primitive types: its intersector for each, row i for PrimType(i).
+struct OraclePrimRow {
+  PrimType type;
+  PrimResult (*intersect)(const Geometry& g, std::size_t p, const PrimRay& ray);
+};
+constexpr OraclePrimRow prim_rows[] = {
+    {PrimType::Triangle,
+     [](const Geometry& g, std::size_t p, const PrimRay& ray) {
+       const glm::uvec3& tri = g.triangles[p];
+       return oracle_triangle(g.vertices[tri.x], g.vertices[tri.y], g.vertices[tri.z], ray);
+     }},
+    {PrimType::Capsule, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_capsule(g.capsules[p], ray); }},
+    {PrimType::RoundCone,
+     [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_round_cone(g.round_cones[p], ray); }},
+    {PrimType::Sphere, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_sphere(g.spheres[p], ray); }},
+    {PrimType::Curve, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_curve(g.curves[p], ray); }},
+};
+static_assert(one_row_per_prim_type(prim_rows), "oracle prim rows: one row per PrimType, in enum order");
+
 PrimResult intersect(const Geometry& g, std::size_t p, const PrimRay& ray) {
-  switch (g.type) {
-    case PrimType::Triangle: {
-      const glm::uvec3& tri = g.triangles[p];
-      return oracle_triangle(g.vertices[tri.x], g.vertices[tri.y], g.vertices[tri.z], ray);
-    }
-    case PrimType::Capsule: return oracle_capsule(g.capsules[p], ray);
-    case PrimType::RoundCone: return oracle_round_cone(g.round_cones[p], ray);
-    case PrimType::Sphere: return oracle_sphere(g.spheres[p], ray);
-    case PrimType::Curve: return oracle_curve(g.curves[p], ray);
-  }
-  return {};
+  const auto i = static_cast<std::size_t>(g.type);
+  return i < prim_type_count ? prim_rows[i].intersect(g, p, ray) : PrimResult{};
 }
 
 } // namespace

@@ -207,60 +207,87 @@ RTCGeometry make_segments(RTCDevice device, std::size_t n, auto&& vertex_pair) {
   return geo;
 }
 
+RTCGeometry make_capsules(RTCDevice device, const Geometry& g) {
+  return make_segments(device, g.capsules.size(), [&](std::size_t i, float* a, float* b) {
+    put4(a, g.capsules[i].a, g.capsules[i].radius);
+    put4(b, g.capsules[i].b, g.capsules[i].radius);
+  });
+}
+RTCGeometry make_round_cones(RTCDevice device, const Geometry& g) {
+  return make_segments(device, g.round_cones.size(), [&](std::size_t i, float* a, float* b) {
+    put4(a, g.round_cones[i].a, g.round_cones[i].ra);
+    put4(b, g.round_cones[i].b, g.round_cones[i].rb);
+  });
+}
+RTCGeometry make_curves(RTCDevice device, const Geometry& g) {
+  std::size_t n = g.curves.size();
+  RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE);
+  float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, 4 * n, 4);
+  unsigned* idx = new_buffer<unsigned>(geo, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT, n);
+  if (v == nullptr || idx == nullptr) return geo;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 4; ++k) put4(v + 16 * i + 4 * k, g.curves[i].p[std::size_t(k)], g.curves[i].radius);
+    idx[i] = unsigned(4 * i);
+  }
+  return geo;
+}
+RTCGeometry make_spheres(RTCDevice device, const Geometry& g) {
+  std::size_t n = g.spheres.size();
+  RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, n, 4);
+  if (v == nullptr) return geo;
+  for (std::size_t i = 0; i < n; ++i) put4(v + 4 * i, g.spheres[i].center, g.spheres[i].radius);
+  return geo;
+}
+RTCGeometry make_triangles(RTCDevice device, const Geometry& g) {
+  RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, g.vertices.size(), 3);
+  unsigned* idx = new_buffer<unsigned>(geo, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3, g.triangles.size(), 3);
+  if (v == nullptr || idx == nullptr) return geo;
+  for (std::size_t i = 0; i < g.vertices.size(); ++i)
+    for (int k = 0; k < 3; ++k) v[3 * i + std::size_t(k)] = g.vertices[i][k];
+  for (std::size_t i = 0; i < g.triangles.size(); ++i)
+    for (int k = 0; k < 3; ++k) idx[3 * i + std::size_t(k)] = g.triangles[i][k];
+  return geo;
+}
+
+// Embree's geometry kinds, in the order description() lists them.
+enum class EmbreeKind { Linear, Bezier, Spheres, Triangles };
+// What a hit's (u, v) holds: the barycentrics, nothing, or the curve parameter (an end
+// cap's: the end, 0 or 1).
+enum class HitUv { Barycentric, None, CurveParameter };
+
+// The peer's table of primitive types: Embree's geometry for each, row i for PrimType(i).
+struct EmbreePrimRow {
+  PrimType type;
+  EmbreeKind kind;
+  HitUv uv;
+  RTCGeometry (*make)(RTCDevice, const Geometry&);
+};
+constexpr EmbreePrimRow embree_prim_rows[] = {
+    {PrimType::Triangle, EmbreeKind::Triangles, HitUv::Barycentric, make_triangles},
+    {PrimType::Capsule, EmbreeKind::Linear, HitUv::CurveParameter, make_capsules},
+    {PrimType::RoundCone, EmbreeKind::Linear, HitUv::CurveParameter, make_round_cones},
+    {PrimType::Sphere, EmbreeKind::Spheres, HitUv::None, make_spheres},
+    {PrimType::Curve, EmbreeKind::Bezier, HitUv::CurveParameter, make_curves},
+};
+static_assert(one_row_per_prim_type(embree_prim_rows), "embree prim rows: one row per PrimType, in enum order");
+
+const EmbreePrimRow& embree_prim_row(PrimType t) {
+  const auto i = static_cast<std::size_t>(t);
+  if (i >= prim_type_count) throw Error("embree: unknown primitive type");
+  return embree_prim_rows[i];
+}
+
 } // namespace
 
-RTCGeometry EmbreePeer::Impl::make_geometry(const Geometry& g) {
-  switch (g.type) {
-    case PrimType::Capsule:
-      return make_segments(device, g.capsules.size(), [&](std::size_t i, float* a, float* b) {
-        put4(a, g.capsules[i].a, g.capsules[i].radius);
-        put4(b, g.capsules[i].b, g.capsules[i].radius);
-      });
-    case PrimType::RoundCone:
-      return make_segments(device, g.round_cones.size(), [&](std::size_t i, float* a, float* b) {
-        put4(a, g.round_cones[i].a, g.round_cones[i].ra);
-        put4(b, g.round_cones[i].b, g.round_cones[i].rb);
-      });
-    case PrimType::Curve: {
-      std::size_t n = g.curves.size();
-      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE);
-      float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, 4 * n, 4);
-      unsigned* idx = new_buffer<unsigned>(geo, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT, n);
-      if (v == nullptr || idx == nullptr) return geo;
-      for (std::size_t i = 0; i < n; ++i) {
-        for (int k = 0; k < 4; ++k) put4(v + 16 * i + 4 * k, g.curves[i].p[std::size_t(k)], g.curves[i].radius);
-        idx[i] = unsigned(4 * i);
-      }
-      return geo;
-    }
-    case PrimType::Sphere: {
-      std::size_t n = g.spheres.size();
-      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-      float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, n, 4);
-      if (v == nullptr) return geo;
-      for (std::size_t i = 0; i < n; ++i) put4(v + 4 * i, g.spheres[i].center, g.spheres[i].radius);
-      return geo;
-    }
-    case PrimType::Triangle: {
-      RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, g.vertices.size(), 3);
-      unsigned* idx = new_buffer<unsigned>(geo, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3, g.triangles.size(), 3);
-      if (v == nullptr || idx == nullptr) return geo;
-      for (std::size_t i = 0; i < g.vertices.size(); ++i)
-        for (int k = 0; k < 3; ++k) v[3 * i + std::size_t(k)] = g.vertices[i][k];
-      for (std::size_t i = 0; i < g.triangles.size(); ++i)
-        for (int k = 0; k < 3; ++k) idx[3 * i + std::size_t(k)] = g.triangles[i][k];
-      return geo;
-    }
-  }
-  throw Error("embree: unknown primitive type");
-}
+RTCGeometry EmbreePeer::Impl::make_geometry(const Geometry& g) { return embree_prim_row(g.type).make(device, g); }
 
 // Sphere points closing a curve geometry's ends (CurveEnds); owner[k] = 2 * curve + end
 // of sphere k. nullptr when there are none.
 RTCGeometry EmbreePeer::Impl::make_end_caps(const Geometry& g, std::vector<int>& owner) {
   owner.clear();
-  if (g.type != PrimType::Curve || ends == CurveEnds::Open) return nullptr;
+  if (embree_prim_row(g.type).kind != EmbreeKind::Bezier || ends == CurveEnds::Open) return nullptr;
   for (std::size_t i = 0; i < g.curves.size(); ++i)
     for (int e = 0; e < 2; ++e)
       if (ends == CurveEnds::EveryEnd || !curve_end_covered(g.curves, i, e)) owner.push_back(int(2 * i) + e);
@@ -389,10 +416,10 @@ void EmbreePeer::trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit>
       double len = glm::length(n);
       if (len > 0.0) n /= len;
       for (int k = 0; k < 3; ++k) h.normal[k] = float(n[k]);
-      switch (m.geom_type[std::size_t(geom)]) {
-        case PrimType::Triangle: h.u = rh.hit.u; h.v = rh.hit.v; break;
-        case PrimType::Sphere: break;
-        default: h.u = cap ? float(m.caps[std::size_t(geom)][rh.hit.primID] % 2) : rh.hit.u; break;
+      switch (embree_prim_row(m.geom_type[std::size_t(geom)]).uv) {
+        case HitUv::Barycentric: h.u = rh.hit.u; h.v = rh.hit.v; break;
+        case HitUv::None: break;
+        case HitUv::CurveParameter: h.u = cap ? float(m.caps[std::size_t(geom)][rh.hit.primID] % 2) : rh.hit.u; break;
       }
     }
   });
@@ -433,10 +460,11 @@ std::string EmbreePeer::description() const {
                   ", rtcIntersect1" + (m.robust ? ", robust" : "");
   bool linear = false, bezier = false, spheres = false, triangles = false;
   for (PrimType t : m.geom_type) {
-    linear |= t == PrimType::Capsule || t == PrimType::RoundCone;
-    bezier |= t == PrimType::Curve;
-    spheres |= t == PrimType::Sphere;
-    triangles |= t == PrimType::Triangle;
+    const EmbreeKind kind = embree_prim_row(t).kind;
+    linear |= kind == EmbreeKind::Linear;
+    bezier |= kind == EmbreeKind::Bezier;
+    spheres |= kind == EmbreeKind::Spheres;
+    triangles |= kind == EmbreeKind::Triangles;
   }
   std::string types;
   auto add = [&](bool on, const char* name) {

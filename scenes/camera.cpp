@@ -1,5 +1,6 @@
 #include "scenes/camera.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <algorithm>
 #include <cmath>
 
@@ -55,19 +56,12 @@ void frame_scene(Scene& scene) {
   for (const Instance& inst : scene.instances) {
     const Geometry& g = scene.geometries.at(inst.geometry);
     const Affine3& xf = inst.object_to_world;
-    for (const glm::uvec3& t : g.triangles)
-      for (int k = 0; k < 3; ++k) grow(xf, g.vertices.at(t[k]), 0.0);
-    for (const CapsulePrim& c : g.capsules) {
-      grow(xf, c.a, c.radius);
-      grow(xf, c.b, c.radius);
+    const ScenePrimRow& row = scene_prim_row(g.type);
+    PrimBalls balls;
+    for (std::size_t p = 0, n = row.count(g); p < n; ++p) {
+      const int count = row.balls(g, p, balls);
+      for (int k = 0; k < count; ++k) grow(xf, balls[std::size_t(k)].centre, balls[std::size_t(k)].radius);
     }
-    for (const RoundConePrim& c : g.round_cones) {
-      grow(xf, c.a, c.ra);
-      grow(xf, c.b, c.rb);
-    }
-    for (const SpherePrim& s : g.spheres) grow(xf, s.center, s.radius);
-    for (const CurvePrim& c : g.curves)
-      for (const glm::vec3& p : c.p) grow(xf, p, c.radius);
   }
   if (!(lo.x <= hi.x)) return; // nothing to frame
   glm::dvec3 centre = 0.5 * (lo + hi);

@@ -4,7 +4,9 @@
 #include "masq/names.h"
 #include <array>
 #include <glm/glm.hpp>
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,6 +31,24 @@ inline constexpr PrimTypeRow prim_type_rows[] = {
     {PrimType::Curve, "curve", "cubic Bezier swept by a ball", nullptr},
 };
 inline constexpr NameTable prim_type_table{"primitive type", prim_type_rows};
+inline constexpr std::size_t prim_type_count = std::size(prim_type_rows);
+
+// True when `rows` holds exactly one row per primitive type, row i for PrimType(i): every
+// layer's table of primitive types static_asserts it, so a new type cannot miss a row.
+// A row names its type in `type` (or `value`, as NameTable rows do).
+template <class Row, std::size_t N>
+constexpr bool one_row_per_prim_type(const Row (&rows)[N]) {
+  if (N != prim_type_count) return false;
+  for (std::size_t i = 0; i < N; ++i) {
+    if constexpr (requires { rows[i].type; }) {
+      if (rows[i].type != static_cast<PrimType>(i)) return false;
+    } else {
+      if (rows[i].value != static_cast<PrimType>(i)) return false;
+    }
+  }
+  return true;
+}
+static_assert(one_row_per_prim_type(prim_type_rows), "prim_type_rows: one row per PrimType, in enum order");
 inline const char* prim_type_name(PrimType t) { return prim_type_table.name(t); } // for messages
 inline const char* prim_type_key(PrimType t) { return prim_type_table.name(t); }  // for options and files
 inline PrimType parse_prim_type(std::string_view key) { return prim_type_table.parse(key); } // throws masq::Error
@@ -66,16 +86,7 @@ struct Geometry {
   std::vector<RoundConePrim> round_cones;     // round cones
   std::vector<SpherePrim> spheres;      // spheres
   std::vector<CurvePrim> curves;        // cubic curves
-  std::size_t primitive_count() const {
-    switch (type) {
-      case PrimType::Triangle: return triangles.size();
-      case PrimType::Capsule: return capsules.size();
-      case PrimType::RoundCone: return round_cones.size();
-      case PrimType::Sphere: return spheres.size();
-      case PrimType::Curve: return curves.size();
-    }
-    return 0;
-  }
+  std::size_t primitive_count() const; // the size of its type's array (scenes/prim_table.h)
 };
 
 // object -> world: p_world = linear * p_object + translation (double precision; the GPU

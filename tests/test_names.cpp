@@ -73,7 +73,7 @@ TEST(Names, UnknownNameNamesTheChoices) {
   EXPECT_EQ(message_of([] { parse_mode("exact"); }), "unknown mode 'exact' (expected robust or fast)");
   EXPECT_EQ(message_of([] { parse_node_format("w16"); }), "unknown node format 'w16' (expected w4, w8, q8 or o4)");
   EXPECT_EQ(message_of([] { parse_prim_type("cylinder"); }),
-            "unknown primitive type 'cylinder' (expected triangle, capsule, cone, sphere or curve)");
+            "unknown primitive type 'cylinder' (expected triangle, capsule, round_cone, sphere or curve)");
 }
 
 TEST(Names, ListsAndHelpComeFromTheRows) {

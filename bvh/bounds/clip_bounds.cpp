@@ -1,5 +1,6 @@
 #include "bvh/bounds/clip_bounds.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <algorithm>
 #include <cmath>
 
@@ -177,31 +178,17 @@ Aabb clip_curve(const std::array<glm::dvec3, 4>& p, double radius, int axis, dou
 }
 
 Aabb clip_primitive(const Geometry& g, std::size_t prim, int axis, double lo, double hi) {
-  switch (g.type) {
-    case PrimType::Triangle: {
-      const glm::uvec3& t = g.triangles.at(prim);
-      return clip_triangle({glm::dvec3(g.vertices[t.x]), glm::dvec3(g.vertices[t.y]), glm::dvec3(g.vertices[t.z])}, axis,
-                           lo, hi);
-    }
-    case PrimType::Capsule: {
-      const CapsulePrim& c = g.capsules.at(prim);
-      return clip_segment(glm::dvec3(c.a), c.radius, glm::dvec3(c.b), c.radius, axis, lo, hi);
-    }
-    case PrimType::RoundCone: {
-      const RoundConePrim& c = g.round_cones.at(prim);
-      return clip_segment(glm::dvec3(c.a), c.ra, glm::dvec3(c.b), c.rb, axis, lo, hi);
-    }
-    case PrimType::Sphere: {
-      const SpherePrim& s = g.spheres.at(prim);
-      return clip_sphere(glm::dvec3(s.center), s.radius, axis, lo, hi);
-    }
-    case PrimType::Curve: {
-      const CurvePrim& c = g.curves.at(prim);
-      return clip_curve({glm::dvec3(c.p[0]), glm::dvec3(c.p[1]), glm::dvec3(c.p[2]), glm::dvec3(c.p[3])}, c.radius, axis,
-                        lo, hi);
-    }
+  const ScenePrimRow& row = scene_prim_row(g.type);
+  PrimBalls b;
+  row.balls(g, prim, b);
+  auto d = [&](int i) { return glm::dvec3(b[std::size_t(i)].centre); };
+  switch (row.shape) {
+    case PrimShape::Triangle: return clip_triangle({d(0), d(1), d(2)}, axis, lo, hi);
+    case PrimShape::Segment: return clip_segment(d(0), b[0].radius, d(1), b[1].radius, axis, lo, hi);
+    case PrimShape::Ball: return clip_sphere(d(0), b[0].radius, axis, lo, hi);
+    case PrimShape::Bezier: return clip_curve({d(0), d(1), d(2), d(3)}, b[0].radius, axis, lo, hi);
   }
-  throw Error("clip: unknown primitive type");
+  throw Error("clip: unknown primitive shape");
 }
 
 } // namespace masq

@@ -1,4 +1,5 @@
 #include "bvh/bounds/obb.h"
+#include "scenes/prim_table.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <cmath>
@@ -125,8 +126,9 @@ double unit_extent(const BallHull& h, const Affine3& xf, const Mat3x4f& m) {
 
 ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb) {
   BallHull h = ball_hull(g, prim);
-  if (g.type == PrimType::Sphere) return fit_along(h, glm::dmat3(1.0));
-  if (g.type == PrimType::Curve) return curve_obb_fit(h, curve_obb);
+  const PrimShape shape = scene_prim_row(g.type).shape;
+  if (shape == PrimShape::Ball) return fit_along(h, glm::dmat3(1.0));
+  if (shape == PrimShape::Bezier) return curve_obb_fit(h, curve_obb);
   glm::dvec3 w = main_axis(h);
   glm::dvec3 u1 = perpendicular(w);
   return fit_along(h, glm::dmat3(w, u1, glm::cross(w, u1)));

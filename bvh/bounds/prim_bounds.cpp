@@ -1,8 +1,10 @@
 #include "bvh/bounds/prim_bounds.h"
 #include "bvh/packed_scene.h"
+#include "bvh/prim_rows.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace masq {
 
@@ -14,97 +16,38 @@ double BallHull::support(const glm::dvec3& dir) const {
 }
 
 namespace {
-BallHull two(const glm::vec3& a, float ra, const glm::vec3& b, float rb) {
+BallHull hull_of(const PrimBalls& balls, int count) {
   BallHull h;
-  h.centre[0] = glm::dvec3(a);
-  h.radius[0] = ra;
-  h.centre[1] = glm::dvec3(b);
-  h.radius[1] = rb;
-  h.count = 2;
+  for (int i = 0; i < count; ++i) {
+    h.centre[std::size_t(i)] = glm::dvec3(balls[std::size_t(i)].centre);
+    h.radius[std::size_t(i)] = balls[std::size_t(i)].radius;
+  }
+  h.count = count;
   return h;
 }
-glm::vec3 v3(const float* p) { return {p[0], p[1], p[2]}; }
 } // namespace
 
 BallHull ball_hull(const Geometry& g, std::size_t prim) {
-  switch (g.type) {
-    case PrimType::Capsule: {
-      const CapsulePrim& c = g.capsules.at(prim);
-      return two(c.a, c.radius, c.b, c.radius);
-    }
-    case PrimType::RoundCone: {
-      const RoundConePrim& c = g.round_cones.at(prim);
-      return two(c.a, c.ra, c.b, c.rb);
-    }
-    case PrimType::Sphere: {
-      const SpherePrim& s = g.spheres.at(prim);
-      BallHull h;
-      h.centre[0] = glm::dvec3(s.center);
-      h.radius[0] = s.radius;
-      h.count = 1;
-      return h;
-    }
-    case PrimType::Curve: {
-      const CurvePrim& c = g.curves.at(prim);
-      BallHull h;
-      for (int i = 0; i < 4; ++i) {
-        h.centre[i] = glm::dvec3(c.p[i]);
-        h.radius[i] = c.radius;
-      }
-      h.count = 4;
-      return h;
-    }
-    case PrimType::Triangle: break;
-  }
-  throw Error("bounds: triangles have no ball hull");
+  const ScenePrimRow& row = scene_prim_row(g.type);
+  if (row.mesh) throw Error(std::string("bounds: ") + prim_type_name(g.type) + "s have no ball hull");
+  PrimBalls balls;
+  const int count = row.balls(g, prim, balls);
+  return hull_of(balls, count);
 }
 
 BallHull ball_hull(const PackedScene& s, int geom, int prim) {
   const kernel::Geometry& g = s.geoms.at(std::size_t(geom));
-  std::size_t i = std::size_t(g.first + prim);
-  switch (g.type) {
-    case MASQ_PRIM_CAPSULE: {
-      const kernel::Capsule& c = s.capsules.at(i);
-      return two(v3(c.a), c.radius, v3(c.b), c.radius);
-    }
-    case MASQ_PRIM_ROUND_CONE: {
-      const kernel::RoundCone& c = s.round_cones.at(i);
-      return two(v3(c.a), c.ra, v3(c.b), c.rb);
-    }
-    case MASQ_PRIM_SPHERE: {
-      const kernel::Sphere& sp = s.spheres.at(i);
-      BallHull h;
-      h.centre[0] = glm::dvec3(v3(sp.center));
-      h.radius[0] = sp.radius;
-      h.count = 1;
-      return h;
-    }
-    case MASQ_PRIM_CURVE: {
-      const kernel::Curve& c = s.curves.at(i);
-      BallHull h;
-      const float* p[4] = {c.p0, c.p1, c.p2, c.p3};
-      for (int k = 0; k < 4; ++k) {
-        h.centre[k] = glm::dvec3(v3(p[k]));
-        h.radius[k] = c.radius;
-      }
-      h.count = 4;
-      return h;
-    }
-    default: break;
-  }
-  throw Error("bounds: geometry " + std::to_string(geom) + " of type " + std::to_string(g.type) +
-              " has no ball hull");
+  if (g.type < 0 || g.type >= MASQ_PRIM_TYPE_COUNT || scene_prim_row_of_kernel_type(g.type).mesh)
+    throw Error("bounds: geometry " + std::to_string(geom) + " of type " + std::to_string(g.type) +
+                " has no ball hull");
+  return prim_hull(s, geom, prim);
 }
 
 BallHull prim_hull(const PackedScene& s, int geom, int prim) {
   const kernel::Geometry& g = s.geoms.at(std::size_t(geom));
-  if (g.type != MASQ_PRIM_TRIANGLE) return ball_hull(s, geom, prim);
-  const kernel::Triangle& t = s.triangles.at(std::size_t(g.first + prim));
-  BallHull h;
-  const float* v[3] = {t.v0, t.v1, t.v2};
-  for (int k = 0; k < 3; ++k) h.centre[std::size_t(k)] = glm::dvec3(v3(v[k]));
-  h.count = 3;
-  return h;
+  PrimBalls balls;
+  const int count = bvh_prim_row(g.type).packed_balls(s, std::size_t(g.first + prim), balls);
+  return hull_of(balls, count);
 }
 
 Aabb hull_box(const BallHull& h) {

@@ -54,15 +54,7 @@ WorldPrims world_prims(const PackedScene& ps) {
     const double scale = sigma_max_bound(o2w.linear);
     const kernel::Geometry& g = ps.geoms[std::size_t(gi)];
     for (int p = 0; p < g.count; ++p) {
-      BallHull h;
-      if (g.type == MASQ_PRIM_TRIANGLE) {
-        const kernel::Triangle& t = ps.triangles[std::size_t(g.first + p)];
-        const float* v[3] = {t.v0, t.v1, t.v2};
-        for (int k = 0; k < 3; ++k) h.centre[k] = glm::dvec3(v[k][0], v[k][1], v[k][2]);
-        h.count = 3;
-      } else {
-        h = ball_hull(ps, gi, p);
-      }
+      BallHull h = prim_hull(ps, gi, p); // a triangle: its vertices
       for (int k = 0; k < h.count; ++k) {
         h.centre[k] = o2w.apply_point(h.centre[k]);
         h.radius[k] *= scale;

@@ -9,6 +9,7 @@
 #include "bvh/bounds/prim_bounds.h"
 #include "bvh/twolevel/structure_cost.h"
 #include "bvh/nodes/wide_bvh.h"
+#include "bvh/prim_rows.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <chrono>
@@ -45,91 +46,14 @@ kernel::Instance make_instance(const Mat3x4f& world_to_object, int blas_root, in
   return k;
 }
 
-int kernel_type(PrimType t) {
-  switch (t) {
-    case PrimType::Triangle: return MASQ_PRIM_TRIANGLE;
-    case PrimType::Capsule: return MASQ_PRIM_CAPSULE;
-    case PrimType::RoundCone: return MASQ_PRIM_ROUND_CONE;
-    case PrimType::Sphere: return MASQ_PRIM_SPHERE;
-    case PrimType::Curve: return MASQ_PRIM_CURVE;
-  }
-  return -1;
-}
-
-void copy3(float* dst, const glm::vec3& v) {
-  for (int k = 0; k < 3; ++k) dst[k] = v[k];
-}
-
 void pack_primitives(const Scene& scene, PackedScene& ps) {
   for (const Geometry& g : scene.geometries) {
+    const BvhPrimRow& row = bvh_prim_row(g.type);
     kernel::Geometry kg{};
-    kg.type = kernel_type(g.type);
+    kg.type = row.kernel_type;
     kg.count = int(g.primitive_count());
-    switch (g.type) {
-      case PrimType::Triangle:
-        kg.first = int(ps.triangles.size());
-        for (const glm::uvec3& t : g.triangles) {
-          kernel::Triangle kt{};
-          copy3(kt.v0, g.vertices[t.x]);
-          copy3(kt.v1, g.vertices[t.y]);
-          copy3(kt.v2, g.vertices[t.z]);
-          ps.triangles.push_back(kt);
-        }
-        break;
-      case PrimType::Capsule:
-        kg.first = int(ps.capsules.size());
-        for (const CapsulePrim& c : g.capsules) {
-          kernel::Capsule kc{};
-          copy3(kc.a, c.a);
-          copy3(kc.b, c.b);
-          kc.radius = c.radius;
-          ps.capsules.push_back(kc);
-        }
-        break;
-      case PrimType::RoundCone:
-        kg.first = int(ps.round_cones.size());
-        for (const RoundConePrim& c : g.round_cones) {
-          kernel::RoundCone kc{};
-          copy3(kc.a, c.a);
-          copy3(kc.b, c.b);
-          kc.ra = c.ra;
-          kc.rb = c.rb;
-          ps.round_cones.push_back(kc);
-        }
-        break;
-      case PrimType::Sphere:
-        kg.first = int(ps.spheres.size());
-        for (const SpherePrim& sp : g.spheres) {
-          kernel::Sphere ks{};
-          copy3(ks.center, sp.center);
-          ks.radius = sp.radius;
-          ps.spheres.push_back(ks);
-        }
-        break;
-      case PrimType::Curve:
-        kg.first = int(ps.curves.size());
-        for (const CurvePrim& c : g.curves) {
-          kernel::Curve kc{};
-          copy3(kc.p0, c.p[0]);
-          copy3(kc.p1, c.p[1]);
-          copy3(kc.p2, c.p[2]);
-          copy3(kc.p3, c.p[3]);
-          kc.radius = c.radius;
-          ps.curves.push_back(kc);
-        }
-        break;
-    }
+    kg.first = row.pack(g, ps);
     ps.geoms.push_back(kg);
-  }
-}
-
-void note_feature(KernelFeatures& f, PrimType t) {
-  switch (t) {
-    case PrimType::Triangle: f.triangles = true; break;
-    case PrimType::Capsule: f.capsules = true; break;
-    case PrimType::RoundCone: f.round_cones = true; break;
-    case PrimType::Sphere: f.spheres = true; break;
-    case PrimType::Curve: f.curves = true; break;
   }
 }
 
@@ -142,7 +66,7 @@ void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids
   parallel_chunks(ids.size(), 4096, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       std::size_t p = std::size_t(ids[i]);
-      boxes[i] = g.type == PrimType::Triangle ? triangle_box(g, g.triangles[p]) : hull_box(ball_hull(g, p));
+      boxes[i] = scene_prim_row(g.type).mesh ? triangle_box(g, g.triangles[p]) : hull_box(ball_hull(g, p));
     }
   });
   // Spatial splits clip the primitive itself (object space), item i being ids[i].
@@ -150,7 +74,7 @@ void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids
     return clip_primitive(g, std::size_t(ids[std::size_t(item)]), axis, lo, hi);
   };
   SahOptions blas_sah = opt.sah;
-  if (builder_prices_isect(opt.builder.kind)) blas_sah.intersection_cost *= blas_isect_price(kernel_type(g.type));
+  if (builder_prices_isect(opt.builder.kind)) blas_sah.intersection_cost *= blas_isect_price(bvh_prim_row(g.type).kernel_type);
   bvh = build_blas_binary(boxes, clip, blas_sah, opt.builder, &references);
 }
 
@@ -170,8 +94,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   ps.stats.cluster_size = opt.cluster.max_size;
   ps.stats.cluster_leaf_price = opt.cluster.leaf_price;
   for (const Instance& inst : scene.instances) {
-    PrimType t = scene.geometries[inst.geometry].type;
-    note_feature(ps.features, t);
+    ps.features.*bvh_prim_row(scene.geometries[inst.geometry].type).feature = true;
     Affine3 w2o = inverse(inst.object_to_world);
     kernel::Frame f{};
     Mat3x4f m = to_mat3x4f(w2o);
@@ -382,7 +305,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
   AutoCandidates out;
   // Triangles stay in a BLAS under every method: a mesh has one candidate, ref's.
   bool thin = std::any_of(scene.geometries.begin(), scene.geometries.end(),
-                          [](const Geometry& g) { return g.type != PrimType::Triangle && g.primitive_count() > 0; });
+                          [](const Geometry& g) { return !scene_prim_row(g.type).mesh && g.primitive_count() > 0; });
   for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
     if (m != Method::Ref && !thin) {
       out.costs[std::size_t(m)] = out.costs[std::size_t(Method::Ref)];

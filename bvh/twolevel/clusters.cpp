@@ -1,6 +1,7 @@
 #include "bvh/twolevel/clusters.h"
 #include "bvh/bounds/obb.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -44,7 +45,7 @@ std::vector<glm::dvec3> orientation_classes(int count) {
 }
 
 glm::dvec3 primitive_axis(const Geometry& g, std::size_t prim) {
-  if (g.type == PrimType::Sphere || g.type == PrimType::Triangle) return glm::dvec3(0.0);
+  if (!scene_prim_row(g.type).oriented) return glm::dvec3(0.0);
   BallHull h = ball_hull(g, prim);
   glm::dvec3 d = h.centre[h.count - 1] - h.centre[0];
   if (h.count == 4 && glm::length(d) == 0.0) d = h.centre[2] - h.centre[1];
@@ -58,7 +59,7 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
     throw Error("cluster: max_size " + std::to_string(opt.max_size) + " outside 2..256");
   if (opt.classes < 1 || opt.classes > 1024)
     throw Error("cluster: classes " + std::to_string(opt.classes) + " outside 1..1024");
-  if (g.type == PrimType::Triangle || g.type == PrimType::Sphere)
+  if (!scene_prim_row(g.type).oriented)
     throw Error(std::string("cluster: a ") + prim_type_name(g.type) + " geometry has no orientation to cluster by");
   const std::vector<glm::dvec3> dirs = orientation_classes(opt.classes);
   std::vector<std::vector<std::int32_t>> by_class(dirs.size());

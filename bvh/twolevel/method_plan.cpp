@@ -1,6 +1,7 @@
 #include "bvh/twolevel/method_plan.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <algorithm>
 
 namespace masq {
@@ -51,13 +52,13 @@ std::vector<std::int32_t> all_prims(const Geometry& g) {
   return ids;
 }
 
-bool clusterable(PrimType t) { return t == PrimType::Capsule || t == PrimType::RoundCone || t == PrimType::Curve; }
+bool clusterable(PrimType t) { return scene_prim_row(t).oriented; }
 
 } // namespace
 
 GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& opt) {
   GeometryPlan plan;
-  if (g.type == PrimType::Triangle || method == Method::Ref) {
+  if (scene_prim_row(g.type).mesh || method == Method::Ref) {
     plan.blas_prims = all_prims(g);
     return plan;
   }

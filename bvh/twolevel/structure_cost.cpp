@@ -3,6 +3,7 @@
 #include "bvh/bounds/obb.h"
 #include "bvh/nodes/wide_bvh.h"
 #include "bvh/binary/parallel.h"
+#include "bvh/prim_rows.h"
 #include <cmath>
 #include <glm/glm.hpp>
 #include <vector>
@@ -10,14 +11,8 @@
 namespace masq {
 
 double isect_type_factor(int kernel_prim_type) {
-  switch (kernel_prim_type) {
-    case MASQ_PRIM_TRIANGLE: return 0.7;
-    case MASQ_PRIM_CAPSULE: return 1.0;
-    case MASQ_PRIM_ROUND_CONE: return 1.1;
-    case MASQ_PRIM_SPHERE: return 0.6;
-    case MASQ_PRIM_CURVE: return 6.0;
-  }
-  return 1.0;
+  if (kernel_prim_type < 0 || kernel_prim_type >= MASQ_PRIM_TYPE_COUNT) return 1.0;
+  return bvh_prim_row(kernel_prim_type).isect_factor;
 }
 
 double blas_isect_price(int kernel_prim_type) {
@@ -97,7 +92,7 @@ struct Walker {
       blas(e.blas_root, p_slot, e.l, factor);
     else // masquerade: the intersector runs when the ray is in the unit box's image (the OBB)
       c.isects += std::min(p_slot, e.unit_area / root_area) * factor;
-    if (type == MASQ_PRIM_TRIANGLE) {
+    if (scene_prim_row_of_kernel_type(type).mesh) {
       tri.nodes += c.nodes - before.nodes;
       tri.transforms += c.transforms - before.transforms;
       tri.isects += c.isects - before.isects;
@@ -143,7 +138,7 @@ StructureCost structure_cost(const PackedScene& ps, const CostPrices& prices) {
     w.root_area = std::max(node_box_area(ps, only.blas_root, l), 1e-300);
     int type = ps.geoms[std::size_t(only.geom)].type;
     w.blas(only.blas_root, 1.0, l, isect_type_factor(type));
-    if (type == MASQ_PRIM_TRIANGLE) w.tri = w.c;
+    if (scene_prim_row_of_kernel_type(type).mesh) w.tri = w.c;
   } else {
     w.root_area = std::max(node_box_area(ps, ps.tlas_root, glm::dmat3(1.0)), 1e-300);
     w.entries = entry_infos(ps);

@@ -2,6 +2,7 @@
 #include "bvh/bounds/obb.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "bvh/nodes/compact_instance.h"
+#include "bvh/prim_rows.h"
 #include "bvh/twolevel/cluster_blas.h"
 #include "host/limit_knob.h"
 #include "host/vulkan/vulkan_backends.h"
@@ -192,7 +193,7 @@ AccelInput DriverScene::geometry_input(const PackedScene& s, const RayQueryPlan:
   const kernel::Geometry& geo = s.geoms.at(static_cast<std::size_t>(spec.geom));
   auto all = geometry_leaf_order(s, static_cast<std::size_t>(spec.geom));
   std::span<const std::int32_t> order(all.data() + spec.first, spec.count);
-  if (geo.type == MASQ_PRIM_TRIANGLE) {
+  if (scene_prim_row_of_kernel_type(geo.type).mesh) {
     std::vector<float> v;
     v.reserve(order.size() * 9);
     for (std::int32_t p : order) {

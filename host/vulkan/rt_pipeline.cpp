@@ -1,4 +1,5 @@
 #include "host/vulkan/rt_pipeline.h"
+#include "bvh/prim_rows.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vk_devices.h"
 #include "spirv/rtpipeline_rchit_addr_spv.h"
@@ -95,7 +96,7 @@ RtPipeline::RtPipeline(Context& ctx, KernelLayout& layout, const KernelVariant& 
     const VkShaderModule closest = module(m.closest), intersection = module(m.intersection);
     const std::uint32_t closest_stage = stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, closest, &common.info);
     for (const HitGroupRow& row : kHitGroups) {
-      if (row.prim_type == MASQ_PRIM_TRIANGLE) {
+      if (scene_prim_row_of_kernel_type(row.prim_type).mesh) { // the driver intersects triangles itself
         VkRayTracingShaderGroupCreateInfoKHR* g = group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR);
         g->closestHitShader =
             stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, module(m.triangle_closest), &common.info);

@@ -1,0 +1,132 @@
+#include "scenes/prim_table.h"
+#include "masq/error.h"
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace masq {
+
+namespace {
+
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string where(std::size_t g, const char* what, std::size_t i) {
+  return "geometry " + std::to_string(g) + " " + what + " " + std::to_string(i);
+}
+
+void check_radius(float r, std::size_t g, const char* what, std::size_t i) {
+  if (!std::isfinite(r) || r < 0.0f)
+    throw Error("scene: " + where(g, what, i) + " has radius " + std::to_string(r) + " (must be finite and >= 0)");
+}
+
+void check_point(const glm::vec3& p, std::size_t g, const char* what, std::size_t i) {
+  if (!finite3(p)) throw Error("scene: " + where(g, what, i) + " has a non-finite point");
+}
+
+template <auto Array>
+std::size_t count_of(const Geometry& g) {
+  return (g.*Array).size();
+}
+template <auto Array>
+bool holds(const Geometry& g) {
+  return !(g.*Array).empty();
+}
+
+void validate_triangles(const Geometry& geo, std::size_t g) {
+  for (std::size_t i = 0; i < geo.vertices.size(); ++i)
+    if (!finite3(geo.vertices[i])) throw Error("scene: " + where(g, "vertex", i) + " is not finite");
+  for (std::size_t i = 0; i < geo.triangles.size(); ++i) {
+    const glm::uvec3& t = geo.triangles[i];
+    if (t.x >= geo.vertices.size() || t.y >= geo.vertices.size() || t.z >= geo.vertices.size())
+      throw Error("scene: " + where(g, "triangle", i) + " indexes a vertex beyond " + std::to_string(geo.vertices.size()));
+  }
+}
+void validate_capsules(const Geometry& geo, std::size_t g) {
+  for (std::size_t i = 0; i < geo.capsules.size(); ++i) {
+    const CapsulePrim& c = geo.capsules[i];
+    if (!finite3(c.a) || !finite3(c.b)) throw Error("scene: " + where(g, "capsule", i) + " has a non-finite endpoint");
+    check_radius(c.radius, g, "capsule", i);
+  }
+}
+void validate_round_cones(const Geometry& geo, std::size_t g) {
+  for (std::size_t i = 0; i < geo.round_cones.size(); ++i) {
+    const RoundConePrim& c = geo.round_cones[i];
+    check_point(c.a, g, "round cone", i);
+    check_point(c.b, g, "round cone", i);
+    check_radius(c.ra, g, "round cone", i);
+    check_radius(c.rb, g, "round cone", i);
+  }
+}
+void validate_spheres(const Geometry& geo, std::size_t g) {
+  for (std::size_t i = 0; i < geo.spheres.size(); ++i) {
+    check_point(geo.spheres[i].center, g, "sphere", i);
+    check_radius(geo.spheres[i].radius, g, "sphere", i);
+  }
+}
+void validate_curves(const Geometry& geo, std::size_t g) {
+  for (std::size_t i = 0; i < geo.curves.size(); ++i) {
+    for (const glm::vec3& p : geo.curves[i].p) check_point(p, g, "curve", i);
+    check_radius(geo.curves[i].radius, g, "curve", i);
+  }
+}
+
+int triangle_balls(const Geometry& g, std::size_t prim, PrimBalls& out) {
+  const glm::uvec3& t = g.triangles.at(prim);
+  for (int k = 0; k < 3; ++k) out[std::size_t(k)] = {g.vertices.at(t[k]), 0.0f};
+  return 3;
+}
+int capsule_balls(const Geometry& g, std::size_t prim, PrimBalls& out) {
+  const CapsulePrim& c = g.capsules.at(prim);
+  out[0] = {c.a, c.radius};
+  out[1] = {c.b, c.radius};
+  return 2;
+}
+int round_cone_balls(const Geometry& g, std::size_t prim, PrimBalls& out) {
+  const RoundConePrim& c = g.round_cones.at(prim);
+  out[0] = {c.a, c.ra};
+  out[1] = {c.b, c.rb};
+  return 2;
+}
+int sphere_balls(const Geometry& g, std::size_t prim, PrimBalls& out) {
+  const SpherePrim& s = g.spheres.at(prim);
+  out[0] = {s.center, s.radius};
+  return 1;
+}
+int curve_balls(const Geometry& g, std::size_t prim, PrimBalls& out) { // the control points' balls
+  const CurvePrim& c = g.curves.at(prim);
+  for (std::size_t k = 0; k < 4; ++k) out[k] = {c.p[k], c.radius};
+  return 4;
+}
+
+//  type, mesh, oriented, shape, singular, then the functions
+constexpr ScenePrimRow rows[] = {
+    {PrimType::Triangle, true, false, PrimShape::Triangle, "triangle", count_of<&Geometry::triangles>, holds<&Geometry::triangles>,
+     validate_triangles, triangle_balls},
+    {PrimType::Capsule, false, true, PrimShape::Segment, "capsule", count_of<&Geometry::capsules>, holds<&Geometry::capsules>,
+     validate_capsules, capsule_balls},
+    {PrimType::RoundCone, false, true, PrimShape::Segment, "round cone", count_of<&Geometry::round_cones>,
+     holds<&Geometry::round_cones>, validate_round_cones, round_cone_balls},
+    {PrimType::Sphere, false, false, PrimShape::Ball, "sphere", count_of<&Geometry::spheres>, holds<&Geometry::spheres>,
+     validate_spheres, sphere_balls},
+    {PrimType::Curve, false, true, PrimShape::Bezier, "curve", count_of<&Geometry::curves>, holds<&Geometry::curves>,
+     validate_curves, curve_balls},
+};
+static_assert(one_row_per_prim_type(rows), "scene_prim_rows: one row per PrimType, in enum order");
+
+} // namespace
+
+const ScenePrimRow& scene_prim_row(PrimType t) {
+  const auto i = static_cast<std::size_t>(t);
+  if (i >= prim_type_count) throw Error("scene: primitive type " + std::to_string(i) + " has no row");
+  return rows[i];
+}
+
+float prim_max_radius(const Geometry& g, std::size_t prim) {
+  PrimBalls b;
+  const int n = scene_prim_row(g.type).balls(g, prim, b);
+  float r = 0.0f;
+  for (int i = 0; i < n; ++i) r = std::max(r, b[std::size_t(i)].radius);
+  return r;
+}
+
+} // namespace masq
