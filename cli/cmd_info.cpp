@@ -2,7 +2,6 @@
 // every device of every GPU API and which one each backend takes.
 #include "cli/commands.h"
 #include "host/backend.h"
-#include "host/device_list.h"
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <set>
