@@ -1,5 +1,5 @@
 #include "bench/bench_report.h"
-#include "host/stack_size.h"
+#include "host/backend.h"
 #include <algorithm>
 #include <fmt/format.h>
 

@@ -1,6 +1,5 @@
 #include "bench/bench_runner.h"
 #include "bvh/twolevel/build_accel.h"
-#include "host/stack_size.h"
 #include "scenes/camera.h"
 #include "masq/error.h"
 #include <algorithm>

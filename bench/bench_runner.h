@@ -5,11 +5,11 @@
 // by round (each method's structure stays uploaded in its own backend slot), so a load
 // that comes and goes on a shared machine falls on all of them alike.
 #pragma once
+#include "bench/auto_pilot.h"
 #include "bench/backend_pool.h"
 #include "bench/ray_sets.h"
 #include "bvh/twolevel/build_accel.h"
 #include "bvh/packed_scene.h"
-#include "host/auto_pilot.h"
 #include "host/backend.h"
 #include "scenes/scene.h"
 #include <array>
@@ -22,7 +22,7 @@
 namespace masq {
 
 // How the bench's auto rows keep a candidate: Pilot: per backend and ray set, the one
-// that traces a sample of those rays fastest on that backend (host/auto_pilot.h); Model:
+// that traces a sample of those rays fastest on that backend (bench/auto_pilot.h); Model:
 // the structure cost model's choice (bvh/twolevel/build_accel.h), as masq render and the library
 // make it.
 enum class AutoBy { Pilot, Model };

@@ -48,7 +48,7 @@ std::string method_note(const MethodTally& tally) {
                         tally.auto_within, tally.cells, tally.worst, tally.kept_within, tally.cells, tally.kept_worst);
   return "each backend: cluster/ref speedup / auto over the better of ref and masq (rays/s, same rays) and the "
          "candidate auto kept (ref, masq, cluster or its per-cluster mix; by default the one a pilot sample of these "
-         "rays traced fastest on that backend, host/auto_pilot.h); " +
+         "rays traced fastest on that backend, bench/auto_pilot.h); " +
          held;
 }
 

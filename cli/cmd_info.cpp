@@ -4,7 +4,6 @@
 #include "cli/commands.h"
 #include "cli/knob_table.h"
 #include "host/backend.h"
-#include "host/device_list.h"
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <memory>

@@ -1,6 +1,5 @@
 #include "cli/device_option.h"
-#include "host/device_choice.h"
-#include "host/device_list.h"
+#include "host/backend.h"
 #include "masq/error.h"
 
 namespace masq::cli {

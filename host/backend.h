@@ -1,9 +1,15 @@
 // One interface for every way masq traces rays: cpu (kernel source compiled as C++),
 // vulkan (compute shaders), opencl, rayquery (Vulkan ray query on the driver's own
 // acceleration structures), rtpipeline (the Vulkan ray-tracing pipeline on the same
-// structures). Drivers (CLI, bench, tests) use only this header.
+// structures). The drivers' front door to host/ (with host/bv_tracer.h; the CLI, bench
+// and stress include no other host/ header: scripts/check_layers.py), so it also brings
+// what they ask about the backends: the devices each API has and the selectors that pick
+// one (host/device_list.h), the stack sizes the kernels compile for a scene
+// (host/stack_size.h).
 #pragma once
 #include "bvh/packed_scene.h"
+#include "host/device_list.h"
+#include "host/stack_size.h"
 #include "masq/error.h"
 #include "masq/names.h"
 #include <memory>

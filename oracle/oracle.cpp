@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <thread>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace masq::oracle {
 
@@ -117,13 +118,10 @@ OracleHit Oracle::trace(const kernel::Ray& ray) const {
 
 std::vector<OracleHit> Oracle::trace_all(const std::vector<kernel::Ray>& rays) const {
   std::vector<OracleHit> out(rays.size());
-  unsigned nt = std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < nt; ++t)
-    pool.emplace_back([&, t] {
-      for (std::size_t i = t; i < rays.size(); i += nt) out[i] = trace(rays[i]);
-    });
-  for (std::thread& th : pool) th.join();
+  // Each ray is traced alone into its own slot: the answer cannot depend on the split.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = trace(rays[i]);
+  });
   return out;
 }
 

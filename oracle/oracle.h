@@ -30,7 +30,7 @@ class Oracle {
  public:
   explicit Oracle(const Scene& scene);
   OracleHit trace(const kernel::Ray& ray) const;
-  std::vector<OracleHit> trace_all(const std::vector<kernel::Ray>& rays) const; // multi-threaded
+  std::vector<OracleHit> trace_all(const std::vector<kernel::Ray>& rays) const; // on oneTBB's threads
 
  private:
   struct InstanceLd {

@@ -19,13 +19,16 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <thread>
 #include <vector>
 
 #if MASQ_HAVE_EMBREE
 #include <embree3/rtcore.h>
 #include <atomic>
 #include <mutex>
+#include <tbb/blocked_range.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #endif
 
 namespace masq {
@@ -51,25 +54,6 @@ bool ray_valid(const kernel::Ray& r) {
     if (!std::isfinite(r.org[k]) || !std::isfinite(r.dir[k])) return false;
   float dd = r.dir[0] * r.dir[0] + r.dir[1] * r.dir[1] + r.dir[2] * r.dir[2];
   return dd > 0.0f && !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
-}
-
-// Runs fn(begin, end) over [0, n) in `threads` contiguous chunks.
-template <class Fn>
-void parallel_chunks(std::size_t n, int threads, Fn fn) {
-  std::size_t workers = std::max<std::size_t>(1, std::min<std::size_t>(std::size_t(threads), n));
-  if (workers <= 1) {
-    fn(std::size_t(0), n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  pool.reserve(workers);
-  std::size_t chunk = (n + workers - 1) / workers;
-  for (std::size_t w = 0; w < workers; ++w) {
-    std::size_t b = w * chunk, e = std::min(n, b + chunk);
-    if (b >= e) break;
-    pool.emplace_back([=] { fn(b, e); });
-  }
-  for (std::thread& t : pool) t.join();
 }
 
 } // namespace
@@ -121,7 +105,15 @@ const char* rtc_error_name(RTCError e) {
 } // namespace
 
 struct EmbreePeer::Impl {
-  int threads = 2;
+  // Embree 3 runs on oneTBB (Debian's libembree3 links libtbb), so the traces below, in
+  // an arena of `threads`, and Embree's BVH builds, which its device holds to as many
+  // (a process-wide tbb::global_control of Embree's), run on oneTBB's workers: started
+  // once for the process, and the ones the masq cpu backend traces on
+  // (host/cpu/trace_threads.h). At most the hardware's threads: oneTBB gives no more.
+  explicit Impl(int requested)
+      : threads(std::clamp(requested, 1, tbb::info::default_concurrency())), arena(threads) {}
+  int threads;
+  tbb::task_arena arena;
   bool robust = false;
   RTCDevice device = nullptr;
   RTCScene top = nullptr;
@@ -174,6 +166,15 @@ struct EmbreePeer::Impl {
   }
   RTCGeometry make_geometry(const Geometry& g);
   RTCGeometry make_end_caps(const Geometry& g, std::vector<int>& owner);
+  // fn(begin, end) over [0, n) in chunks of at most 256 rays on the arena's threads;
+  // each ray is traced alone into its own slot, so the split cannot change an answer.
+  template <class Fn>
+  void for_chunks(std::size_t n, Fn fn) {
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256),
+                        [&](const tbb::blocked_range<std::size_t>& r) { fn(r.begin(), r.end()); });
+    });
+  }
 };
 
 namespace {
@@ -302,10 +303,10 @@ RTCGeometry EmbreePeer::Impl::make_end_caps(const Geometry& g, std::vector<int>&
   return geo;
 }
 
-EmbreePeer::EmbreePeer(int threads) : impl_(std::make_unique<Impl>()) {
+EmbreePeer::EmbreePeer(int threads) {
   if (threads < 1) throw Error("embree: thread count must be at least 1 (got " + std::to_string(threads) + ")");
-  impl_->threads = threads;
-  std::string config = "threads=" + std::to_string(threads);
+  impl_ = std::make_unique<Impl>(threads);
+  std::string config = "threads=" + std::to_string(impl_->threads);
   impl_->device = rtcNewDevice(config.c_str());
   if (impl_->device == nullptr)
     throw Error(std::string("embree: rtcNewDevice failed: ") + rtc_error_name(rtcGetDeviceError(nullptr)));
@@ -389,7 +390,7 @@ void EmbreePeer::trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit>
                 std::to_string(hits.size()) + " hits)");
   if (m.top == nullptr) throw Error("embree: trace before set_scene");
   auto t0 = std::chrono::steady_clock::now();
-  parallel_chunks(rays.size(), m.threads, [&](std::size_t begin, std::size_t end) {
+  m.for_chunks(rays.size(), [&](std::size_t begin, std::size_t end) {
     RTCIntersectContext ctx;
     for (std::size_t i = begin; i < end; ++i) {
       const kernel::Ray& r = rays[i];
@@ -434,7 +435,7 @@ void EmbreePeer::occluded(std::span<const kernel::Ray> rays, std::span<std::uint
                 std::to_string(occluded.size()) + " flags)");
   if (m.top == nullptr) throw Error("embree: occluded before set_scene");
   auto t0 = std::chrono::steady_clock::now();
-  parallel_chunks(rays.size(), m.threads, [&](std::size_t begin, std::size_t end) {
+  m.for_chunks(rays.size(), [&](std::size_t begin, std::size_t end) {
     RTCIntersectContext ctx;
     for (std::size_t i = begin; i < end; ++i) {
       const kernel::Ray& r = rays[i];

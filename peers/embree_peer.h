@@ -1,5 +1,5 @@
 // Embree 3 as a peer tracer: the benchmark harness traces the same rays through masq and
-// through Embree (rtcIntersect1 per ray, std::thread workers) and compares time, memory
+// through Embree (rtcIntersect1 per ray, on oneTBB's workers) and compares time, memory
 // and answers. No Embree header here (pimpl), so callers build whether or not masq was
 // built with Embree; without it every constructor throws and unavailable_reason() says why.
 //
@@ -56,9 +56,10 @@ class EmbreePeer {
   static std::string unavailable_reason();
   static std::string version(); // "Embree 3.13.5" (the headers masq was built against)
 
-  // threads: workers for trace (contiguous chunks of the batch); Embree's device is also
-  // limited to this many threads, so its BVH build uses the same number. Throws
-  // masq::Error when built without Embree or when Embree cannot make a device.
+  // threads: how many threads trace (chunks of the batch in a oneTBB arena) and build
+  // (Embree's device is limited to as many), at most the hardware's; oneTBB's workers,
+  // shared with Embree and the masq cpu backend. Throws masq::Error when built without
+  // Embree or when Embree cannot make a device.
   explicit EmbreePeer(int threads = 2);
   ~EmbreePeer();
   EmbreePeer(const EmbreePeer&) = delete;

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Checks that includes point down the layers (docs/architecture.md): a file may include
 files of its own folder and of folders on a lower layer, never of a folder on its own
-layer or above; and that no files include each other in a circle, inside a folder
-either. Run from anywhere; exits 1 naming every include that points the wrong way and
-every circle (ctest: layers).
+layer or above; that the drivers reach host/ through its front door only; and that no
+files include each other in a circle, inside a folder either. Run from anywhere; exits
+1 naming every include that points the wrong way and every circle (ctest: layers).
 
 The table below is the one list of folders and their layers, top to bottom. A folder
 not listed is an error, so a new folder gets a row here (and a line in
@@ -38,6 +38,11 @@ LAYERS = {
     "knobs": 5,
     "include/masq": 0,
 }
+# The drivers and the Python module reach the backends through these host/ headers (or
+# the public API, include/masq/) and no other: the rest of host/ is the backends' own
+# business (docs/architecture.md, "Layers").
+DRIVERS = {"cli", "bench", "stress", "python"}
+FRONT_DOOR = {"host/backend.h", "host/bv_tracer.h"}
 SOURCE = re.compile(r"\.(h|hpp|cpp|inc|comp|cl)$")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 
@@ -129,6 +134,9 @@ def main():
                     continue  # generated headers (spirv/, opencl/, cpu/) and system ones
                 graph[f].append(target)
                 dst = folder_of(target)
+                if src in DRIVERS and target.startswith("host/") and target not in FRONT_DOOR:
+                    problems.append(f"{f}:{lineno}: includes {target} from {src}: drivers include only "
+                                    f"{' and '.join(sorted(FRONT_DOOR))} of host/")
                 if dst is None or dst == src:
                     continue
                 if LAYERS[dst] >= LAYERS[src]:
@@ -139,9 +147,10 @@ def main():
     for p in problems:
         print(p)
     if problems:
-        print(f"check_layers: {len(problems)} include(s) point up or sideways, or go round (docs/architecture.md)")
+        print(f"check_layers: {len(problems)} include(s) point up or sideways, pass the front door, or go round "
+              "(docs/architecture.md)")
         return 1
-    print("check_layers: every include points down, and none goes round")
+    print("check_layers: every include points down, drivers use the front door, and none goes round")
     return 0
 
 

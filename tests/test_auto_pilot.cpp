@@ -1,10 +1,10 @@
-// auto chosen by pilot (host/auto_pilot.h): the sample, the choice rule against a backend
+// auto chosen by pilot (bench/auto_pilot.h): the sample, the choice rule against a backend
 // whose times are set by the test, the choice on a real backend where one candidate is
 // several times faster, and the bench's auto rows (bench/bench_runner.h).
+#include "bench/auto_pilot.h"
 #include "bench/bench_report.h"
 #include "bench/bench_runner.h"
 #include "bench/suite.h"
-#include "host/auto_pilot.h"
 #include "scenes/camera.h"
 #include "masq/error.h"
 #include "scenes/generators.h"

@@ -15,12 +15,15 @@ namespace masq::test {
 inline bool missing_backends_allowed() { return knob_flag(Knob::AllowMissingBackends); }
 
 // make(name), or nullptr after a test failure naming the cause (nullptr and no failure
-// when missing backends are allowed). Callers skip the backend on nullptr.
+// when missing backends are allowed), the cause also in *why. Callers skip the backend
+// on nullptr: a test of that backend alone with `if (!be) GTEST_SKIP() << why;`, so
+// that it reports SKIPPED (or FAILED), never PASSED.
 template <class Make>
-auto open_or_fail(const std::string& name, Make make) -> decltype(make(name)) {
+auto open_or_fail(const std::string& name, Make make, std::string* why = nullptr) -> decltype(make(name)) {
   try {
     return make(name);
   } catch (const BackendUnavailable& e) {
+    if (why != nullptr) *why = std::string(e.what()) + " (MASQ_ALLOW_MISSING_BACKENDS=1)";
     if (!missing_backends_allowed())
       ADD_FAILURE() << e.what() << " (scripts/setup.sh installs every backend; set MASQ_ALLOW_MISSING_BACKENDS=1 to skip)";
     return nullptr;

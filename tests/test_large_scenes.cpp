@@ -34,8 +34,8 @@ namespace {
 
 using masq::test::ScopedEnv;
 
-std::unique_ptr<Backend> backend_or_fail(const std::string& name) {
-  return masq::test::open_or_fail(name, [](const std::string& n) { return make_backend(n); });
+std::unique_ptr<Backend> backend_or_fail(const std::string& name, std::string* why = nullptr) {
+  return masq::test::open_or_fail(name, [](const std::string& n) { return make_backend(n); }, why);
 }
 
 // Primitives of `type` under three random instances, beside a triangle mesh.
@@ -100,10 +100,13 @@ Diff compare(const std::vector<Hit>& want, const std::vector<Hit>& got, bool sam
 }
 
 // Every method on `backend` under the knobs the caller set, against the cpu backend
-// (no knobs apply to it) on capsules and curves.
-void check_against_cpu(const std::string& backend, const std::vector<std::pair<const char*, std::string>>& knobs) {
-  std::unique_ptr<Backend> be = backend_or_fail(backend);
-  if (!be) return;
+// (no knobs apply to it) on capsules and curves. "" when it ran, else why the backend
+// did not open (a test of it alone skips with that).
+std::string check_against_cpu(const std::string& backend,
+                              const std::vector<std::pair<const char*, std::string>>& knobs) {
+  std::string why;
+  std::unique_ptr<Backend> be = backend_or_fail(backend, &why);
+  if (!be) return why;
   std::unique_ptr<Backend> cpu = make_backend("cpu");
   std::vector<Ray> rays = random_rays(7, 2048);
   for (PrimType type : {PrimType::Capsule, PrimType::Curve}) {
@@ -126,6 +129,7 @@ void check_against_cpu(const std::string& backend, const std::vector<std::pair<c
       EXPECT_EQ(a.hit_miss + a.wrong_prim + a.wrong_t, 0) << "any hit: " << a.first;
     }
   }
+  return "";
 }
 
 } // namespace
@@ -133,17 +137,22 @@ void check_against_cpu(const std::string& backend, const std::vector<std::pair<c
 // 4 KiB per binding: the capsule, curve, node and instance arrays of these scenes all
 // exceed it, and rays go in chunks of 85.
 TEST(LargeScenes, VulkanArraysByAddressMatchCpu) {
-  check_against_cpu("vulkan", {{"MASQ_VK_MAX_BINDING_BYTES", "4096"}});
+  if (std::string why = check_against_cpu("vulkan", {{"MASQ_VK_MAX_BINDING_BYTES", "4096"}}); !why.empty())
+    GTEST_SKIP() << why;
 }
 
 // The vulkan backend reads every scene by address where it can (MASQ_VK_ADDRESSING
 // unset); its descriptor-bound path, for devices without bufferDeviceAddress, must
 // give the same hits.
-TEST(LargeScenes, VulkanBoundArraysMatchCpu) { check_against_cpu("vulkan", {{"MASQ_VK_ADDRESSING", "bound"}}); }
+TEST(LargeScenes, VulkanBoundArraysMatchCpu) {
+  if (std::string why = check_against_cpu("vulkan", {{"MASQ_VK_ADDRESSING", "bound"}}); !why.empty())
+    GTEST_SKIP() << why;
+}
 
 TEST(LargeScenes, VulkanAddressingKnobRejectsOtherValues) {
-  std::unique_ptr<Backend> be = backend_or_fail("vulkan");
-  if (!be) return;
+  std::string why;
+  std::unique_ptr<Backend> be = backend_or_fail("vulkan", &why);
+  if (!be) GTEST_SKIP() << why;
   ScopedEnv k("MASQ_VK_ADDRESSING", "fast");
   try {
     be->set_scene(build_accel(random_scene(PrimType::Capsule, 3), Method::Ref));
@@ -184,9 +193,10 @@ TEST(LargeScenes, DriverTraversalSplitAndAddressedTogetherMatchCpu) {
 // The binary-hierarchy tracer (kernels/trace_bv.comp) reads its node and leaf arrays
 // the same way: every node type by address gives the cpu tracer's hits.
 TEST(LargeScenes, VulkanBvTracerArraysByAddressMatchCpu) {
+  std::string why;
   std::unique_ptr<BvTracer> vk =
-      masq::test::open_or_fail("vulkan", [](const std::string& n) { return make_bv_tracer(n); });
-  if (!vk) return;
+      masq::test::open_or_fail("vulkan", [](const std::string& n) { return make_bv_tracer(n); }, &why);
+  if (!vk) GTEST_SKIP() << why;
   std::unique_ptr<BvTracer> cpu = make_bv_tracer("cpu");
   Scene scene = random_scene(PrimType::Capsule, 9);
   std::vector<Ray> rays = random_rays(8, 1024);
@@ -257,8 +267,9 @@ TEST(LargeScenes, ArrayOverOneAllocationIsAClearError) {
 // OpenCL has no way round CL_DEVICE_MAX_MEM_ALLOC_SIZE either (no binding limit below
 // it): the array is named.
 TEST(LargeScenes, OpenClArrayOverOneAllocationIsAClearError) {
-  std::unique_ptr<Backend> be = backend_or_fail("opencl");
-  if (!be) return;
+  std::string why;
+  std::unique_ptr<Backend> be = backend_or_fail("opencl", &why);
+  if (!be) GTEST_SKIP() << why;
   PackedScene packed = build_accel(random_scene(PrimType::Capsule, 5), Method::Ref);
   {
     ScopedEnv k("MASQ_CL_MAX_ALLOC_BYTES", "4096");
@@ -308,9 +319,10 @@ TEST(LargeScenes, RayQueryPlanCutsLeafOrderIntoRuns) {
 // error naming the limit. The stride cannot be lowered by a knob (no driver reports so
 // small a limit), so this test lowers the context's copy of the property.
 TEST(LargeScenes, BindingTableOverTheDeviceLimitsIsAClearError) {
-  std::shared_ptr<vk::Context> ctx =
-      masq::test::open_or_fail("rtpipeline", [](const std::string& n) { return vk::Context::get(n.c_str(), DeviceNeed::RayPipeline); });
-  if (!ctx) return;
+  std::string why;
+  std::shared_ptr<vk::Context> ctx = masq::test::open_or_fail(
+      "rtpipeline", [](const std::string& n) { return vk::Context::get(n.c_str(), DeviceNeed::RayPipeline); }, &why);
+  if (!ctx) GTEST_SKIP() << why;
   vk::KernelLayout layout(*ctx, vk::kernel_descriptor_types(), sizeof(kernel::TraceParams), vk::kRtShaderStages);
   const PackedScene s = build_accel(random_scene(PrimType::Capsule, 13), Method::Ref);
   const vk::RayQueryPlan plan = vk::plan_ray_query(s, 50, "rtpipeline");

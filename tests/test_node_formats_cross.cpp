@@ -63,9 +63,10 @@ struct AddressingEnv {
 TEST_P(NodeFormatsAgree, EveryMethodModeAndQuery) {
   const std::string backend = GetParam().substr(0, GetParam().find('_'));
   AddressingEnv env(GetParam() == "vulkan_bound");
+  std::string why;
   std::unique_ptr<Backend> be =
-      masq::test::open_or_fail(backend, [](const std::string& n) { return make_backend(n); });
-  if (!be) return;
+      masq::test::open_or_fail(backend, [](const std::string& n) { return make_backend(n); }, &why);
+  if (!be) GTEST_SKIP() << why;
   Scene scene = every_primitive_scene(3);
   std::vector<kernel::Ray> rays = random_rays(4, 2048);
   struct Case {

@@ -10,7 +10,6 @@
 #include "scenes/scene.h"
 #include <memory>
 #include <string>
-#include <string_view>
 #include <vector>
 
 namespace masq {
@@ -24,7 +23,6 @@ inline constexpr NameRow<BvType> bv_type_rows[] = {
 };
 inline constexpr NameTable bv_type_table{"bounding-volume type", bv_type_rows};
 inline const char* bv_type_name(BvType t) { return bv_type_table.name(t); }
-inline BvType parse_bv_type(std::string_view name) { return bv_type_table.parse(name); } // throws masq::Error
 int bv_type_kernel_id(BvType t); // MASQ_BV_*
 
 // The sweep is bvh/bv/obb_sweep_bvh.h, the binned SAH bvh/binary/binned_sah.h.

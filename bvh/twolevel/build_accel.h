@@ -61,7 +61,7 @@ struct AutoCandidates {
 };
 AutoCandidates build_auto_candidates(const Scene& scene, const AccelOptions& opt);
 // The index into c.built the structure cost model keeps (build_accel's auto rule;
-// docs/methods.md). host/auto_pilot.h chooses by measurement instead.
+// docs/methods.md). bench/auto_pilot.h chooses by measurement instead.
 std::size_t model_choice(const AutoCandidates& c);
 // Makes `kept` (one of c.built, or a copy) auto's structure: method Auto, the candidate
 // in stats.auto_choice, every candidate's cost in stats.auto_candidates, and the build

@@ -1,6 +1,7 @@
 #include "host/cpu/cpu_backend.h"
 #include "cpu/trace_units.h"
 #include "host/cpu/cpu_units.h"
+#include "host/cpu/trace_threads.h"
 #include "host/device_fill.h"
 #include "host/scene_arrays.h"
 #include "host/scene_variant.h"
@@ -8,7 +9,6 @@
 #include "masq/error.h"
 #include "masq/knobs.h"
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <climits>
 #include <thread>
@@ -26,7 +26,7 @@ class CpuBackend final : public Backend {
  public:
   std::string name() const override { return "cpu"; }
   std::string device_name() const override {
-    return "kernel source as C++, " + std::to_string(threads_) + " threads";
+    return "kernel source as C++, " + std::to_string(threads_.count()) + " threads";
   }
 
   void set_scene(const PackedScene& scene) override {
@@ -48,19 +48,11 @@ class CpuBackend final : public Backend {
                                           [&](std::string_view key) { return switch_value(variant, key); });
     const int n = int(rays.size());
     const std::int32_t budget = step_budget(scene_.node_count());
-    // Small chunks handed out dynamically balance uneven rays across threads.
-    const int chunk = 256;
-    std::atomic<int> next{0};
-    auto worker = [&] {
-      for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
-        fn(kd_, variant, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
-           scene_.tlas_root, budget);
-    };
     auto start = std::chrono::steady_clock::now();
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads_; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
+    threads_.for_chunks(n, kChunk, [&](int begin, int end) {
+      fn(kd_, variant, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), begin, end, scene_.tlas_root,
+         budget);
+    });
     timing_.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     timing_.wall_seconds = timing_.trace_seconds; // traced in place: no upload or readback
     check_trace_faults("cpu", device_name(), hits, budget);
@@ -68,11 +60,12 @@ class CpuBackend final : public Backend {
 
   TraceTiming timing() const override { return timing_; }
   std::size_t device_bytes() const override { return scene_.acceleration_bytes() + scene_.primitive_bytes(); }
-  // Each thread takes 256 rays at a time (trace above).
-  std::size_t fill_rays() const override { return fill_rays_for(std::size_t(threads_) * 256); }
+  // Each thread takes kChunk rays at a time (trace above).
+  std::size_t fill_rays() const override { return fill_rays_for(std::size_t(threads_.count()) * kChunk); }
 
  private:
-  int threads_ = thread_count();
+  static constexpr int kChunk = 256; // small chunks, handed out as threads free up, balance uneven rays
+  cpu::TraceThreads threads_{thread_count()};
   PackedScene scene_;
   kernel::KernelData kd_{};
   bool has_scene_ = false;

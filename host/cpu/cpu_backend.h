@@ -2,6 +2,7 @@
 #include "host/backend.h"
 
 namespace masq {
-// Multi-threaded: MASQ_CPU_THREADS or the hardware concurrency.
+// Multi-threaded on oneTBB's workers (host/cpu/trace_threads.h): MASQ_CPU_THREADS or
+// every hardware thread, at most the hardware's.
 std::unique_ptr<Backend> make_cpu_backend();
 } // namespace masq

@@ -1,14 +1,15 @@
-// cpu bv tracer: the bv kernels compiled as C++, rays handed out to threads in chunks.
+// cpu bv tracer: the bv kernels compiled as C++, rays handed out to threads in chunks
+// (host/cpu/trace_threads.h).
 #include "host/bv_tracer.h"
 #include "cpu/bv_units.h"
 #include "host/cpu/cpu_units.h"
+#include "host/cpu/trace_threads.h"
 #include "host/scene_arrays.h"
 #include "host/scene_variant.h"
 #include "host/trace_faults.h"
 #include "masq/error.h"
 #include "masq/knobs.h"
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <climits>
 #include <thread>
@@ -50,27 +51,20 @@ class CpuBvTracer final : public BvTracer {
     });
     const int n = int(rays.size());
     const int nodes = int(scene_.node_count());
-    const int chunk = 256;
-    std::atomic<int> next{0};
-    auto worker = [&] {
-      for (int b = next.fetch_add(chunk); b < n; b = next.fetch_add(chunk))
-        fn(kd_, variant, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), b, std::min(n, b + chunk),
-           nodes, step_budget(scene_.node_count()));
-    };
+    const std::int32_t budget = step_budget(scene_.node_count());
     auto t0 = std::chrono::steady_clock::now();
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads_; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
+    threads_.for_chunks(n, 256, [&](int begin, int end) {
+      fn(kd_, variant, rays.data(), hits.data(), stats.empty() ? nullptr : stats.data(), begin, end, nodes, budget);
+    });
     timing_.trace_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timing_.wall_seconds = timing_.trace_seconds; // traced in place: no upload or readback
-    check_trace_faults("cpu bv", "host", hits, step_budget(scene_.node_count()));
+    check_trace_faults("cpu bv", "host", hits, budget);
   }
 
   TraceTiming timing() const override { return timing_; }
 
  private:
-  int threads_ = bv_thread_count();
+  cpu::TraceThreads threads_{bv_thread_count()};
   BvScene scene_;
   kernel::KernelData kd_{};
   bool have_scene_ = false;

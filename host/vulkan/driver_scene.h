@@ -57,7 +57,6 @@ class DriverScene {
   bool addressed() const { return scene_.addressed(); }
   const RayQueryPlan& plan() const { return plan_; }
   std::size_t part_count() const { return tlas_.size(); }
-  VkDeviceAddress part_address(std::size_t p) const { return tlas_.at(p).address(); }
   std::size_t part_first(std::size_t p) const { return p * part_size_; } // its first TLAS entry
   // The driver's structures at their sizes on the device, the arrays and the tables.
   std::size_t device_bytes() const;

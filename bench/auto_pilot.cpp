@@ -1,4 +1,4 @@
-#include "host/auto_pilot.h"
+#include "bench/auto_pilot.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <chrono>
