@@ -15,6 +15,7 @@
 #include "host/vulkan/rayquery_plan.h"
 #include "host/vulkan/rt_pipeline.h"
 #include "host/vulkan/trace_dispatch.h"
+#include "host/vulkan/vulkan_backends.h"
 #include "bvh/bv/bv_scene.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"
@@ -306,7 +307,7 @@ TEST(LargeScenes, RayQueryPlanCutsLeafOrderIntoRuns) {
 // rtpipeline's shader binding table within the device's limits: a hit record (group
 // handle + 16 bytes) over maxShaderGroupStride, or a table over one allocation, is one
 // error naming the limit. The stride cannot be lowered by a knob (no driver reports so
-// small a limit), so this test lowers the context's copy of the property.
+// small a limit), so this test lowers it through the test hook.
 TEST(LargeScenes, BindingTableOverTheDeviceLimitsIsAClearError) {
   std::shared_ptr<vk::Context> ctx =
       masq::test::open_or_fail("rtpipeline", [](const std::string& n) { return vk::Context::get(n.c_str(), DeviceNeed::RayPipeline); });
@@ -324,10 +325,9 @@ TEST(LargeScenes, BindingTableOverTheDeviceLimitsIsAClearError) {
     }
     return std::string("no error");
   };
-  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR saved = ctx->rt_props;
-  ctx->rt_props.maxShaderGroupStride = ctx->rt_props.shaderGroupHandleSize; // no room for the record's data
+  set_limit_overrides_for_testing({0, 0, 0, 0, ctx->rt_props().shaderGroupHandleSize}); // no room for the record's data
   const std::string stride = message();
-  ctx->rt_props = saved;
+  set_limit_overrides_for_testing({});
   EXPECT_EQ(stride.rfind("rtpipeline: a hit record takes ", 0), 0u) << stride;
   EXPECT_NE(stride.find("(maxShaderGroupStride)"), std::string::npos) << stride;
   Knob small("MASQ_VK_MAX_ALLOCATION_BYTES", "256");

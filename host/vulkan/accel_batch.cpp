@@ -81,7 +81,8 @@ class AccelBatch {
     p.in = std::move(in);
     VkAccelerationStructureGeometryKHR g = geometry_of(p.in, 0);
     VkAccelerationStructureBuildGeometryInfoKHR info = build_info(p.in, &g);
-    ctx_.accel.build_sizes(ctx_.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &p.in.count, &p.sizes);
+    ctx_.accel().build_sizes(ctx_.device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &p.in.count,
+                             &p.sizes);
     check(id, "build storage", p.sizes.accelerationStructureSize + kStorageAlign);
     check(id, "build scratch", p.sizes.buildScratchSize + scratch_align());
     check(id, "input", p.in.data.size() + kInputAlign);
@@ -121,8 +122,8 @@ class AccelBatch {
     VkQueryPool pool = VK_NULL_HANDLE;
     auto cleanup = [&] {
       for (std::size_t i : compacted)
-        if (built[i]) ctx_.accel.destroy(ctx_.device, built[i], nullptr);
-      if (pool) vkDestroyQueryPool(ctx_.device, pool, nullptr);
+        if (built[i]) ctx_.accel().destroy(ctx_.device(), built[i], nullptr);
+      if (pool) vkDestroyQueryPool(ctx_.device(), pool, nullptr);
     };
     try {
       // One upload for the batch: where buffers are device-local each upload is a copy
@@ -144,7 +145,7 @@ class AccelBatch {
           ci.size = p.sizes.accelerationStructureSize;
           ci.type = p.in.type;
           compacted.push_back(i);
-          MASQ_VK_CHECK(ctx_.accel.create(ctx_.device, &ci, nullptr, &built[i]));
+          MASQ_VK_CHECK(ctx_.accel().create(ctx_.device(), &ci, nullptr, &built[i]));
         } else {
           place(out[i], p.id, p.sizes.accelerationStructureSize, p.in.type); // its final place
           built[i] = out[i].handle_;
@@ -163,21 +164,21 @@ class AccelBatch {
         VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
         qci.queryType = VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR;
         qci.queryCount = queries;
-        MASQ_VK_CHECK(vkCreateQueryPool(ctx_.device, &qci, nullptr, &pool));
+        MASQ_VK_CHECK(vkCreateQueryPool(ctx_.device(), &qci, nullptr, &pool));
       }
 
       VkCommandBuffer cmd = ctx_.begin_commands(); // nothing below throws until the submit
       if (queries > 0) vkCmdResetQueryPool(cmd, pool, 0, queries);
-      ctx_.accel.cmd_build(cmd, static_cast<std::uint32_t>(n), infos.data(), range_ptrs.data());
+      ctx_.accel().cmd_build(cmd, static_cast<std::uint32_t>(n), infos.data(), range_ptrs.data());
       barrier_after_accel_build(ctx_, cmd);
       if (queries > 0)
-        ctx_.accel.cmd_write_properties(cmd, queries, to_query.data(),
-                                        VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR, pool, 0);
+        ctx_.accel().cmd_write_properties(cmd, queries, to_query.data(),
+                                          VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR, pool, 0);
       ctx_.submit_and_wait(cmd);
 
       if (queries > 0) {
         std::vector<std::uint64_t> sizes(queries, 0);
-        MASQ_VK_CHECK(vkGetQueryPoolResults(ctx_.device, pool, 0, queries, queries * sizeof(std::uint64_t),
+        MASQ_VK_CHECK(vkGetQueryPoolResults(ctx_.device(), pool, 0, queries, queries * sizeof(std::uint64_t),
                                             sizes.data(), sizeof(std::uint64_t),
                                             VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
         for (std::size_t k = 0; k < compacted.size(); ++k) {
@@ -190,7 +191,7 @@ class AccelBatch {
           copy.src = built[i];
           copy.dst = out[i].handle_;
           copy.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
-          ctx_.accel.cmd_copy(cmd, &copy);
+          ctx_.accel().cmd_copy(cmd, &copy);
         }
         barrier_after_accel_build(ctx_, cmd);
         ctx_.submit_and_wait(cmd);
@@ -198,7 +199,7 @@ class AccelBatch {
       for (std::size_t i = 0; i < n; ++i) {
         VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
         ai.accelerationStructure = out[i].handle_;
-        out[i].address_ = ctx_.accel.device_address(ctx_.device, &ai);
+        out[i].address_ = ctx_.accel().device_address(ctx_.device(), &ai);
         done_.push_back(std::move(out[i]));
       }
     } catch (...) {
@@ -221,14 +222,14 @@ class AccelBatch {
   };
 
   VkDeviceSize scratch_align() const {
-    return std::max<VkDeviceSize>(ctx_.accel_props.minAccelerationStructureScratchOffsetAlignment, 1);
+    return std::max<VkDeviceSize>(ctx_.accel_props().minAccelerationStructureScratchOffsetAlignment, 1);
   }
 
   void check(std::size_t id, const char* what, VkDeviceSize bytes) const {
     if (bytes > max_alloc_)
       throw Error(fmt::format("{}: acceleration structure {} needs {} bytes of {} in one buffer; the device allows {} "
                               "({})",
-                              backend_, id, bytes, what, max_alloc_, ctx_.max_allocation_name));
+                              backend_, id, bytes, what, max_alloc_, ctx_.max_allocation_name()));
   }
 
   // A structure of `bytes` (compacted, or a top level's build size) at the next
@@ -248,7 +249,7 @@ class AccelBatch {
     as.ctx_ = &ctx_;
     as.block_ = block_;
     as.bytes_ = static_cast<std::size_t>(bytes);
-    MASQ_VK_CHECK(ctx_.accel.create(ctx_.device, &ci, nullptr, &as.handle_));
+    MASQ_VK_CHECK(ctx_.accel().create(ctx_.device(), &ci, nullptr, &as.handle_));
     block_used_ = align_up(block_used_ + bytes, kStorageAlign);
   }
 

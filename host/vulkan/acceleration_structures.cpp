@@ -36,7 +36,7 @@ AccelStructure& AccelStructure::operator=(AccelStructure&& o) noexcept {
 }
 
 void AccelStructure::release() noexcept {
-  if (ctx_ && handle_) ctx_->accel.destroy(ctx_->device, handle_, nullptr);
+  if (ctx_ && handle_) ctx_->accel().destroy(ctx_->device(), handle_, nullptr);
   handle_ = VK_NULL_HANDLE;
   block_.reset(); // the block goes with its last structure
   bytes_ = 0;

@@ -127,11 +127,11 @@ void DriverScene::check_inputs(const PackedScene& s) const {
 }
 
 std::uint64_t DriverScene::max_instances() const {
-  return lowered_limit(backend_, ctx_.accel_props.maxInstanceCount, "MASQ_RQ_MAX_INSTANCES",
+  return lowered_limit(backend_, ctx_.accel_props().maxInstanceCount, "MASQ_RQ_MAX_INSTANCES",
                        limit_overrides_for_testing().max_instance_count);
 }
 std::uint64_t DriverScene::max_primitives() const {
-  return lowered_limit(backend_, ctx_.accel_props.maxPrimitiveCount, "MASQ_RQ_MAX_PRIMITIVES",
+  return lowered_limit(backend_, ctx_.accel_props().maxPrimitiveCount, "MASQ_RQ_MAX_PRIMITIVES",
                        limit_overrides_for_testing().max_primitive_count);
 }
 

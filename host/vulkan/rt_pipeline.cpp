@@ -1,6 +1,7 @@
 #include "host/vulkan/rt_pipeline.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vk_devices.h"
+#include "host/vulkan/vulkan_backends.h"
 #include "spirv/rtpipeline_rchit_addr_spv.h"
 #include "spirv/rtpipeline_rchit_spv.h"
 #include "spirv/rtpipeline_rgen_addr_spv.h"
@@ -62,7 +63,7 @@ RtPipeline::RtPipeline(Context& ctx, KernelLayout& layout, const KernelVariant& 
     return modules.back();
   };
   auto release_modules = [&] {
-    for (VkShaderModule mod : modules) vkDestroyShaderModule(ctx_.device, mod, nullptr);
+    for (VkShaderModule mod : modules) vkDestroyShaderModule(ctx_.device(), mod, nullptr);
   };
   try {
     // The variant's constants for every stage; each intersection stage its own copy with
@@ -117,39 +118,43 @@ RtPipeline::RtPipeline(Context& ctx, KernelLayout& layout, const KernelVariant& 
     ci.pGroups = groups.data();
     ci.maxPipelineRayRecursionDepth = kRtRecursionDepth;
     ci.layout = layout.pipeline_layout();
-    VkResult r = ctx_.rt.create(ctx_.device, VK_NULL_HANDLE, ctx_.pipeline_cache(), 1, &ci, nullptr, &pipeline_);
+    VkResult r = ctx_.rt().create(ctx_.device(), VK_NULL_HANDLE, ctx_.pipeline_cache(), 1, &ci, nullptr, &pipeline_);
     if (r != VK_SUCCESS) {
       pipeline_ = VK_NULL_HANDLE;
       throw Error(fmt::format("{}: vkCreateRayTracingPipelinesKHR: {}", backend, result_name(r)));
     }
-    const std::size_t size = ctx_.rt_props.shaderGroupHandleSize;
+    const std::size_t size = ctx_.rt_props().shaderGroupHandleSize;
     handles_.resize(size * groups.size());
-    MASQ_VK_CHECK(ctx_.rt.group_handles(ctx_.device, pipeline_, 0, static_cast<std::uint32_t>(groups.size()),
+    MASQ_VK_CHECK(ctx_.rt().group_handles(ctx_.device(), pipeline_, 0, static_cast<std::uint32_t>(groups.size()),
                                         handles_.size(), handles_.data()));
   } catch (...) {
     release_modules();
-    if (pipeline_) vkDestroyPipeline(ctx_.device, pipeline_, nullptr);
+    if (pipeline_) vkDestroyPipeline(ctx_.device(), pipeline_, nullptr);
     throw;
   }
   release_modules();
 }
 
 RtPipeline::~RtPipeline() {
-  if (pipeline_) vkDestroyPipeline(ctx_.device, pipeline_, nullptr);
+  if (pipeline_) vkDestroyPipeline(ctx_.device(), pipeline_, nullptr);
 }
 
 std::span<const std::byte> RtPipeline::group_handle(std::uint32_t g) const {
-  const std::size_t size = ctx_.rt_props.shaderGroupHandleSize;
+  const std::size_t size = ctx_.rt_props().shaderGroupHandleSize;
   return std::span<const std::byte>(handles_).subspan(g * size, size);
 }
 
 BindingTable::BindingTable(Context& ctx, const RtPipeline& pipeline, const RayQueryPlan& plan, const char* backend) {
-  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR& p = ctx.rt_props;
+  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR& p = ctx.rt_props();
   const VkDeviceSize stride =
       align_up(p.shaderGroupHandleSize + kRtRecordDataBytes, std::max<VkDeviceSize>(p.shaderGroupHandleAlignment, 1));
-  if (stride > p.maxShaderGroupStride)
+  // No driver reports a stride too small for masq's records: only the test hook lowers it.
+  const std::uint64_t lowered = limit_overrides_for_testing().max_shader_group_stride;
+  const std::uint64_t max_stride = lowered != 0 ? std::min<std::uint64_t>(p.maxShaderGroupStride, lowered)
+                                                : p.maxShaderGroupStride;
+  if (stride > max_stride)
     throw Error(fmt::format("{}: a hit record takes {} bytes; the device allows {} (maxShaderGroupStride)", backend,
-                            stride, p.maxShaderGroupStride));
+                            stride, max_stride));
   const VkDeviceSize base = std::max<VkDeviceSize>(p.shaderGroupBaseAlignment, 1);
   const std::size_t hit_records = sbt_record_count(plan);
   const VkDeviceSize raygen_at = 0, miss_at = align_up(stride, base), hit_at = miss_at + align_up(stride, base);
@@ -159,7 +164,7 @@ BindingTable::BindingTable(Context& ctx, const RtPipeline& pipeline, const RayQu
   if (bytes > ctx.max_allocation_bytes())
     throw Error(fmt::format("{}: the shader binding table of {} hit records needs {} bytes in one buffer; the device "
                             "allows {} ({})",
-                            backend, hit_records, bytes, ctx.max_allocation_bytes(), ctx.max_allocation_name));
+                            backend, hit_records, bytes, ctx.max_allocation_bytes(), ctx.max_allocation_name()));
   std::vector<std::byte> table(bytes - base);
   auto put = [&](VkDeviceSize at, std::uint32_t group, std::int32_t blas) {
     std::span<const std::byte> h = pipeline.group_handle(group);

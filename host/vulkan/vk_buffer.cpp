@@ -27,11 +27,11 @@ Buffer::Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, Buffer
   bci.size = size_;
   bci.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  MASQ_VK_CHECK(vkCreateBuffer(ctx.device, &bci, nullptr, &buffer_));
+  MASQ_VK_CHECK(vkCreateBuffer(ctx.device(), &bci, nullptr, &buffer_));
   try {
     VkMemoryRequirements req{};
-    vkGetBufferMemoryRequirements(ctx.device, buffer_, &req);
-    placement_ = place_buffer(role, ctx.memory, req.memoryTypeBits, staging_forced());
+    vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
+    placement_ = place_buffer(role, ctx.memory(), req.memoryTypeBits, staging_forced());
     VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
     flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
@@ -39,23 +39,23 @@ Buffer::Buffer(Context& ctx, VkDeviceSize size, VkBufferUsageFlags usage, Buffer
     mai.allocationSize = req.size;
     mai.memoryTypeIndex = placement_.type_index;
     ctx.acquire_allocation(); // maxMemoryAllocationCount (vk_context.h)
-    if (VkResult r = vkAllocateMemory(ctx.device, &mai, nullptr, &memory_); r != VK_SUCCESS) {
+    if (VkResult r = vkAllocateMemory(ctx.device(), &mai, nullptr, &memory_); r != VK_SUCCESS) {
       memory_ = VK_NULL_HANDLE;
       ctx.release_allocation();
       if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY)
         throw_vk_error("vkAllocateMemory", r, __FILE__, __LINE__);
       // Out of memory: name the heap and its size, the limit the caller ran into (the
       // caller adds which array it was).
-      const std::uint32_t heap = ctx.memory.memoryTypes[placement_.type_index].heapIndex;
+      const std::uint32_t heap = ctx.memory().memoryTypes[placement_.type_index].heapIndex;
       throw Error(fmt::format("vulkan: vkAllocateMemory of {} bytes for {} failed: {} (memory type {}, heap {} of {} "
                               "bytes on '{}')",
                               req.size, role_name(role), result_name(r), placement_.type_index, heap,
-                              ctx.memory.memoryHeaps[heap].size, ctx.props.deviceName));
+                              ctx.memory().memoryHeaps[heap].size, ctx.props().deviceName));
     }
     allocation_size_ = req.size;
-    MASQ_VK_CHECK(vkBindBufferMemory(ctx.device, buffer_, memory_, 0));
+    MASQ_VK_CHECK(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0));
     if (placement_.host == HostAccess::Mapped)
-      MASQ_VK_CHECK(vkMapMemory(ctx.device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+      MASQ_VK_CHECK(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
   } catch (...) {
     release();
     throw;
@@ -83,9 +83,9 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
 
 void Buffer::release() noexcept {
   if (!ctx_) return;
-  if (buffer_) vkDestroyBuffer(ctx_->device, buffer_, nullptr);
+  if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
   if (memory_) {
-    vkFreeMemory(ctx_->device, memory_, nullptr); // unmaps implicitly
+    vkFreeMemory(ctx_->device(), memory_, nullptr); // unmaps implicitly
     ctx_->release_allocation();
   }
   buffer_ = VK_NULL_HANDLE;
@@ -95,16 +95,16 @@ void Buffer::release() noexcept {
 
 void Buffer::flush(std::size_t offset, std::size_t bytes) const {
   if (!placement_.needs_flush_invalidate || bytes == 0) return;
-  AtomRange r = atom_aligned_range(offset, bytes, ctx_->props.limits.nonCoherentAtomSize, allocation_size_);
+  AtomRange r = atom_aligned_range(offset, bytes, ctx_->props().limits.nonCoherentAtomSize, allocation_size_);
   VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, memory_, r.offset, r.size};
-  MASQ_VK_CHECK(vkFlushMappedMemoryRanges(ctx_->device, 1, &range));
+  MASQ_VK_CHECK(vkFlushMappedMemoryRanges(ctx_->device(), 1, &range));
 }
 
 void Buffer::invalidate(std::size_t offset, std::size_t bytes) const {
   if (!placement_.needs_flush_invalidate || bytes == 0) return;
-  AtomRange r = atom_aligned_range(offset, bytes, ctx_->props.limits.nonCoherentAtomSize, allocation_size_);
+  AtomRange r = atom_aligned_range(offset, bytes, ctx_->props().limits.nonCoherentAtomSize, allocation_size_);
   VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, memory_, r.offset, r.size};
-  MASQ_VK_CHECK(vkInvalidateMappedMemoryRanges(ctx_->device, 1, &range));
+  MASQ_VK_CHECK(vkInvalidateMappedMemoryRanges(ctx_->device(), 1, &range));
 }
 
 void Buffer::upload(const void* src, std::size_t bytes, std::size_t offset) {
@@ -132,7 +132,7 @@ void Buffer::download(void* dst, std::size_t bytes, std::size_t offset) const {
 VkDeviceAddress Buffer::address() const {
   VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
   info.buffer = buffer_;
-  return vkGetBufferDeviceAddress(ctx_->device, &info);
+  return vkGetBufferDeviceAddress(ctx_->device(), &info);
 }
 
 } // namespace masq::vk

@@ -27,31 +27,31 @@ KernelLayout::KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, st
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = static_cast<std::uint32_t>(bindings.size());
     dl.pBindings = bindings.data();
-    MASQ_VK_CHECK(vkCreateDescriptorSetLayout(ctx_.device, &dl, nullptr, &set_layout_));
+    MASQ_VK_CHECK(vkCreateDescriptorSetLayout(ctx_.device(), &dl, nullptr, &set_layout_));
     VkPushConstantRange pcr{stages_, 0, push_bytes_};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 1;
     pl.pSetLayouts = &set_layout_;
     pl.pushConstantRangeCount = push_bytes_ ? 1 : 0;
     pl.pPushConstantRanges = &pcr;
-    MASQ_VK_CHECK(vkCreatePipelineLayout(ctx_.device, &pl, nullptr, &pipeline_layout_));
+    MASQ_VK_CHECK(vkCreatePipelineLayout(ctx_.device(), &pl, nullptr, &pipeline_layout_));
     std::vector<VkDescriptorPoolSize> sizes;
     for (auto [type, n] : counts) sizes.push_back({type, n});
     VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dp.maxSets = 1;
     dp.poolSizeCount = static_cast<std::uint32_t>(sizes.size());
     dp.pPoolSizes = sizes.data();
-    MASQ_VK_CHECK(vkCreateDescriptorPool(ctx_.device, &dp, nullptr, &pool_));
+    MASQ_VK_CHECK(vkCreateDescriptorPool(ctx_.device(), &dp, nullptr, &pool_));
     VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     ai.descriptorPool = pool_;
     ai.descriptorSetCount = 1;
     ai.pSetLayouts = &set_layout_;
-    MASQ_VK_CHECK(vkAllocateDescriptorSets(ctx_.device, &ai, &set_));
-    if (ctx_.timestamp_valid_bits > 0) {
+    MASQ_VK_CHECK(vkAllocateDescriptorSets(ctx_.device(), &ai, &set_));
+    if (ctx_.timestamp_valid_bits() > 0) {
       VkQueryPoolCreateInfo qp{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
       qp.queryType = VK_QUERY_TYPE_TIMESTAMP;
       qp.queryCount = 2;
-      MASQ_VK_CHECK(vkCreateQueryPool(ctx_.device, &qp, nullptr, &queries_));
+      MASQ_VK_CHECK(vkCreateQueryPool(ctx_.device(), &qp, nullptr, &queries_));
     }
   } catch (...) {
     release();
@@ -62,10 +62,10 @@ KernelLayout::KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, st
 KernelLayout::~KernelLayout() { release(); }
 
 void KernelLayout::release() noexcept {
-  if (queries_) vkDestroyQueryPool(ctx_.device, queries_, nullptr);
-  if (pool_) vkDestroyDescriptorPool(ctx_.device, pool_, nullptr);
-  if (pipeline_layout_) vkDestroyPipelineLayout(ctx_.device, pipeline_layout_, nullptr);
-  if (set_layout_) vkDestroyDescriptorSetLayout(ctx_.device, set_layout_, nullptr);
+  if (queries_) vkDestroyQueryPool(ctx_.device(), queries_, nullptr);
+  if (pool_) vkDestroyDescriptorPool(ctx_.device(), pool_, nullptr);
+  if (pipeline_layout_) vkDestroyPipelineLayout(ctx_.device(), pipeline_layout_, nullptr);
+  if (set_layout_) vkDestroyDescriptorSetLayout(ctx_.device(), set_layout_, nullptr);
   queries_ = VK_NULL_HANDLE;
   pool_ = VK_NULL_HANDLE;
   pipeline_layout_ = VK_NULL_HANDLE;
@@ -78,7 +78,7 @@ VkShaderModule create_shader_module(Context& ctx, std::span<const std::uint32_t>
   smi.codeSize = code.size() * sizeof(std::uint32_t);
   smi.pCode = code.data();
   VkShaderModule module = VK_NULL_HANDLE;
-  MASQ_VK_CHECK(vkCreateShaderModule(ctx.device, &smi, nullptr, &module));
+  MASQ_VK_CHECK(vkCreateShaderModule(ctx.device(), &smi, nullptr, &module));
   return module;
 }
 
@@ -100,12 +100,12 @@ VkPipeline KernelLayout::create_pipeline(std::span<const std::uint32_t> spirv,
   cpi.stage.pName = "main";
   cpi.stage.pSpecializationInfo = values.empty() ? nullptr : &spec;
   cpi.layout = pipeline_layout_;
-  if (ctx_.pipeline_statistics) cpi.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
+  if (ctx_.pipeline_statistics()) cpi.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VkResult r = vkCreateComputePipelines(ctx_.device, ctx_.pipeline_cache(), 1, &cpi, nullptr, &pipeline);
-  vkDestroyShaderModule(ctx_.device, module, nullptr);
+  VkResult r = vkCreateComputePipelines(ctx_.device(), ctx_.pipeline_cache(), 1, &cpi, nullptr, &pipeline);
+  vkDestroyShaderModule(ctx_.device(), module, nullptr);
   if (r != VK_SUCCESS) throw_vk_error("vkCreateComputePipelines", r, __FILE__, __LINE__);
-  if (ctx_.pipeline_statistics) print_pipeline_statistics(pipeline, spirv.size(), values);
+  if (ctx_.pipeline_statistics()) print_pipeline_statistics(pipeline, spirv.size(), values);
   return pipeline;
 }
 
@@ -117,9 +117,9 @@ void KernelLayout::print_pipeline_statistics(VkPipeline pipeline, std::size_t mo
   VkPipelineInfoKHR info{VK_STRUCTURE_TYPE_PIPELINE_INFO_KHR};
   info.pipeline = pipeline;
   std::uint32_t n = 0;
-  if (ctx_.executable_properties(ctx_.device, &info, &n, nullptr) != VK_SUCCESS) return;
+  if (ctx_.executable_properties()(ctx_.device(), &info, &n, nullptr) != VK_SUCCESS) return;
   std::vector<VkPipelineExecutablePropertiesKHR> exes(n, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_PROPERTIES_KHR});
-  if (ctx_.executable_properties(ctx_.device, &info, &n, exes.data()) != VK_SUCCESS) return;
+  if (ctx_.executable_properties()(ctx_.device(), &info, &n, exes.data()) != VK_SUCCESS) return;
   std::string spec;
   for (std::uint32_t v : values) {
     if (!spec.empty()) spec += ',';
@@ -130,9 +130,9 @@ void KernelLayout::print_pipeline_statistics(VkPipeline pipeline, std::size_t mo
     ei.pipeline = pipeline;
     ei.executableIndex = e;
     std::uint32_t ns = 0;
-    if (ctx_.executable_statistics(ctx_.device, &ei, &ns, nullptr) != VK_SUCCESS) continue;
+    if (ctx_.executable_statistics()(ctx_.device(), &ei, &ns, nullptr) != VK_SUCCESS) continue;
     std::vector<VkPipelineExecutableStatisticKHR> stats(ns, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR});
-    if (ctx_.executable_statistics(ctx_.device, &ei, &ns, stats.data()) != VK_SUCCESS) continue;
+    if (ctx_.executable_statistics()(ctx_.device(), &ei, &ns, stats.data()) != VK_SUCCESS) continue;
     std::string line;
     for (const VkPipelineExecutableStatisticKHR& s : stats) {
       line += fmt::format("; {} ", s.name);
@@ -150,7 +150,7 @@ void KernelLayout::print_pipeline_statistics(VkPipeline pipeline, std::size_t mo
 }
 
 void KernelLayout::destroy_pipeline(VkPipeline p) {
-  if (p) vkDestroyPipeline(ctx_.device, p, nullptr);
+  if (p) vkDestroyPipeline(ctx_.device(), p, nullptr);
 }
 
 void KernelLayout::bind_buffer(std::uint32_t binding, const Buffer& buffer) {
@@ -161,7 +161,7 @@ void KernelLayout::bind_buffer(std::uint32_t binding, const Buffer& buffer) {
   w.descriptorCount = 1;
   w.descriptorType = types_.at(binding);
   w.pBufferInfo = &info;
-  vkUpdateDescriptorSets(ctx_.device, 1, &w, 0, nullptr);
+  vkUpdateDescriptorSets(ctx_.device(), 1, &w, 0, nullptr);
 }
 
 void KernelLayout::bind_acceleration_structure(std::uint32_t binding, VkAccelerationStructureKHR as) {
@@ -174,7 +174,7 @@ void KernelLayout::bind_acceleration_structure(std::uint32_t binding, VkAccelera
   w.dstBinding = binding;
   w.descriptorCount = 1;
   w.descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
-  vkUpdateDescriptorSets(ctx_.device, 1, &w, 0, nullptr);
+  vkUpdateDescriptorSets(ctx_.device(), 1, &w, 0, nullptr);
 }
 
 double KernelLayout::dispatch(VkPipeline pipeline, const void* push_constants, std::uint32_t groups) {
@@ -198,11 +198,11 @@ double KernelLayout::run_timed(const std::function<void(VkCommandBuffer)>& recor
   ctx_.submit_and_wait(cmd);
   if (!queries_) return 0.0;
   std::uint64_t ts[2] = {0, 0};
-  MASQ_VK_CHECK(vkGetQueryPoolResults(ctx_.device, queries_, 0, 2, sizeof(ts), ts, sizeof(std::uint64_t),
+  MASQ_VK_CHECK(vkGetQueryPoolResults(ctx_.device(), queries_, 0, 2, sizeof(ts), ts, sizeof(std::uint64_t),
                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
-  std::uint64_t mask = ctx_.timestamp_valid_bits >= 64 ? ~0ull : ((1ull << ctx_.timestamp_valid_bits) - 1);
+  std::uint64_t mask = ctx_.timestamp_valid_bits() >= 64 ? ~0ull : ((1ull << ctx_.timestamp_valid_bits()) - 1);
   std::uint64_t ticks = ((ts[1] & mask) - (ts[0] & mask)) & mask;
-  return static_cast<double>(ticks) * static_cast<double>(ctx_.props.limits.timestampPeriod) * 1e-9;
+  return static_cast<double>(ticks) * static_cast<double>(ctx_.props().limits.timestampPeriod) * 1e-9;
 }
 
 PipelineVariants::~PipelineVariants() {

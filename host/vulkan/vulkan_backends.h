@@ -24,6 +24,7 @@ struct VulkanLimitOverrides {
   std::uint64_t max_instance_count = 0;       // TLAS instances (rayquery, rtpipeline)
   std::uint64_t max_primitive_count = 0;      // primitives per BLAS (rayquery, rtpipeline)
   std::uint64_t max_allocation_bytes = 0;     // bytes in one array buffer
+  std::uint64_t max_shader_group_stride = 0;  // bytes in one binding-table record (rtpipeline)
 };
 void set_limit_overrides_for_testing(const VulkanLimitOverrides& limits);
 const VulkanLimitOverrides& limit_overrides_for_testing();
