@@ -155,23 +155,26 @@ void Context::create(const char* backend, DeviceNeed need) {
       ici.pNext = &features;
     }
   }
-  VkResult r = vkCreateInstance(&ici, nullptr, &instance_);
+  VkResult r = vkCreateInstance(&ici, nullptr, instance_.put());
   if (r != VK_SUCCESS) {
-    instance_ = VK_NULL_HANDLE;
+    instance_.release();
     unavailable(fmt::format("no Vulkan driver (vkCreateInstance: {})", result_name(r)));
   }
   if (validate) {
     auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+        vkGetInstanceProcAddr(instance_.get(), "vkCreateDebugUtilsMessengerEXT"));
     if (!create_messenger) unavailable("MASQ_VK_VALIDATION: no vkCreateDebugUtilsMessengerEXT");
-    MASQ_VK_CHECK(create_messenger(instance_, &mci, nullptr, &messenger_));
+    auto destroy_messenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_.get(), "vkDestroyDebugUtilsMessengerEXT"));
+    messenger_ = {instance_.get(), destroy_messenger};
+    MASQ_VK_CHECK(create_messenger(instance_.get(), &mci, nullptr, messenger_.put()));
     validation_errors_seen_ = g_validation_errors.load();
   }
 
   // The device: the best-ranked one, or the one MASQ_VK_DEVICE / MASQ_RQ_DEVICE /
   // MASQ_RT_DEVICE / --device names; rayquery and rtpipeline take the vulkan backend's
   // device unless told otherwise (host/vulkan/vk_devices.h, host/device_choice.h).
-  const std::vector<PhysicalDevice> devices = physical_devices(instance_);
+  const std::vector<PhysicalDevice> devices = physical_devices(instance_.get());
   const PhysicalDevice& chosen = choose_physical_device(devices, backend, need);
   physical_ = chosen.handle;
   vkGetPhysicalDeviceProperties(physical_, &props_);
@@ -262,22 +265,23 @@ void Context::create(const char* backend, DeviceNeed need) {
   dci.pQueueCreateInfos = &qci;
   dci.enabledExtensionCount = static_cast<std::uint32_t>(device_extensions.size());
   dci.ppEnabledExtensionNames = device_extensions.empty() ? nullptr : device_extensions.data();
-  r = vkCreateDevice(physical_, &dci, nullptr, &device_);
+  r = vkCreateDevice(physical_, &dci, nullptr, device_.put());
   if (r != VK_SUCCESS) {
-    device_ = VK_NULL_HANDLE;
+    device_.release();
     unavailable(fmt::format("device '{}': vkCreateDevice: {}", props_.deviceName, result_name(r)));
   }
-  vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  vkGetDeviceQueue(device_.get(), queue_family_, 0, &queue_);
   VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pci.queueFamilyIndex = queue_family_;
-  MASQ_VK_CHECK(vkCreateCommandPool(device_, &pci, nullptr, &command_pool_));
-  pipeline_cache_ = std::make_unique<PipelineCache>(physical_, device_);
+  command_pool_ = {device_.get(), vkDestroyCommandPool};
+  MASQ_VK_CHECK(vkCreateCommandPool(device_.get(), &pci, nullptr, command_pool_.put()));
+  pipeline_cache_ = std::make_unique<PipelineCache>(physical_, device_.get());
   if (pipeline_statistics_) {
     executable_properties_ = reinterpret_cast<PFN_vkGetPipelineExecutablePropertiesKHR>(
-        vkGetDeviceProcAddr(device_, "vkGetPipelineExecutablePropertiesKHR"));
+        vkGetDeviceProcAddr(device_.get(), "vkGetPipelineExecutablePropertiesKHR"));
     executable_statistics_ = reinterpret_cast<PFN_vkGetPipelineExecutableStatisticsKHR>(
-        vkGetDeviceProcAddr(device_, "vkGetPipelineExecutableStatisticsKHR"));
+        vkGetDeviceProcAddr(device_.get(), "vkGetPipelineExecutableStatisticsKHR"));
     pipeline_statistics_ = executable_properties_ != nullptr && executable_statistics_ != nullptr;
   }
 
@@ -285,7 +289,7 @@ void Context::create(const char* backend, DeviceNeed need) {
   ray_pipeline_ = want_ray_pipeline;
   if (want_structures) {
     auto load = [&](const char* name) {
-      PFN_vkVoidFunction f = vkGetDeviceProcAddr(device_, name);
+      PFN_vkVoidFunction f = vkGetDeviceProcAddr(device_.get(), name);
       if (!f) unavailable(fmt::format("device '{}': no entry point {}", props_.deviceName, name));
       return f;
     };
@@ -315,21 +319,13 @@ Context::~Context() {
     // A dispatch that timed out may still run: waiting for the device would hang, and
     // destroying it under a running kernel is undefined. Leave it to process exit.
     std::fprintf(stderr, "masq: vulkan: device '%s' left open (a dispatch did not finish)\n", props_.deviceName);
+    command_pool_.release();
+    device_.release();
+    messenger_.release();
+    instance_.release();
     return;
   }
-  if (device_) {
-    vkDeviceWaitIdle(device_);
-    staging_.reset();
-    pipeline_cache_.reset();
-    if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
-    vkDestroyDevice(device_, nullptr);
-  }
-  if (messenger_) {
-    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
-    if (destroy) destroy(instance_, messenger_, nullptr);
-  }
-  if (instance_) vkDestroyInstance(instance_, nullptr);
+  if (device_) vkDeviceWaitIdle(device_.get()); // the members then go, last made first
 }
 
 Staging& Context::staging() {
@@ -343,7 +339,7 @@ VkPipelineCache Context::pipeline_cache() const { return pipeline_cache_ ? pipel
 std::uint64_t Context::validation_error_count() { return g_validation_errors.load(); }
 
 void Context::check_validation() {
-  if (!messenger_) return;
+  if (!validation()) return;
   std::uint64_t now = g_validation_errors.load();
   if (now == validation_errors_seen_) return;
   std::uint64_t fresh = now - validation_errors_seen_;
@@ -371,7 +367,7 @@ std::uint64_t Context::max_allocation_count() const {
   return lowered_limit("vulkan", props_.limits.maxMemoryAllocationCount, "MASQ_VK_MAX_ALLOCATIONS");
 }
 
-void Context::acquire_allocation() {
+Context::Allocation Context::acquire_allocation() {
   const std::uint64_t limit = max_allocation_count();
   if (const std::uint64_t live = live_allocations_.fetch_add(1); live >= limit) {
     live_allocations_.fetch_sub(1);
@@ -379,6 +375,7 @@ void Context::acquire_allocation() {
                             "(maxMemoryAllocationCount {}, lowered by MASQ_VK_MAX_ALLOCATIONS)",
                             props_.deviceName, live, limit, props_.limits.maxMemoryAllocationCount));
   }
+  return Allocation(this);
 }
 
 VkCommandBuffer Context::begin_commands() {
@@ -387,16 +384,16 @@ VkCommandBuffer Context::begin_commands() {
                             hung_ ? "a dispatch did not finish within MASQ_VK_WAIT_SECONDS" : "VK_ERROR_DEVICE_LOST"));
   std::unique_lock<std::mutex> lock(submit_mutex_);
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  ai.commandPool = command_pool_;
+  ai.commandPool = command_pool_.get();
   ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   ai.commandBufferCount = 1;
   VkCommandBuffer cmd = VK_NULL_HANDLE;
-  MASQ_VK_CHECK(vkAllocateCommandBuffers(device_, &ai, &cmd));
+  MASQ_VK_CHECK(vkAllocateCommandBuffers(device_.get(), &ai, &cmd));
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   VkResult r = vkBeginCommandBuffer(cmd, &bi);
   if (r != VK_SUCCESS) {
-    vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);
+    vkFreeCommandBuffers(device_.get(), command_pool_.get(), 1, &cmd);
     throw_vk_error("vkBeginCommandBuffer", r, __FILE__, __LINE__);
   }
   lock.release(); // held until submit_and_wait returns
@@ -411,8 +408,8 @@ void Context::submit_and_wait(VkCommandBuffer cmd) {
     bool in_flight = false; // a wait that timed out: the GPU may still use both
     ~Free() {
       if (!in_flight) {
-        if (f) vkDestroyFence(c->device_, f, nullptr);
-        vkFreeCommandBuffers(c->device_, c->command_pool_, 1, &b);
+        if (f) vkDestroyFence(c->device(), f, nullptr);
+        vkFreeCommandBuffers(c->device(), c->command_pool_.get(), 1, &b);
       }
       c->submit_mutex_.unlock(); // taken by begin_commands
     }
@@ -420,7 +417,7 @@ void Context::submit_and_wait(VkCommandBuffer cmd) {
   const std::uint64_t seconds = wait_limit_seconds(); // a bad knob throws before anything is in flight
   MASQ_VK_CHECK(vkEndCommandBuffer(cmd));
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  MASQ_VK_CHECK(vkCreateFence(device_, &fci, nullptr, &guard.f));
+  MASQ_VK_CHECK(vkCreateFence(device_.get(), &fci, nullptr, &guard.f));
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd;
@@ -433,7 +430,7 @@ void Context::submit_and_wait(VkCommandBuffer cmd) {
   // and masq would have waited forever. One dispatch holds at most
   // MASQ_MAX_RAYS_PER_DISPATCH rays, seconds of work even on a CPU driver, so the
   // default limit only ever catches a kernel that does not terminate.
-  r = vkWaitForFences(device_, 1, &guard.f, VK_TRUE, seconds * 1000000000ull);
+  r = vkWaitForFences(device_.get(), 1, &guard.f, VK_TRUE, seconds * 1000000000ull);
   if (r == VK_SUCCESS && env_is_one("MASQ_VK_FAULT_DEVICE_LOST")) r = VK_ERROR_DEVICE_LOST;
   if (r == VK_SUCCESS && env_is_one("MASQ_VK_FAULT_TIMEOUT")) r = VK_TIMEOUT;
   if (r == VK_ERROR_DEVICE_LOST) throw_device_lost("vkWaitForFences");

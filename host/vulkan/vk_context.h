@@ -6,12 +6,14 @@
 #pragma once
 #include "host/device_choice.h"
 #include "host/vulkan/vk_check.h"
+#include "host/vulkan/vk_owned.h"
 #include <vulkan/vulkan.h>
 #include <cstdint>
 #include <atomic>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
 
 namespace masq::vk {
 
@@ -52,9 +54,9 @@ class Context {
   Context& operator=(const Context&) = delete;
 
   // What the backends read; all of it is set once, by create().
-  VkInstance instance() const { return instance_; }
+  VkInstance instance() const { return instance_.get(); }
   VkPhysicalDevice physical() const { return physical_; }
-  VkDevice device() const { return device_; }
+  VkDevice device() const { return device_.get(); }
   std::uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
   const VkPhysicalDeviceProperties& props() const { return props_; }
   const VkPhysicalDeviceMemoryProperties& memory() const { return memory_; }
@@ -100,10 +102,33 @@ class Context {
   // maxMemoryAllocationCount (4096 on many drivers) after MASQ_VK_MAX_ALLOCATIONS: the
   // device memory allocations this context may hold at once. vk::Buffer takes one per
   // buffer: acquire_allocation before vkAllocateMemory (throws masq::Error naming the
-  // limit when all are live), release_allocation after vkFreeMemory.
+  // limit when all are live), held until after vkFreeMemory.
   std::uint64_t max_allocation_count() const;
-  void acquire_allocation();
-  void release_allocation() noexcept { live_allocations_.fetch_sub(1); }
+  class Allocation {
+   public:
+    Allocation() = default;
+    ~Allocation() { reset(); }
+    Allocation(Allocation&& o) noexcept : ctx_(std::exchange(o.ctx_, nullptr)) {}
+    Allocation& operator=(Allocation&& o) noexcept {
+      if (this != &o) {
+        reset();
+        ctx_ = std::exchange(o.ctx_, nullptr);
+      }
+      return *this;
+    }
+    Allocation(const Allocation&) = delete;
+    Allocation& operator=(const Allocation&) = delete;
+
+   private:
+    friend class Context;
+    explicit Allocation(Context* ctx) : ctx_(ctx) {}
+    void reset() noexcept {
+      if (ctx_) ctx_->live_allocations_.fetch_sub(1);
+      ctx_ = nullptr;
+    }
+    Context* ctx_ = nullptr;
+  };
+  [[nodiscard]] Allocation acquire_allocation();
 
   // One-shot command buffer: begin, record, then submit_and_wait (blocks, frees it).
   // Backends on several threads share this context's command pool and queue, which
@@ -134,7 +159,7 @@ class Context {
   // that prints every error and counts it; submit_and_wait then throws masq::Error
   // naming the first new error, so a test cannot pass over a validation error.
   // MASQ_VK_VALIDATION=sync also turns on synchronization validation.
-  bool validation() const { return messenger_ != VK_NULL_HANDLE; }
+  bool validation() const { return static_cast<bool>(messenger_); }
   // Validation errors reported by any context of this process.
   static std::uint64_t validation_error_count();
 
@@ -142,13 +167,16 @@ class Context {
   Context() = default;
   void create(const char* backend, DeviceNeed need);
   void check_validation();
-  VkInstance instance_ = VK_NULL_HANDLE;
+  // Declared in the order they are made, so each goes before what made it; the staging
+  // buffer and the pipeline cache, declared last, go before the device.
+  Owned<VkInstance> instance_{vkDestroyInstance};
+  Owned<VkDebugUtilsMessengerEXT, VkInstance> messenger_;
+  Owned<VkDevice> device_{vkDestroyDevice};
+  DeviceOwned<VkCommandPool> command_pool_;
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
-  VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
   std::uint32_t queue_family_ = 0;
   std::uint32_t timestamp_valid_bits_ = 0;
-  VkCommandPool command_pool_ = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties props_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   bool ray_query_ = false;
@@ -167,15 +195,14 @@ class Context {
   PFN_vkGetPipelineExecutableStatisticsKHR executable_statistics_ = nullptr;
   std::string driver_info_;
   std::mutex submit_mutex_;
-  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   std::uint64_t validation_errors_seen_ = 0;
   std::atomic<std::uint64_t> live_allocations_{0};
   std::atomic<bool> lost_{false};
   std::atomic<bool> hung_{false}; // a wait timed out: the device may still be running it
   [[noreturn]] void throw_device_lost(const char* call);
   std::mutex staging_mutex_;
-  std::unique_ptr<Staging> staging_;              // destroyed before the device
   std::unique_ptr<PipelineCache> pipeline_cache_; // saved and destroyed before the device
+  std::unique_ptr<Staging> staging_;              // destroyed before the device
 };
 
 } // namespace masq::vk
