@@ -6,10 +6,10 @@
 //
 // masq's own rather than vulkan_raii.hpp: vk::raii objects are made from a
 // vk::raii::Device (its dispatch table), so the headers that hold them (vk_buffer.h,
-// vk_pipeline.h, ...) and every test that includes those would include vulkan.hpp,
-// about 25 s of compile per file on this machine (10 s without the parallel builds)
-// against under 1 s for vulkan.h; and its device calls go through vkGetDeviceProcAddr
-// entry points instead of the loader's, which every other call of masq uses.
+// vk_pipeline.h, ...) and every test that includes those would include vulkan.hpp:
+// 25 s to compile a file holding only vulkan_raii.hpp on the 2-core build machine
+// (other builds running), against 0.5 s for vulkan.h. Its device calls would also go
+// through vkGetDeviceProcAddr entry points, not the loader's, which masq calls.
 #pragma once
 #include <vulkan/vulkan.h>
 #include <tuple>
