@@ -50,12 +50,12 @@ TEST(GlslChildOrder, NetworkGivesTheInsertionSortsOrder) {
   vk::Buffer out_buf(*ctx, std::size_t(cases) * (kWidth8 + 1) * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   layout.bind_buffer(0, in_buf);
   layout.bind_buffer(1, out_buf);
-  VkPipeline pipeline = layout.create_pipeline(child_order_check_comp_spv, {});
+  vk::DeviceOwned<VkPipeline> pipeline = layout.create_pipeline(child_order_check_comp_spv, {});
 
   int ties = 0, visits = 0;
   for (int width : {4, 8}) {
     const std::int32_t push[2] = {cases, width};
-    layout.dispatch(pipeline, push, (cases + 63) / 64);
+    layout.dispatch(pipeline.get(), push, (cases + 63) / 64);
     std::vector<std::int32_t> got(std::size_t(cases) * (kWidth8 + 1));
     out_buf.download(got.data(), got.size() * 4);
     int bad = 0;
@@ -80,7 +80,6 @@ TEST(GlslChildOrder, NetworkGivesTheInsertionSortsOrder) {
     }
     EXPECT_EQ(bad, 0) << "width " << width << ": the GLSL child order differs from the C++ one";
   }
-  layout.destroy_pipeline(pipeline);
   EXPECT_GT(ties, visits / 10); // the stable order was tested, not only distinct keys
 }
 

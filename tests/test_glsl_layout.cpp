@@ -98,10 +98,9 @@ TEST(GlslLayout, Std430MatchesCpp) {
   layout.bind_buffer(kFlatOutBinding, flat_out_buf);
   layout.bind_buffer(kFlatInBinding, flat_in_buf);
 
-  VkPipeline pipeline = layout.create_pipeline(layout_roundtrip_comp_spv, {});
+  vk::DeviceOwned<VkPipeline> pipeline = layout.create_pipeline(layout_roundtrip_comp_spv, {});
   const std::uint32_t n = kCount;
-  layout.dispatch(pipeline, &n, (kCount + 63) / 64);
-  layout.destroy_pipeline(pipeline);
+  layout.dispatch(pipeline.get(), &n, (kCount + 63) / 64);
 
   std::vector<std::uint32_t> flat_out(flat_in.size());
   flat_out_buf.download(flat_out.data(), flat_out.size() * 4);

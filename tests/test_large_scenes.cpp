@@ -15,6 +15,7 @@
 #include "host/vulkan/rayquery_plan.h"
 #include "host/vulkan/rt_pipeline.h"
 #include "host/vulkan/trace_dispatch.h"
+#include "host/vulkan/vulkan_backends.h"
 #include "bvh/bv/bv_scene.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"
@@ -316,8 +317,8 @@ TEST(LargeScenes, RayQueryPlanCutsLeafOrderIntoRuns) {
 
 // rtpipeline's shader binding table within the device's limits: a hit record (group
 // handle + 16 bytes) over maxShaderGroupStride, or a table over one allocation, is one
-// error naming the limit. The stride cannot be lowered by a knob (no driver reports so
-// small a limit), so this test lowers the context's copy of the property.
+// error naming the limit. No driver reports so small a stride: MASQ_RT_MAX_GROUP_STRIDE
+// lowers it.
 TEST(LargeScenes, BindingTableOverTheDeviceLimitsIsAClearError) {
   std::string why;
   std::shared_ptr<vk::Context> ctx = masq::test::open_or_fail(
@@ -336,10 +337,11 @@ TEST(LargeScenes, BindingTableOverTheDeviceLimitsIsAClearError) {
     }
     return std::string("no error");
   };
-  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR saved = ctx->rt_props;
-  ctx->rt_props.maxShaderGroupStride = ctx->rt_props.shaderGroupHandleSize; // no room for the record's data
-  const std::string stride = message();
-  ctx->rt_props = saved;
+  std::string stride;
+  {
+    ScopedEnv no_room("MASQ_RT_MAX_GROUP_STRIDE", std::to_string(ctx->rt_props().shaderGroupHandleSize)); // no room for the record's data
+    stride = message();
+  }
   EXPECT_EQ(stride.rfind("rtpipeline: a hit record takes ", 0), 0u) << stride;
   EXPECT_NE(stride.find("(maxShaderGroupStride)"), std::string::npos) << stride;
   ScopedEnv small("MASQ_VK_MAX_ALLOCATION_BYTES", "256");

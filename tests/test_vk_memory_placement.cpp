@@ -300,13 +300,13 @@ std::string staged_round_trip(Context& ctx, bool skip_upload_barrier, std::vecto
   KernelLayout layout(ctx, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, sizeof(n));
   layout.bind_buffer(0, in);
   layout.bind_buffer(1, out);
-  VkPipeline pipeline = layout.create_pipeline(scale_words_comp_spv, {});
+  DeviceOwned<VkPipeline> pipeline = layout.create_pipeline(scale_words_comp_spv, {});
   VkCommandBuffer cmd = ctx.begin_commands();
   const VkBufferCopy region{0, 0, bytes};
   barrier_before_copy(ctx, cmd);
   vkCmdCopyBuffer(cmd, up.handle(), in.handle(), 1, &region);
   if (!skip_upload_barrier) barrier_after_upload(ctx, cmd);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.get());
   VkDescriptorSet set = layout.set();
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout.pipeline_layout(), 0, 1, &set, 0, nullptr);
   vkCmdPushConstants(cmd, layout.pipeline_layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(n), &n);
@@ -321,7 +321,6 @@ std::string staged_round_trip(Context& ctx, bool skip_upload_barrier, std::vecto
   } catch (const Error& e) {
     error = e.what();
   }
-  layout.destroy_pipeline(pipeline);
   got.assign(n, 0);
   down.download(got.data(), bytes);
   return error;

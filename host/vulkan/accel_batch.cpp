@@ -81,7 +81,8 @@ class AccelBatch {
     p.in = std::move(in);
     VkAccelerationStructureGeometryKHR g = geometry_of(p.in, 0);
     VkAccelerationStructureBuildGeometryInfoKHR info = build_info(p.in, &g);
-    ctx_.accel.build_sizes(ctx_.device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &p.in.count, &p.sizes);
+    ctx_.accel().build_sizes(ctx_.device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &info, &p.in.count,
+                             &p.sizes);
     check(id, "build storage", p.sizes.accelerationStructureSize + kStorageAlign);
     check(id, "build scratch", p.sizes.buildScratchSize + scratch_align());
     check(id, "input", p.in.data.size() + kInputAlign);
@@ -118,94 +119,88 @@ class AccelBatch {
     std::vector<AccelStructure> out(n);
     std::vector<VkAccelerationStructureKHR> built(n, VK_NULL_HANDLE);
     std::vector<std::size_t> compacted; // indices of the structures built to be compacted
-    VkQueryPool pool = VK_NULL_HANDLE;
-    auto cleanup = [&] {
-      for (std::size_t i : compacted)
-        if (built[i]) ctx_.accel.destroy(ctx_.device, built[i], nullptr);
-      if (pool) vkDestroyQueryPool(ctx_.device, pool, nullptr);
-    };
-    try {
-      // One upload for the batch: where buffers are device-local each upload is a copy
-      // through staging, so per-structure uploads would cost a submission each.
-      std::vector<std::byte> inputs(input_);
-      for (const Pending& p : pending_)
-        std::copy(p.in.data.begin(), p.in.data.end(), inputs.begin() + std::ptrdiff_t(p.input_offset));
-      input.upload(inputs.data(), inputs.size());
-      std::vector<VkAccelerationStructureGeometryKHR> geoms(n);
-      std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n);
-      std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges(n);
-      std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> range_ptrs(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        Pending& p = pending_[i];
-        if (compacts(p.in)) {
-          VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
-          ci.buffer = storage.handle();
-          ci.offset = p.storage_offset;
-          ci.size = p.sizes.accelerationStructureSize;
-          ci.type = p.in.type;
-          compacted.push_back(i);
-          MASQ_VK_CHECK(ctx_.accel.create(ctx_.device, &ci, nullptr, &built[i]));
-        } else {
-          place(out[i], p.id, p.sizes.accelerationStructureSize, p.in.type); // its final place
-          built[i] = out[i].handle_;
-        }
-        geoms[i] = geometry_of(p.in, input_base + p.input_offset);
-        infos[i] = build_info(p.in, &geoms[i]);
-        infos[i].dstAccelerationStructure = built[i];
-        infos[i].scratchData.deviceAddress = scratch_base + p.scratch_offset;
-        ranges[i] = {p.in.count, 0, 0, 0};
-        range_ptrs[i] = &ranges[i];
+    // The structures built to be compacted and their size queries: the structures go
+    // first, then the queries, then the buffers above, whether the batch ends or throws.
+    DeviceOwned<VkQueryPool> pool(ctx_.device(), vkDestroyQueryPool);
+    std::vector<DeviceOwned<VkAccelerationStructureKHR>> uncompacted(n);
+    // One upload for the batch: where buffers are device-local each upload is a copy
+    // through staging, so per-structure uploads would cost a submission each.
+    std::vector<std::byte> inputs(input_);
+    for (const Pending& p : pending_)
+      std::copy(p.in.data.begin(), p.in.data.end(), inputs.begin() + std::ptrdiff_t(p.input_offset));
+    input.upload(inputs.data(), inputs.size());
+    std::vector<VkAccelerationStructureGeometryKHR> geoms(n);
+    std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos(n);
+    std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges(n);
+    std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> range_ptrs(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      Pending& p = pending_[i];
+      if (compacts(p.in)) {
+        VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+        ci.buffer = storage.handle();
+        ci.offset = p.storage_offset;
+        ci.size = p.sizes.accelerationStructureSize;
+        ci.type = p.in.type;
+        compacted.push_back(i);
+        uncompacted[i] = {ctx_.device(), ctx_.accel().destroy};
+        MASQ_VK_CHECK(ctx_.accel().create(ctx_.device(), &ci, nullptr, uncompacted[i].put()));
+        built[i] = uncompacted[i].get();
+      } else {
+        place(out[i], p.id, p.sizes.accelerationStructureSize, p.in.type); // its final place
+        built[i] = out[i].handle();
       }
-      std::vector<VkAccelerationStructureKHR> to_query;
-      for (std::size_t i : compacted) to_query.push_back(built[i]);
-      const auto queries = static_cast<std::uint32_t>(to_query.size());
-      if (queries > 0) {
-        VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-        qci.queryType = VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR;
-        qci.queryCount = queries;
-        MASQ_VK_CHECK(vkCreateQueryPool(ctx_.device, &qci, nullptr, &pool));
-      }
-
-      VkCommandBuffer cmd = ctx_.begin_commands(); // nothing below throws until the submit
-      if (queries > 0) vkCmdResetQueryPool(cmd, pool, 0, queries);
-      ctx_.accel.cmd_build(cmd, static_cast<std::uint32_t>(n), infos.data(), range_ptrs.data());
-      barrier_after_accel_build(ctx_, cmd);
-      if (queries > 0)
-        ctx_.accel.cmd_write_properties(cmd, queries, to_query.data(),
-                                        VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR, pool, 0);
-      ctx_.submit_and_wait(cmd);
-
-      if (queries > 0) {
-        std::vector<std::uint64_t> sizes(queries, 0);
-        MASQ_VK_CHECK(vkGetQueryPoolResults(ctx_.device, pool, 0, queries, queries * sizeof(std::uint64_t),
-                                            sizes.data(), sizeof(std::uint64_t),
-                                            VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
-        for (std::size_t k = 0; k < compacted.size(); ++k) {
-          const Pending& p = pending_[compacted[k]];
-          place(out[compacted[k]], p.id, std::max<std::uint64_t>(sizes[k], 1), p.in.type);
-        }
-        cmd = ctx_.begin_commands();
-        for (std::size_t i : compacted) {
-          VkCopyAccelerationStructureInfoKHR copy{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_INFO_KHR};
-          copy.src = built[i];
-          copy.dst = out[i].handle_;
-          copy.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
-          ctx_.accel.cmd_copy(cmd, &copy);
-        }
-        barrier_after_accel_build(ctx_, cmd);
-        ctx_.submit_and_wait(cmd);
-      }
-      for (std::size_t i = 0; i < n; ++i) {
-        VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
-        ai.accelerationStructure = out[i].handle_;
-        out[i].address_ = ctx_.accel.device_address(ctx_.device, &ai);
-        done_.push_back(std::move(out[i]));
-      }
-    } catch (...) {
-      cleanup();
-      throw;
+      geoms[i] = geometry_of(p.in, input_base + p.input_offset);
+      infos[i] = build_info(p.in, &geoms[i]);
+      infos[i].dstAccelerationStructure = built[i];
+      infos[i].scratchData.deviceAddress = scratch_base + p.scratch_offset;
+      ranges[i] = {p.in.count, 0, 0, 0};
+      range_ptrs[i] = &ranges[i];
     }
-    cleanup();
+    std::vector<VkAccelerationStructureKHR> to_query;
+    for (std::size_t i : compacted) to_query.push_back(built[i]);
+    const auto queries = static_cast<std::uint32_t>(to_query.size());
+    if (queries > 0) {
+      VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+      qci.queryType = VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR;
+      qci.queryCount = queries;
+      MASQ_VK_CHECK(vkCreateQueryPool(ctx_.device(), &qci, nullptr, pool.put()));
+    }
+
+    VkCommandBuffer cmd = ctx_.begin_commands(); // nothing below throws until the submit
+    if (queries > 0) vkCmdResetQueryPool(cmd, pool.get(), 0, queries);
+    ctx_.accel().cmd_build(cmd, static_cast<std::uint32_t>(n), infos.data(), range_ptrs.data());
+    barrier_after_accel_build(ctx_, cmd);
+    if (queries > 0)
+      ctx_.accel().cmd_write_properties(cmd, queries, to_query.data(),
+                                        VK_QUERY_TYPE_ACCELERATION_STRUCTURE_COMPACTED_SIZE_KHR, pool.get(), 0);
+    ctx_.submit_and_wait(cmd);
+
+    if (queries > 0) {
+      std::vector<std::uint64_t> sizes(queries, 0);
+      MASQ_VK_CHECK(vkGetQueryPoolResults(ctx_.device(), pool.get(), 0, queries, queries * sizeof(std::uint64_t),
+                                          sizes.data(), sizeof(std::uint64_t),
+                                          VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+      for (std::size_t k = 0; k < compacted.size(); ++k) {
+        const Pending& p = pending_[compacted[k]];
+        place(out[compacted[k]], p.id, std::max<std::uint64_t>(sizes[k], 1), p.in.type);
+      }
+      cmd = ctx_.begin_commands();
+      for (std::size_t i : compacted) {
+        VkCopyAccelerationStructureInfoKHR copy{VK_STRUCTURE_TYPE_COPY_ACCELERATION_STRUCTURE_INFO_KHR};
+        copy.src = built[i];
+        copy.dst = out[i].handle();
+        copy.mode = VK_COPY_ACCELERATION_STRUCTURE_MODE_COMPACT_KHR;
+        ctx_.accel().cmd_copy(cmd, &copy);
+      }
+      barrier_after_accel_build(ctx_, cmd);
+      ctx_.submit_and_wait(cmd);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      VkAccelerationStructureDeviceAddressInfoKHR ai{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
+      ai.accelerationStructure = out[i].handle();
+      out[i].address_ = ctx_.accel().device_address(ctx_.device(), &ai);
+      done_.push_back(std::move(out[i]));
+    }
     pending_.clear();
     storage_ = scratch_ = input_ = 0;
   }
@@ -221,14 +216,14 @@ class AccelBatch {
   };
 
   VkDeviceSize scratch_align() const {
-    return std::max<VkDeviceSize>(ctx_.accel_props.minAccelerationStructureScratchOffsetAlignment, 1);
+    return std::max<VkDeviceSize>(ctx_.accel_props().minAccelerationStructureScratchOffsetAlignment, 1);
   }
 
   void check(std::size_t id, const char* what, VkDeviceSize bytes) const {
     if (bytes > max_alloc_)
       throw Error(fmt::format("{}: acceleration structure {} needs {} bytes of {} in one buffer; the device allows {} "
                               "({})",
-                              backend_, id, bytes, what, max_alloc_, ctx_.max_allocation_name));
+                              backend_, id, bytes, what, max_alloc_, ctx_.max_allocation_name()));
   }
 
   // A structure of `bytes` (compacted, or a top level's build size) at the next
@@ -245,10 +240,10 @@ class AccelBatch {
     ci.offset = block_used_;
     ci.size = bytes;
     ci.type = type;
-    as.ctx_ = &ctx_;
     as.block_ = block_;
     as.bytes_ = static_cast<std::size_t>(bytes);
-    MASQ_VK_CHECK(ctx_.accel.create(ctx_.device, &ci, nullptr, &as.handle_));
+    as.handle_ = {ctx_.device(), ctx_.accel().destroy};
+    MASQ_VK_CHECK(ctx_.accel().create(ctx_.device(), &ci, nullptr, as.handle_.put()));
     block_used_ = align_up(block_used_ + bytes, kStorageAlign);
   }
 

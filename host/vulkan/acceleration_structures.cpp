@@ -25,10 +25,9 @@ AccelStructure::AccelStructure(AccelStructure&& o) noexcept { *this = std::move(
 
 AccelStructure& AccelStructure::operator=(AccelStructure&& o) noexcept {
   if (this != &o) {
-    release();
-    ctx_ = std::exchange(o.ctx_, nullptr);
+    release(); // this structure goes before its block, then it takes the other's
     block_ = std::move(o.block_);
-    handle_ = std::exchange(o.handle_, VK_NULL_HANDLE);
+    handle_ = std::move(o.handle_);
     address_ = std::exchange(o.address_, 0);
     bytes_ = std::exchange(o.bytes_, 0);
   }
@@ -36,8 +35,7 @@ AccelStructure& AccelStructure::operator=(AccelStructure&& o) noexcept {
 }
 
 void AccelStructure::release() noexcept {
-  if (ctx_ && handle_) ctx_->accel.destroy(ctx_->device, handle_, nullptr);
-  handle_ = VK_NULL_HANDLE;
+  handle_.reset();
   block_.reset(); // the block goes with its last structure
   bytes_ = 0;
 }

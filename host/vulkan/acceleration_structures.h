@@ -23,16 +23,15 @@ class AccelStructure {
   AccelStructure(const AccelStructure&) = delete;
   AccelStructure& operator=(const AccelStructure&) = delete;
 
-  VkAccelerationStructureKHR handle() const { return handle_; }
+  VkAccelerationStructureKHR handle() const { return handle_.get(); }
   VkDeviceAddress address() const { return address_; }
   std::size_t bytes() const { return bytes_; } // its size on the device (a bottom level's compacted)
 
  private:
   friend class AccelBatch;
   void release() noexcept;
-  Context* ctx_ = nullptr;
   std::shared_ptr<Buffer> block_;
-  VkAccelerationStructureKHR handle_ = VK_NULL_HANDLE;
+  DeviceOwned<VkAccelerationStructureKHR> handle_; // goes before its block
   VkDeviceAddress address_ = 0;
   std::size_t bytes_ = 0;
 };

@@ -128,10 +128,10 @@ void DriverScene::check_inputs(const PackedScene& s) const {
 }
 
 std::uint64_t DriverScene::max_instances() const {
-  return lowered_limit(backend_, ctx_.accel_props.maxInstanceCount, Knob::RqMaxInstances);
+  return lowered_limit(backend_, ctx_.accel_props().maxInstanceCount, Knob::RqMaxInstances);
 }
 std::uint64_t DriverScene::max_primitives() const {
-  return lowered_limit(backend_, ctx_.accel_props.maxPrimitiveCount, Knob::RqMaxPrimitives);
+  return lowered_limit(backend_, ctx_.accel_props().maxPrimitiveCount, Knob::RqMaxPrimitives);
 }
 
 // One Instance record per TLAS entry, in submission order (the shader reads record

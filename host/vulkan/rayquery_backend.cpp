@@ -68,7 +68,7 @@ class RayQueryBackend final : public Backend {
       layout_.dispatch(p, &pc, 1);
     });
     timing_.compile_seconds = v.compile_seconds;
-    return v.pipeline;
+    return v.pipeline.get();
   }
 
   std::shared_ptr<vk::Context> ctx_;

@@ -1,7 +1,9 @@
 #include "host/vulkan/rt_pipeline.h"
 #include "bvh/prim_rows.h"
+#include "host/limit_knob.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vk_devices.h"
+#include "host/vulkan/vulkan_backends.h"
 #include "spirv/rtpipeline_rchit_addr_spv.h"
 #include "spirv/rtpipeline_rchit_spv.h"
 #include "spirv/rtpipeline_rgen_addr_spv.h"
@@ -55,102 +57,91 @@ struct Specialization {
 
 RtPipeline::RtPipeline(Context& ctx, KernelLayout& layout, const KernelVariant& v, bool addressed,
                        const char* backend)
-    : ctx_(ctx) {
+    : ctx_(ctx), pipeline_(ctx.device(), vkDestroyPipeline) {
   const RtModules m = rt_modules(addressed);
-  std::vector<VkShaderModule> modules;
+  std::vector<DeviceOwned<VkShaderModule>> modules; // destroyed once the pipeline is made
   auto module = [&](std::span<const std::uint32_t> spirv) {
     modules.push_back(create_shader_module(ctx_, spirv));
-    return modules.back();
+    return modules.back().get();
   };
-  auto release_modules = [&] {
-    for (VkShaderModule mod : modules) vkDestroyShaderModule(ctx_.device, mod, nullptr);
+  // The variant's constants for every stage; each intersection stage its own copy with
+  // only its type's switch left on (kHitGroups).
+  const Specialization common(spec_constants(v, 1));
+  std::vector<std::unique_ptr<Specialization>> per_type;
+  std::vector<VkPipelineShaderStageCreateInfo> stages;
+  auto stage = [&](VkShaderStageFlagBits bit, VkShaderModule mod, const VkSpecializationInfo* spec) {
+    VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    s.stage = bit;
+    s.module = mod;
+    s.pName = "main";
+    s.pSpecializationInfo = spec;
+    stages.push_back(s);
+    return static_cast<std::uint32_t>(stages.size() - 1);
   };
-  try {
-    // The variant's constants for every stage; each intersection stage its own copy with
-    // only its type's switch left on (kHitGroups).
-    const Specialization common(spec_constants(v, 1));
-    std::vector<std::unique_ptr<Specialization>> per_type;
-    std::vector<VkPipelineShaderStageCreateInfo> stages;
-    auto stage = [&](VkShaderStageFlagBits bit, VkShaderModule mod, const VkSpecializationInfo* spec) {
-      VkPipelineShaderStageCreateInfo s{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-      s.stage = bit;
-      s.module = mod;
-      s.pName = "main";
-      s.pSpecializationInfo = spec;
-      stages.push_back(s);
-      return static_cast<std::uint32_t>(stages.size() - 1);
-    };
-    std::vector<VkRayTracingShaderGroupCreateInfoKHR> groups;
-    auto group = [&](VkRayTracingShaderGroupTypeKHR type) {
-      VkRayTracingShaderGroupCreateInfoKHR g{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
-      g.type = type;
-      g.generalShader = g.closestHitShader = g.anyHitShader = g.intersectionShader = VK_SHADER_UNUSED_KHR;
-      groups.push_back(g);
-      return &groups.back();
-    };
-    groups.reserve(kFirstHitGroup + std::size(kHitGroups));
-    group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR)->generalShader =
-        stage(VK_SHADER_STAGE_RAYGEN_BIT_KHR, module(m.raygen), &common.info);
-    group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR)->generalShader =
-        stage(VK_SHADER_STAGE_MISS_BIT_KHR, module(m.miss), &common.info);
-    const VkShaderModule closest = module(m.closest), intersection = module(m.intersection);
-    const std::uint32_t closest_stage = stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, closest, &common.info);
-    for (const HitGroupRow& row : kHitGroups) {
-      if (scene_prim_row_of_kernel_type(row.prim_type).mesh) { // the driver intersects triangles itself
-        VkRayTracingShaderGroupCreateInfoKHR* g = group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR);
-        g->closestHitShader =
-            stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, module(m.triangle_closest), &common.info);
-        g->anyHitShader = stage(VK_SHADER_STAGE_ANY_HIT_BIT_KHR, module(m.triangle_any), &common.info);
-        continue;
-      }
-      KernelVariant only = v;
-      for (const HitGroupRow& other : kHitGroups)
-        if (other.prim_type != row.prim_type) only.*other.have = 0;
-      per_type.push_back(std::make_unique<Specialization>(spec_constants(only, 1)));
-      VkRayTracingShaderGroupCreateInfoKHR* g = group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR);
-      g->intersectionShader = stage(VK_SHADER_STAGE_INTERSECTION_BIT_KHR, intersection, &per_type.back()->info);
-      g->closestHitShader = closest_stage;
+  std::vector<VkRayTracingShaderGroupCreateInfoKHR> groups;
+  auto group = [&](VkRayTracingShaderGroupTypeKHR type) {
+    VkRayTracingShaderGroupCreateInfoKHR g{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR};
+    g.type = type;
+    g.generalShader = g.closestHitShader = g.anyHitShader = g.intersectionShader = VK_SHADER_UNUSED_KHR;
+    groups.push_back(g);
+    return &groups.back();
+  };
+  groups.reserve(kFirstHitGroup + std::size(kHitGroups));
+  group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR)->generalShader =
+      stage(VK_SHADER_STAGE_RAYGEN_BIT_KHR, module(m.raygen), &common.info);
+  group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR)->generalShader =
+      stage(VK_SHADER_STAGE_MISS_BIT_KHR, module(m.miss), &common.info);
+  const VkShaderModule closest = module(m.closest), intersection = module(m.intersection);
+  const std::uint32_t closest_stage = stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, closest, &common.info);
+  for (const HitGroupRow& row : kHitGroups) {
+    if (scene_prim_row_of_kernel_type(row.prim_type).mesh) { // the driver intersects triangles itself
+      VkRayTracingShaderGroupCreateInfoKHR* g = group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR);
+      g->closestHitShader =
+          stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, module(m.triangle_closest), &common.info);
+      g->anyHitShader = stage(VK_SHADER_STAGE_ANY_HIT_BIT_KHR, module(m.triangle_any), &common.info);
+      continue;
     }
-    VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
-    ci.stageCount = static_cast<std::uint32_t>(stages.size());
-    ci.pStages = stages.data();
-    ci.groupCount = static_cast<std::uint32_t>(groups.size());
-    ci.pGroups = groups.data();
-    ci.maxPipelineRayRecursionDepth = kRtRecursionDepth;
-    ci.layout = layout.pipeline_layout();
-    VkResult r = ctx_.rt.create(ctx_.device, VK_NULL_HANDLE, ctx_.pipeline_cache(), 1, &ci, nullptr, &pipeline_);
-    if (r != VK_SUCCESS) {
-      pipeline_ = VK_NULL_HANDLE;
-      throw Error(fmt::format("{}: vkCreateRayTracingPipelinesKHR: {}", backend, result_name(r)));
-    }
-    const std::size_t size = ctx_.rt_props.shaderGroupHandleSize;
-    handles_.resize(size * groups.size());
-    MASQ_VK_CHECK(ctx_.rt.group_handles(ctx_.device, pipeline_, 0, static_cast<std::uint32_t>(groups.size()),
-                                        handles_.size(), handles_.data()));
-  } catch (...) {
-    release_modules();
-    if (pipeline_) vkDestroyPipeline(ctx_.device, pipeline_, nullptr);
-    throw;
+    KernelVariant only = v;
+    for (const HitGroupRow& other : kHitGroups)
+      if (other.prim_type != row.prim_type) only.*other.have = 0;
+    per_type.push_back(std::make_unique<Specialization>(spec_constants(only, 1)));
+    VkRayTracingShaderGroupCreateInfoKHR* g = group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR);
+    g->intersectionShader = stage(VK_SHADER_STAGE_INTERSECTION_BIT_KHR, intersection, &per_type.back()->info);
+    g->closestHitShader = closest_stage;
   }
-  release_modules();
-}
-
-RtPipeline::~RtPipeline() {
-  if (pipeline_) vkDestroyPipeline(ctx_.device, pipeline_, nullptr);
+  VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+  ci.stageCount = static_cast<std::uint32_t>(stages.size());
+  ci.pStages = stages.data();
+  ci.groupCount = static_cast<std::uint32_t>(groups.size());
+  ci.pGroups = groups.data();
+  ci.maxPipelineRayRecursionDepth = kRtRecursionDepth;
+  ci.layout = layout.pipeline_layout();
+  VkResult r =
+      ctx_.rt().create(ctx_.device(), VK_NULL_HANDLE, ctx_.pipeline_cache(), 1, &ci, nullptr, pipeline_.put());
+  if (r != VK_SUCCESS) {
+    pipeline_.release();
+    throw Error(fmt::format("{}: vkCreateRayTracingPipelinesKHR: {}", backend, result_name(r)));
+  }
+  const std::size_t size = ctx_.rt_props().shaderGroupHandleSize;
+  handles_.resize(size * groups.size());
+  MASQ_VK_CHECK(ctx_.rt().group_handles(ctx_.device(), pipeline_.get(), 0,
+                                        static_cast<std::uint32_t>(groups.size()), handles_.size(), handles_.data()));
 }
 
 std::span<const std::byte> RtPipeline::group_handle(std::uint32_t g) const {
-  const std::size_t size = ctx_.rt_props.shaderGroupHandleSize;
+  const std::size_t size = ctx_.rt_props().shaderGroupHandleSize;
   return std::span<const std::byte>(handles_).subspan(g * size, size);
 }
 
 BindingTable::BindingTable(Context& ctx, const RtPipeline& pipeline, const RayQueryPlan& plan, const char* backend) {
-  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR& p = ctx.rt_props;
+  const VkPhysicalDeviceRayTracingPipelinePropertiesKHR& p = ctx.rt_props();
   const VkDeviceSize stride =
       align_up(p.shaderGroupHandleSize + kRtRecordDataBytes, std::max<VkDeviceSize>(p.shaderGroupHandleAlignment, 1));
-  if (stride > p.maxShaderGroupStride)
+  // No driver reports a stride too small for masq's records: only MASQ_RT_MAX_GROUP_STRIDE lowers it.
+  const std::uint64_t max_stride = lowered_limit(backend, p.maxShaderGroupStride, Knob::RtMaxGroupStride);
+  if (stride > max_stride)
     throw Error(fmt::format("{}: a hit record takes {} bytes; the device allows {} (maxShaderGroupStride)", backend,
-                            stride, p.maxShaderGroupStride));
+                            stride, max_stride));
   const VkDeviceSize base = std::max<VkDeviceSize>(p.shaderGroupBaseAlignment, 1);
   const std::size_t hit_records = sbt_record_count(plan);
   const VkDeviceSize raygen_at = 0, miss_at = align_up(stride, base), hit_at = miss_at + align_up(stride, base);
@@ -160,7 +151,7 @@ BindingTable::BindingTable(Context& ctx, const RtPipeline& pipeline, const RayQu
   if (bytes > ctx.max_allocation_bytes())
     throw Error(fmt::format("{}: the shader binding table of {} hit records needs {} bytes in one buffer; the device "
                             "allows {} ({})",
-                            backend, hit_records, bytes, ctx.max_allocation_bytes(), ctx.max_allocation_name));
+                            backend, hit_records, bytes, ctx.max_allocation_bytes(), ctx.max_allocation_name()));
   std::vector<std::byte> table(bytes - base);
   auto put = [&](VkDeviceSize at, std::uint32_t group, std::int32_t blas) {
     std::span<const std::byte> h = pipeline.group_handle(group);

@@ -49,17 +49,16 @@ class RtPipeline {
   // stage), scene arrays bound or read by address. Throws masq::Error naming `backend`
   // when the driver rejects it.
   RtPipeline(Context& ctx, KernelLayout& layout, const KernelVariant& v, bool addressed, const char* backend);
-  ~RtPipeline();
   RtPipeline(const RtPipeline&) = delete;
   RtPipeline& operator=(const RtPipeline&) = delete;
 
-  VkPipeline handle() const { return pipeline_; }
+  VkPipeline handle() const { return pipeline_.get(); }
   // The opaque handle of shader group g (shaderGroupHandleSize bytes).
   std::span<const std::byte> group_handle(std::uint32_t g) const;
 
  private:
   Context& ctx_;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  DeviceOwned<VkPipeline> pipeline_;
   std::vector<std::byte> handles_;
 };
 

@@ -83,8 +83,8 @@ class RtPipelineBackend final : public Backend {
   // Rays in one vkCmdTraceRaysKHR: maxRayDispatchInvocationCount, and a width within
   // maxComputeWorkGroupCount[0] x maxComputeWorkGroupSize[0].
   std::uint64_t max_launch() const {
-    const VkPhysicalDeviceLimits& l = ctx_->props.limits;
-    return std::min<std::uint64_t>(ctx_->rt_props.maxRayDispatchInvocationCount,
+    const VkPhysicalDeviceLimits& l = ctx_->props().limits;
+    return std::min<std::uint64_t>(ctx_->rt_props().maxRayDispatchInvocationCount,
                                    std::uint64_t(l.maxComputeWorkGroupCount[0]) * l.maxComputeWorkGroupSize[0]);
   }
 
@@ -105,7 +105,7 @@ class RtPipelineBackend final : public Backend {
         RtParams pc{static_cast<std::int32_t>(n), parts ? static_cast<std::int32_t>(driver_.part_first(part)) : 0, 0,
                     parts ? static_cast<std::int32_t>(part) : -1};
         vkCmdPushConstants(cmd, layout_.pipeline_layout(), vk::kRtShaderStages, 0, sizeof(pc), &pc);
-        ctx_->rt.cmd_trace(cmd, &t.raygen, &t.miss, &t.hit, &t.callable, std::max<std::uint32_t>(n, 1), 1, 1);
+        ctx_->rt().cmd_trace(cmd, &t.raygen, &t.miss, &t.hit, &t.callable, std::max<std::uint32_t>(n, 1), 1, 1);
         vk::barrier_after_trace_rays(cmd);
       }
     });

@@ -27,9 +27,9 @@ void SceneBuffers::add(Context& ctx, const char* backend, std::uint32_t binding,
   std::uint64_t limit = ctx.max_allocation_bytes();
   if (size > limit)
     throw Error(fmt::format("{}: {} needs {} bytes in one buffer; the device allows {} ({})", backend, what, size,
-                            limit, ctx.max_allocation_name));
+                            limit, ctx.max_allocation_name()));
   VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-  if (ctx.buffer_device_address) usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  if (ctx.buffer_device_address()) usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
   Array a;
   try {
     a.buffer = Buffer(ctx, size, usage);
@@ -49,8 +49,8 @@ void SceneBuffers::finish(Context& ctx, const char* backend, bool prefer_address
   const Array* largest = nullptr;
   for (const auto& [binding, a] : arrays_)
     if (largest == nullptr || a.bytes > largest->bytes) largest = &a;
-  addressed_ = (largest != nullptr && largest->bytes > range) || (prefer_addressed && ctx.buffer_device_address);
-  if (addressed_ && !ctx.buffer_device_address)
+  addressed_ = (largest != nullptr && largest->bytes > range) || (prefer_addressed && ctx.buffer_device_address());
+  if (addressed_ && !ctx.buffer_device_address())
     check_storage_range(ctx, backend, largest->what.c_str(), largest->bytes);
   // std140: one 16-byte element per slot, the address in its first 8 bytes.
   std::vector<std::uint64_t> slots(2 * MASQ_ADDRESS_SLOTS, 0);
@@ -109,7 +109,7 @@ RayBatch::Times RayBatch::run(const char* backend, KernelLayout& layout, VkPipel
                               std::span<kernel::Hit> hits, std::span<kernel::RayStats> stats,
                               std::int32_t budget) {
   // The group count within the device's limit.
-  const std::uint64_t max_launch = std::uint64_t(ctx_.props.limits.maxComputeWorkGroupCount[0]) * local_size;
+  const std::uint64_t max_launch = std::uint64_t(ctx_.props().limits.maxComputeWorkGroupCount[0]) * local_size;
   return run_chunks(backend, layout, max_launch, rays, hits, stats, [&](std::uint32_t n) {
     kernel::TraceParams pc{static_cast<int>(n), param, 0, budget};
     return layout.dispatch(pipeline, &pc, (n + local_size - 1) / local_size);

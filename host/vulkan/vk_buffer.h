@@ -28,10 +28,10 @@ class Buffer {
   void upload(const void* src, std::size_t bytes, std::size_t offset = 0);
   void download(void* dst, std::size_t bytes, std::size_t offset = 0) const;
 
-  VkBuffer handle() const { return buffer_; }
+  VkBuffer handle() const { return buffer_.get(); }
   VkDeviceSize size() const { return size_; }
   VkDeviceAddress address() const; // requires the device-address usage
-  bool valid() const { return buffer_ != VK_NULL_HANDLE; }
+  bool valid() const { return static_cast<bool>(buffer_); }
   BufferRole role() const { return role_; }
   const MemoryPlacement& placement() const { return placement_; }
   bool mapped() const { return mapped_ != nullptr; }
@@ -43,8 +43,10 @@ class Buffer {
   void flush(std::size_t offset, std::size_t bytes) const;
   void invalidate(std::size_t offset, std::size_t bytes) const;
   Context* ctx_ = nullptr;
-  VkBuffer buffer_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  // The buffer goes first, then its memory, then the memory's count.
+  Context::Allocation allocation_;
+  DeviceOwned<VkDeviceMemory> memory_;
+  DeviceOwned<VkBuffer> buffer_;
   VkDeviceSize size_ = 0;
   VkDeviceSize allocation_size_ = 0;
   void* mapped_ = nullptr; // null: reached through the staging buffer

@@ -2,6 +2,7 @@
 #include "host/backend.h"
 #include "host/vulkan/vk_check.h"
 #include "masq/knobs.h"
+#include "host/vulkan/vk_owned.h"
 #include <fmt/format.h>
 #include <cstdlib>
 #include <cstring>
@@ -190,18 +191,13 @@ std::vector<DeviceInfo> vulkan_device_infos() {
   app.apiVersion = VK_API_VERSION_1_2;
   VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   ici.pApplicationInfo = &app;
-  VkInstance instance = VK_NULL_HANDLE;
-  VkResult r = vkCreateInstance(&ici, nullptr, &instance);
-  if (r != VK_SUCCESS) throw BackendUnavailable(fmt::format("vulkan: no Vulkan driver (vkCreateInstance: {})", result_name(r)));
-  std::vector<DeviceInfo> out;
-  try {
-    out = infos(physical_devices(instance));
-  } catch (...) {
-    vkDestroyInstance(instance, nullptr);
-    throw;
+  Owned<VkInstance> instance(vkDestroyInstance);
+  VkResult r = vkCreateInstance(&ici, nullptr, instance.put());
+  if (r != VK_SUCCESS) {
+    instance.release();
+    throw BackendUnavailable(fmt::format("vulkan: no Vulkan driver (vkCreateInstance: {})", result_name(r)));
   }
-  vkDestroyInstance(instance, nullptr);
-  return out;
+  return infos(physical_devices(instance.get()));
 }
 
 bool device_has_extension(VkPhysicalDevice pd, const char* name) {

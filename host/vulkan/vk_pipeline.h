@@ -13,8 +13,8 @@
 namespace masq::vk {
 
 // A shader module of `spirv` as the device gets it (device_spirv: float controls,
-// host/vulkan/vk_shader_limits.h). The caller destroys it.
-VkShaderModule create_shader_module(Context& ctx, std::span<const std::uint32_t> spirv);
+// host/vulkan/vk_shader_limits.h).
+DeviceOwned<VkShaderModule> create_shader_module(Context& ctx, std::span<const std::uint32_t> spirv);
 
 class KernelLayout {
  public:
@@ -22,14 +22,12 @@ class KernelLayout {
   // bindings and the push constants (the ray-tracing pipeline's, for rtpipeline).
   KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, std::uint32_t push_constant_bytes,
                VkShaderStageFlags stages = VK_SHADER_STAGE_COMPUTE_BIT);
-  ~KernelLayout();
   KernelLayout(const KernelLayout&) = delete;
   KernelLayout& operator=(const KernelLayout&) = delete;
 
   // Specialisation constants: values[i] goes to constant_id i (4 bytes each; bools as
-  // VkBool32). The caller owns the returned pipeline (destroy_pipeline).
-  VkPipeline create_pipeline(std::span<const std::uint32_t> spirv, std::span<const std::uint32_t> values);
-  void destroy_pipeline(VkPipeline p);
+  // VkBool32).
+  DeviceOwned<VkPipeline> create_pipeline(std::span<const std::uint32_t> spirv, std::span<const std::uint32_t> values);
 
   void bind_buffer(std::uint32_t binding, const Buffer& buffer);
   void bind_acceleration_structure(std::uint32_t binding, VkAccelerationStructureKHR as);
@@ -42,12 +40,11 @@ class KernelLayout {
   double run_timed(const std::function<void(VkCommandBuffer)>& record);
 
   VkDescriptorSet set() const { return set_; }
-  VkPipelineLayout pipeline_layout() const { return pipeline_layout_; }
+  VkPipelineLayout pipeline_layout() const { return pipeline_layout_.get(); }
   VkShaderStageFlags stages() const { return stages_; }
   std::uint32_t push_constant_bytes() const { return push_bytes_; }
 
  private:
-  void release() noexcept;
   // MASQ_VK_PIPELINE_STATS=1 (Context::pipeline_statistics): the driver's statistics of
   // each executable of `pipeline`, one line each on stderr.
   void print_pipeline_statistics(VkPipeline pipeline, std::size_t module_words,
@@ -56,11 +53,12 @@ class KernelLayout {
   std::vector<VkDescriptorType> types_;
   std::uint32_t push_bytes_ = 0;
   VkShaderStageFlags stages_ = VK_SHADER_STAGE_COMPUTE_BIT;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
-  VkDescriptorPool pool_ = VK_NULL_HANDLE;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
-  VkQueryPool queries_ = VK_NULL_HANDLE;
+  // In the order they are made: each goes before the one it was made with.
+  DeviceOwned<VkDescriptorSetLayout> set_layout_;
+  DeviceOwned<VkPipelineLayout> pipeline_layout_;
+  DeviceOwned<VkDescriptorPool> pool_;
+  VkDescriptorSet set_ = VK_NULL_HANDLE; // freed with pool_
+  DeviceOwned<VkQueryPool> queries_;
 };
 
 // The pipelines of one shader, one per specialisation (value i -> constant id i), created on
@@ -69,11 +67,10 @@ class KernelLayout {
 class PipelineVariants {
  public:
   struct Variant {
-    VkPipeline pipeline = VK_NULL_HANDLE;
+    DeviceOwned<VkPipeline> pipeline;
     double compile_seconds = 0;
   };
   PipelineVariants(KernelLayout& layout, std::span<const std::uint32_t> spirv) : layout_(layout), spirv_(spirv) {}
-  ~PipelineVariants();
   PipelineVariants(const PipelineVariants&) = delete;
   PipelineVariants& operator=(const PipelineVariants&) = delete;
   const Variant& get(const std::vector<std::uint32_t>& spec, const std::function<void(VkPipeline)>& warm_up);

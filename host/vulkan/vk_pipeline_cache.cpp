@@ -115,7 +115,8 @@ std::string masq_cache_dir() {
   return "";
 }
 
-PipelineCache::PipelineCache(VkPhysicalDevice physical, VkDevice device) : device_(device) {
+PipelineCache::PipelineCache(VkPhysicalDevice physical, VkDevice device)
+    : device_(device), cache_(device, vkDestroyPipelineCache) {
   VkPhysicalDeviceIDProperties id{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &id};
   vkGetPhysicalDeviceProperties2(physical, &p2);
@@ -137,13 +138,15 @@ PipelineCache::PipelineCache(VkPhysicalDevice physical, VkDevice device) : devic
   VkPipelineCacheCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
   ci.initialDataSize = initial.size();
   ci.pInitialData = initial.empty() ? nullptr : initial.data();
-  VkResult r = vkCreatePipelineCache(device_, &ci, nullptr, &cache_);
+  VkResult r = vkCreatePipelineCache(device_, &ci, nullptr, cache_.put());
+  if (r != VK_SUCCESS) cache_.release();
   if (r != VK_SUCCESS && !initial.empty()) { // the driver refused the data: start empty
     why_ = fmt::format("vkCreatePipelineCache refused it ({})", result_name(r));
     initial.clear();
     ci.initialDataSize = 0;
     ci.pInitialData = nullptr;
-    r = vkCreatePipelineCache(device_, &ci, nullptr, &cache_);
+    r = vkCreatePipelineCache(device_, &ci, nullptr, cache_.put());
+    if (r != VK_SUCCESS) cache_.release();
   }
   if (r != VK_SUCCESS) throw_vk_error("vkCreatePipelineCache", r, __FILE__, __LINE__);
   loaded_ = !initial.empty();
@@ -156,15 +159,14 @@ PipelineCache::~PipelineCache() {
     save();
   } catch (...) { // a cache that cannot be written costs the next run a compile, nothing more
   }
-  if (cache_) vkDestroyPipelineCache(device_, cache_, nullptr);
 }
 
 void PipelineCache::save() {
   if (path_.empty() || !cache_) return;
   std::size_t n = 0;
-  if (vkGetPipelineCacheData(device_, cache_, &n, nullptr) != VK_SUCCESS || n == 0) return;
+  if (vkGetPipelineCacheData(device_, cache_.get(), &n, nullptr) != VK_SUCCESS || n == 0) return;
   std::vector<std::uint8_t> data(n);
-  if (vkGetPipelineCacheData(device_, cache_, &n, data.data()) != VK_SUCCESS) return;
+  if (vkGetPipelineCacheData(device_, cache_.get(), &n, data.data()) != VK_SUCCESS) return;
   data.resize(n);
   if (n == loaded_bytes_ && checksum(data.data(), n) == loaded_sum_) return; // nothing new
   const std::vector<std::uint8_t> file = encode_pipeline_cache(key_, data);

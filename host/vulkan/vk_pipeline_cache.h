@@ -8,6 +8,7 @@
 // another device or driver version, truncated or corrupt, is ignored (and replaced when
 // the context ends), never handed to the driver.
 #pragma once
+#include "host/vulkan/vk_owned.h"
 #include <vulkan/vulkan.h>
 #include <cstdint>
 #include <string>
@@ -43,7 +44,7 @@ class PipelineCache {
   PipelineCache(const PipelineCache&) = delete;
   PipelineCache& operator=(const PipelineCache&) = delete;
 
-  VkPipelineCache handle() const { return cache_; }
+  VkPipelineCache handle() const { return cache_.get(); }
   const std::string& path() const { return path_; }  // "" when not persisted
   bool loaded() const { return loaded_; } // a valid file was handed to the driver
   const std::string& rejected() const { return why_; } // why a file present was ignored
@@ -53,7 +54,7 @@ class PipelineCache {
 
  private:
   VkDevice device_ = VK_NULL_HANDLE;
-  VkPipelineCache cache_ = VK_NULL_HANDLE;
+  DeviceOwned<VkPipelineCache> cache_;
   PipelineCacheKey key_;
   std::string path_;
   std::string why_;

@@ -26,10 +26,10 @@ std::uint32_t local_size_override() {
 
 ShaderLimits shader_limits(const Context& ctx) {
   ShaderLimits l;
-  l.subgroup_size = ctx.subgroup_size;
-  l.max_group_size_x = ctx.props.limits.maxComputeWorkGroupSize[0];
-  l.max_group_invocations = ctx.props.limits.maxComputeWorkGroupInvocations;
-  l.preserve_float32 = ctx.signed_zero_inf_nan_preserve_float32;
+  l.subgroup_size = ctx.subgroup_size();
+  l.max_group_size_x = ctx.props().limits.maxComputeWorkGroupSize[0];
+  l.max_group_invocations = ctx.props().limits.maxComputeWorkGroupInvocations;
+  l.preserve_float32 = ctx.signed_zero_inf_nan_preserve_float32();
   return l;
 }
 

@@ -14,7 +14,7 @@ constexpr std::uint64_t kStagingMinimum = 1ull << 20; // small uploads share one
 
 std::uint64_t Staging::piece_limit() const {
   std::uint64_t cap = lowered_limit("vulkan", kStagingCap, Knob::VkStagingBytes);
-  return std::min<std::uint64_t>(cap, ctx_.max_allocation);
+  return std::min<std::uint64_t>(cap, ctx_.max_allocation());
 }
 
 VkDeviceSize Staging::capacity() const {

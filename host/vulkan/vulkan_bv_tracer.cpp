@@ -82,7 +82,7 @@ class VulkanBvTracer final : public BvTracer {
       layout_.dispatch(p, &pc, 1);
     });
     timing_.compile_seconds = v.compile_seconds;
-    return v.pipeline;
+    return v.pipeline.get();
   }
 
   std::shared_ptr<vk::Context> ctx_;
