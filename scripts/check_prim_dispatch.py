@@ -25,6 +25,7 @@ TABLE_FILES = {
     "bvh/prim_rows.cpp": "the bvh layer's rows: MASQ_PRIM_* id, packing, features, costs",
     "oracle/oracle.cpp": "the oracle's rows: its intersector per type",
     "host/vulkan/rt_pipeline.h": "kHitGroups: rtpipeline's hit group per type",
+    "stress/stress_prim_rows.cpp": "the stress suite's rows: placement, degenerate cells, aims",
 }
 
 # Files whose dispatches are not yet rows of a table, with the most they may hold: the
@@ -41,8 +42,6 @@ PENDING = {
     "scenes/loaders/load_tressfx.cpp": 2,
     "scenes/loaders/loader.cpp": 2,      # which strand types a loader accepts
     "scenes/strand_generators.cpp": 3,
-    "stress/stress_cases.cpp": 27,       # the stress cases per type (their shapes, aims, degenerates)
-    "stress/stress_runner.cpp": 1,
 }
 
 SOURCE = re.compile(r"\.(h|hpp|cpp|inc|comp|cl)$")
