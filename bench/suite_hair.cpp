@@ -8,6 +8,7 @@
 #include "bench/paper_tables.h"
 #include "bench/suite.h"
 #include "scenes/curve_tools.h"
+#include "scenes/prim_table.h"
 #include "masq/error.h"
 #include "scenes/loaders/load_any.h"
 #include "scenes/strand_generators.h"
@@ -71,9 +72,10 @@ Scene make_case(const SuiteConfig& cfg, const HairScene& hs, const Variant& v) {
     return subdivide_curves(make_hair_scene(hp), v.subdivisions);
   }
   LoadOptions lo;
-  lo.strand_type = v.type == PrimType::Capsule ? PrimType::Capsule : PrimType::RoundCone;
+  const ScenePrimRow& row = scene_prim_row(v.type);
+  lo.strand_type = row.strand_file_type; // curves: round cones, made cubics below
   Scene s = load_scene_file((std::filesystem::path(cfg.data_dir) / hs.file).string(), lo);
-  if (v.type == PrimType::Curve) s = subdivide_curves(segments_to_curves(s), v.subdivisions);
+  if (row.shape == PrimShape::Bezier) s = subdivide_curves(segments_to_curves(s), v.subdivisions);
   return s;
 }
 

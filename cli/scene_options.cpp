@@ -95,15 +95,16 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
 
 Scene make_scene(const SceneOptions& opt) {
   PrimType prim = parse_prim_type(opt.prim);
+  const ScenePrimRow& row = scene_prim_row(prim);
   if (!opt.file.empty()) {
     LoadOptions lo;
     lo.radius = opt.file_radius;
     // Curves: the strands are loaded as round cones (keeping per-point radii) and
     // turned into Catmull-Rom cubics through the same points.
-    lo.strand_type = prim == PrimType::RoundCone || prim == PrimType::Curve ? PrimType::RoundCone : PrimType::Capsule;
+    lo.strand_type = row.strand_file_type;
     lo.warn = [](const std::string& w) { std::fprintf(stderr, "masq: warning: %s\n", w.c_str()); };
     Scene s = load_scene_file(opt.file, lo);
-    if (prim == PrimType::Curve) s = subdivide_curves(segments_to_curves(s), opt.subdivisions);
+    if (row.shape == PrimShape::Bezier) s = subdivide_curves(segments_to_curves(s), opt.subdivisions);
     return s;
   }
   const EmbeddedScene embedded = embedded_scene_table.parse(opt.scene);
@@ -116,14 +117,16 @@ Scene make_scene(const SceneOptions& opt) {
       hp.length = 0.15;
       hp.gravity = 0.1;
     }
-    hp.type = prim == PrimType::Sphere ? PrimType::Curve : prim;
+    // A strand grows along an axis: a type without one (the sphere) gets the hair's curves.
+    hp.type = row.oriented ? prim : PrimType::Curve;
     hp.seed = opt.bundle.seed;
     return subdivide_curves(make_hair_scene(hp), opt.subdivisions);
   }
   if (embedded == EmbeddedScene::Streamlines) {
     StreamlineParams sp;
     sp.lines = opt.strands;
-    sp.type = prim == PrimType::Sphere ? PrimType::RoundCone : prim;
+    // A type without an axis (the sphere) gets the streamlines' round cones.
+    sp.type = row.oriented ? prim : PrimType::RoundCone;
     sp.seed = opt.bundle.seed;
     return subdivide_curves(make_streamline_scene(sp), opt.subdivisions);
   }

@@ -98,18 +98,18 @@ int curve_balls(const Geometry& g, std::size_t prim, PrimBalls& out) { // the co
   return 4;
 }
 
-//  type, mesh, oriented, shape, singular, then the functions
+//  type, mesh, oriented, shape, strand_file_type, singular, then the functions
 constexpr ScenePrimRow rows[] = {
-    {PrimType::Triangle, true, false, PrimShape::Triangle, "triangle", count_of<&Geometry::triangles>, holds<&Geometry::triangles>,
-     validate_triangles, triangle_balls},
-    {PrimType::Capsule, false, true, PrimShape::Segment, "capsule", count_of<&Geometry::capsules>, holds<&Geometry::capsules>,
-     validate_capsules, capsule_balls},
-    {PrimType::RoundCone, false, true, PrimShape::Segment, "round cone", count_of<&Geometry::round_cones>,
-     holds<&Geometry::round_cones>, validate_round_cones, round_cone_balls},
-    {PrimType::Sphere, false, false, PrimShape::Ball, "sphere", count_of<&Geometry::spheres>, holds<&Geometry::spheres>,
-     validate_spheres, sphere_balls},
-    {PrimType::Curve, false, true, PrimShape::Bezier, "curve", count_of<&Geometry::curves>, holds<&Geometry::curves>,
-     validate_curves, curve_balls},
+    {PrimType::Triangle, true, false, PrimShape::Triangle, PrimType::Capsule, "triangle", count_of<&Geometry::triangles>,
+     holds<&Geometry::triangles>, validate_triangles, triangle_balls},
+    {PrimType::Capsule, false, true, PrimShape::Segment, PrimType::Capsule, "capsule", count_of<&Geometry::capsules>,
+     holds<&Geometry::capsules>, validate_capsules, capsule_balls},
+    {PrimType::RoundCone, false, true, PrimShape::Segment, PrimType::RoundCone, "round cone",
+     count_of<&Geometry::round_cones>, holds<&Geometry::round_cones>, validate_round_cones, round_cone_balls},
+    {PrimType::Sphere, false, false, PrimShape::Ball, PrimType::Capsule, "sphere", count_of<&Geometry::spheres>,
+     holds<&Geometry::spheres>, validate_spheres, sphere_balls},
+    {PrimType::Curve, false, true, PrimShape::Bezier, PrimType::RoundCone, "curve", count_of<&Geometry::curves>,
+     holds<&Geometry::curves>, validate_curves, curve_balls},
 };
 static_assert(one_row_per_prim_type(rows), "scene_prim_rows: one row per PrimType, in enum order");
 

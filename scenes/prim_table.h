@@ -31,6 +31,10 @@ struct ScenePrimRow {
   bool mesh;     // indexed triangles over shared vertices: no radius, no ball hull
   bool oriented; // a primitive has an axis (capsule, round cone, curve): strands, clusters
   PrimShape shape;
+  // The strand type a file of strands is loaded as to make strands of this type: a curve
+  // is made from round cones (keeping per-point radii), a type without strands from
+  // capsules (the loaders' default).
+  PrimType strand_file_type;
   const char* singular; // how messages name one primitive ("round cone 3")
   std::size_t (*count)(const Geometry&);
   bool (*holds_any)(const Geometry&); // its array is not empty (whatever g.type says)

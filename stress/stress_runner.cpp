@@ -2,6 +2,7 @@
 #include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "oracle/oracle.h"
+#include "stress/stress_prim_rows.h"
 #include <fmt/format.h>
 #include <chrono>
 #include <cmath>
@@ -61,7 +62,7 @@ Conditioning ambiguous_rays(const Cell& cell, const oracle::Oracle& oracle,
       // as any other ray's answer that flips under a band-sized origin move.
       // The step is twice the band of a ray starting ON the primitive, 4u (1 + L / r)
       // (no D: the cell's D is not this ray's distance).
-      const double len_r = cell.spec.type == PrimType::Triangle ? 1.0 : cell.spec.length_r;
+      const double len_r = stress_prim_row(cell.spec.type).sized_by_length ? 1.0 : cell.spec.length_r;
       const double surf_delta = 2.0 * 4.0 * 5.9604645e-8 * (1.0 + len_r) * cell.radius;
       for (int k = 0; k < 2 && !amb[i]; ++k) {
         kernel::Ray p = r;
