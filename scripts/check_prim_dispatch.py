@@ -9,8 +9,11 @@ tables and exempt folders included, and exits 0.
 """
 import os
 import re
-import subprocess
 import sys
+
+# The same file list and source pattern as the layer check (this script's folder is on
+# sys.path when it runs).
+from check_layers import SOURCE, source_files
 
 # Folders where dispatching on the type is the point.
 EXEMPT_FOLDERS = {
@@ -42,20 +45,8 @@ PENDING = {
     "scenes/strand_generators.cpp": 3,
 }
 
-SOURCE = re.compile(r"\.(h|hpp|cpp|inc|comp|cl)$")
 TYPE = r"(?:PrimType::\w+|MASQ_PRIM_\w+)"
 DISPATCH = re.compile(r"\bcase\s+" + TYPE + r"|(?:==|!=)\s*" + TYPE + r"|" + TYPE + r"\s*(?:==|!=)")
-
-
-def source_files(root):
-    try:
-        return subprocess.check_output(["git", "ls-files"], cwd=root, text=True, stderr=subprocess.DEVNULL).split()
-    except (OSError, subprocess.CalledProcessError):
-        out = []
-        for folder, dirs, names in os.walk(root):
-            dirs[:] = [d for d in dirs if not d.startswith((".", "build", "_"))]
-            out += [os.path.relpath(os.path.join(folder, n), root) for n in names]
-        return out
 
 
 def dispatches(path):
