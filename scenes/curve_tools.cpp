@@ -1,5 +1,6 @@
 #include "scenes/curve_tools.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include "scenes/strand_generators.h"
 #include <string>
 
@@ -20,6 +21,8 @@ std::array<glm::dvec3, 4> piece(const std::array<glm::dvec3, 4>& p, double s0, d
   };
   return {blossom(s0, s0, s0), blossom(s0, s0, s1), blossom(s0, s1, s1), blossom(s1, s1, s1)};
 }
+// A geometry of cubic Bezier curves (what subdivide_curves and curves_to_segments rewrite).
+bool holds_curves(const Geometry& g) { return scene_prim_row(g.type).shape == PrimShape::Bezier; }
 } // namespace
 
 glm::dvec3 bezier_point(const CurvePrim& c, double s) {
@@ -33,7 +36,7 @@ Scene subdivide_curves(const Scene& scene, int k) {
   Scene out = scene;
   if (k == 1) return out;
   for (Geometry& g : out.geometries) {
-    if (g.type != PrimType::Curve) continue;
+    if (!holds_curves(g)) continue;
     std::vector<CurvePrim> split;
     split.reserve(g.curves.size() * std::size_t(k));
     for (const CurvePrim& c : g.curves) {
@@ -54,18 +57,17 @@ Scene subdivide_curves(const Scene& scene, int k) {
 
 Scene curves_to_segments(const Scene& scene, int n, PrimType type) {
   if (n < 1) throw Error("curves_to_segments: n = " + std::to_string(n) + " (must be >= 1)");
-  if (type != PrimType::Capsule && type != PrimType::RoundCone)
-    throw Error(std::string("curves_to_segments: cannot make ") + prim_type_name(type) + "s");
+  const ScenePrimRow& row = scene_prim_row(type);
+  if (!row.add_segment) throw Error(std::string("curves_to_segments: cannot make ") + prim_type_name(type) + "s");
   Scene out = scene;
   for (Geometry& g : out.geometries) {
-    if (g.type != PrimType::Curve) continue;
+    if (!holds_curves(g)) continue;
     Geometry seg;
     seg.type = type;
     for (const CurvePrim& c : g.curves)
       for (int i = 0; i < n; ++i) {
         glm::vec3 a(bezier_point(c, double(i) / n)), b(bezier_point(c, double(i + 1) / n));
-        if (type == PrimType::Capsule) seg.capsules.push_back({a, b, c.radius});
-        else seg.round_cones.push_back({a, c.radius, b, c.radius});
+        row.add_segment(seg, a, c.radius, b, c.radius); // a capsule's mean of equal radii is the radius
       }
     g = std::move(seg);
   }
@@ -75,17 +77,20 @@ Scene curves_to_segments(const Scene& scene, int n, PrimType type) {
 
 namespace {
 
-// Chains consecutive segments sharing an end point into strands.
-template <class Seg, class EndA, class EndB>
-std::vector<Strand> chain_segments(const std::vector<Seg>& segs, EndA end_a, EndB end_b) {
+// Chains consecutive segments sharing an end point into strands: segment i is the hull of
+// its two balls (scene_prim_row's balls of a Segment-shaped type).
+std::vector<Strand> chain_segments(const Geometry& g) {
+  const ScenePrimRow& row = scene_prim_row(g.type);
   std::vector<Strand> strands;
-  for (std::size_t i = 0; i < segs.size(); ++i) {
-    auto [a, ra] = end_a(segs[i]);
-    auto [b, rb] = end_b(segs[i]);
-    bool continues = i > 0 && end_b(segs[i - 1]).first == a;
-    if (!continues) strands.push_back({{glm::dvec3(a)}, {double(ra)}});
-    strands.back().points.push_back(glm::dvec3(b));
-    strands.back().radii.push_back(double(rb));
+  PrimBalls prev{};
+  for (std::size_t i = 0; i < row.count(g); ++i) {
+    PrimBalls ends;
+    row.balls(g, i, ends);
+    bool continues = i > 0 && prev[1].centre == ends[0].centre;
+    if (!continues) strands.push_back({{glm::dvec3(ends[0].centre)}, {double(ends[0].radius)}});
+    strands.back().points.push_back(glm::dvec3(ends[1].centre));
+    strands.back().radii.push_back(double(ends[1].radius));
+    prev = ends;
   }
   return strands;
 }
@@ -94,20 +99,8 @@ std::vector<Strand> chain_segments(const std::vector<Seg>& segs, EndA end_a, End
 
 Scene segments_to_curves(const Scene& scene) {
   Scene out = scene;
-  for (Geometry& g : out.geometries) {
-    std::vector<Strand> strands;
-    if (g.type == PrimType::Capsule)
-      strands = chain_segments(
-          g.capsules, [](const CapsulePrim& c) { return std::pair(c.a, c.radius); },
-          [](const CapsulePrim& c) { return std::pair(c.b, c.radius); });
-    else if (g.type == PrimType::RoundCone)
-      strands = chain_segments(
-          g.round_cones, [](const RoundConePrim& c) { return std::pair(c.a, c.ra); },
-          [](const RoundConePrim& c) { return std::pair(c.b, c.rb); });
-    else
-      continue;
-    g = strands_to_geometry(strands, PrimType::Curve);
-  }
+  for (Geometry& g : out.geometries)
+    if (scene_prim_row(g.type).shape == PrimShape::Segment) g = strands_to_geometry(chain_segments(g), PrimType::Curve);
   out.name = scene.name + " (as curves)";
   return out;
 }

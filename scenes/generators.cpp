@@ -1,5 +1,6 @@
 #include "scenes/generators.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <cmath>
 #include <random>
 
@@ -9,7 +10,8 @@ Geometry make_bundle(const BundleParams& p) {
   if (p.count <= 0 || !(p.radius > 0.0f))
     throw Error("bundle: count and radius must be positive (count " + std::to_string(p.count) + ", radius " +
                 std::to_string(p.radius) + ")");
-  if (p.prim == PrimType::Triangle) throw Error("bundle: strands cannot be triangles");
+  const ScenePrimRow& row = scene_prim_row(p.prim);
+  if (!row.add_bundle_strand) throw Error(std::string("bundle: strands cannot be ") + row.singular + "s");
   Geometry g;
   g.type = p.prim;
   std::mt19937_64 rng(p.seed);
@@ -27,23 +29,7 @@ Geometry make_bundle(const BundleParams& p) {
     // Length 1 including the caps: the segment is 1 - 2r long.
     double half = 0.5 - p.radius;
     glm::dvec3 a = c - half * axis, b = c + half * axis;
-    switch (p.prim) {
-      case PrimType::Capsule: g.capsules.push_back({glm::vec3(a), glm::vec3(b), p.radius}); break;
-      case PrimType::RoundCone: g.round_cones.push_back({glm::vec3(a), p.radius, glm::vec3(b), 0.5f * p.radius}); break;
-      case PrimType::Curve: {
-        glm::dvec3 bend = 0.05 * e1;
-        CurvePrim cv{};
-        cv.p = {glm::vec3(a), glm::vec3(a + (b - a) / 3.0 + bend), glm::vec3(a + 2.0 * (b - a) / 3.0 - bend),
-                glm::vec3(b)};
-        cv.radius = p.radius;
-        g.curves.push_back(cv);
-        break;
-      }
-      case PrimType::Sphere:
-        for (int k = 0; k < 8; ++k) g.spheres.push_back({glm::vec3(a + (b - a) * ((k + 0.5) / 8.0)), 3.0f * p.radius});
-        break;
-      case PrimType::Triangle: break;
-    }
+    row.add_bundle_strand(g, a, b, 0.05 * e1, p.radius);
   }
   return g;
 }
@@ -147,14 +133,7 @@ Geometry make_random_curves(int count, float min_radius, float max_radius, doubl
 
 Geometry make_random_geometry(PrimType type, int count, float min_radius, float max_radius, double extent,
                               std::uint64_t seed) {
-  switch (type) {
-    case PrimType::Triangle: return make_random_mesh(count, extent, seed);
-    case PrimType::Capsule: return make_random_capsules(count, min_radius, max_radius, extent, seed);
-    case PrimType::RoundCone: return make_random_cones(count, min_radius, max_radius, extent, seed);
-    case PrimType::Sphere: return make_random_spheres(count, min_radius, max_radius, extent, seed);
-    case PrimType::Curve: return make_random_curves(count, min_radius, max_radius, extent, seed);
-  }
-  return {};
+  return scene_prim_row(type).random(count, min_radius, max_radius, extent, seed);
 }
 
 Geometry make_random_mesh(int triangles, double extent, std::uint64_t seed) {

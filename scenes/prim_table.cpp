@@ -1,5 +1,7 @@
 #include "scenes/prim_table.h"
 #include "masq/error.h"
+#include "scenes/generators.h"
+#include "scenes/strand_generators.h"
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -98,18 +100,73 @@ int curve_balls(const Geometry& g, std::size_t prim, PrimBalls& out) { // the co
   return 4;
 }
 
+// ---- strands
+
+void capsule_segment(Geometry& g, const glm::vec3& a, float ra, const glm::vec3& b, float rb) {
+  g.capsules.push_back({a, b, 0.5f * (ra + rb)});
+}
+void round_cone_segment(Geometry& g, const glm::vec3& a, float ra, const glm::vec3& b, float rb) {
+  g.round_cones.push_back({a, ra, b, rb});
+}
+
+template <auto Array>
+void reserve_more(Geometry& g, std::size_t n) {
+  (g.*Array).reserve((g.*Array).size() + n);
+}
+
+template <auto AddSegment>
+void segment_piece(Geometry& g, const Strand& s, std::size_t i) {
+  AddSegment(g, glm::vec3(s.points[i]), float(s.radii[i]), glm::vec3(s.points[i + 1]), float(s.radii[i + 1]));
+}
+void curve_piece(Geometry& g, const Strand& s, std::size_t i) {
+  const std::size_t n = s.points.size();
+  const glm::dvec3& p0 = s.points[i > 0 ? i - 1 : i];
+  const glm::dvec3& p3 = s.points[i + 2 < n ? i + 2 : i + 1];
+  CurvePrim c{};
+  c.p = {glm::vec3(s.points[i]), glm::vec3(s.points[i] + (s.points[i + 1] - p0) / 6.0),
+         glm::vec3(s.points[i + 1] - (p3 - s.points[i]) / 6.0), glm::vec3(s.points[i + 1])};
+  c.radius = 0.5f * (float(s.radii[i]) + float(s.radii[i + 1]));
+  g.curves.push_back(c);
+}
+
+void capsule_bundle_strand(Geometry& g, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&, float r) {
+  g.capsules.push_back({glm::vec3(a), glm::vec3(b), r});
+}
+void round_cone_bundle_strand(Geometry& g, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&, float r) {
+  g.round_cones.push_back({glm::vec3(a), r, glm::vec3(b), 0.5f * r});
+}
+void curve_bundle_strand(Geometry& g, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& bend, float r) {
+  CurvePrim cv{};
+  cv.p = {glm::vec3(a), glm::vec3(a + (b - a) / 3.0 + bend), glm::vec3(a + 2.0 * (b - a) / 3.0 - bend), glm::vec3(b)};
+  cv.radius = r;
+  g.curves.push_back(cv);
+}
+void sphere_bundle_strand(Geometry& g, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&, float r) {
+  for (int k = 0; k < 8; ++k) g.spheres.push_back({glm::vec3(a + (b - a) * ((k + 0.5) / 8.0)), 3.0f * r});
+}
+
+Geometry random_mesh(int count, float, float, double extent, std::uint64_t seed) {
+  return make_random_mesh(count, extent, seed);
+}
+
 //  type, mesh, oriented, shape, strand_file_type, singular, then the functions
 constexpr ScenePrimRow rows[] = {
     {PrimType::Triangle, true, false, PrimShape::Triangle, PrimType::Capsule, "triangle", count_of<&Geometry::triangles>,
-     holds<&Geometry::triangles>, validate_triangles, triangle_balls},
+     holds<&Geometry::triangles>, validate_triangles, triangle_balls, nullptr, reserve_more<&Geometry::triangles>,
+     nullptr, nullptr, random_mesh},
     {PrimType::Capsule, false, true, PrimShape::Segment, PrimType::Capsule, "capsule", count_of<&Geometry::capsules>,
-     holds<&Geometry::capsules>, validate_capsules, capsule_balls},
+     holds<&Geometry::capsules>, validate_capsules, capsule_balls, capsule_segment, reserve_more<&Geometry::capsules>,
+     segment_piece<capsule_segment>, capsule_bundle_strand, make_random_capsules},
     {PrimType::RoundCone, false, true, PrimShape::Segment, PrimType::RoundCone, "round cone",
-     count_of<&Geometry::round_cones>, holds<&Geometry::round_cones>, validate_round_cones, round_cone_balls},
+     count_of<&Geometry::round_cones>, holds<&Geometry::round_cones>, validate_round_cones, round_cone_balls,
+     round_cone_segment, reserve_more<&Geometry::round_cones>, segment_piece<round_cone_segment>,
+     round_cone_bundle_strand, make_random_cones},
     {PrimType::Sphere, false, false, PrimShape::Ball, PrimType::Capsule, "sphere", count_of<&Geometry::spheres>,
-     holds<&Geometry::spheres>, validate_spheres, sphere_balls},
+     holds<&Geometry::spheres>, validate_spheres, sphere_balls, nullptr, reserve_more<&Geometry::spheres>, nullptr,
+     sphere_bundle_strand, make_random_spheres},
     {PrimType::Curve, false, true, PrimShape::Bezier, PrimType::RoundCone, "curve", count_of<&Geometry::curves>,
-     holds<&Geometry::curves>, validate_curves, curve_balls},
+     holds<&Geometry::curves>, validate_curves, curve_balls, nullptr, reserve_more<&Geometry::curves>, curve_piece,
+     curve_bundle_strand, make_random_curves},
 };
 static_assert(one_row_per_prim_type(rows), "scene_prim_rows: one row per PrimType, in enum order");
 
@@ -119,6 +176,13 @@ const ScenePrimRow& scene_prim_row(PrimType t) {
   const auto i = static_cast<std::size_t>(t);
   if (i >= prim_type_count) throw Error("scene: primitive type " + std::to_string(i) + " has no row");
   return rows[i];
+}
+
+std::string strand_type_names() {
+  std::string names;
+  for (const ScenePrimRow& row : rows)
+    if (row.add_segment) names += (names.empty() ? "" : " or ") + std::string(row.singular) + "s";
+  return names;
 }
 
 float prim_max_radius(const Geometry& g, std::size_t prim) {

@@ -6,8 +6,12 @@
 #include "scenes/scene.h"
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <string>
 
 namespace masq {
+
+struct Strand; // scenes/strand_generators.h
 
 // One ball of a primitive's hull: every primitive is contained in the convex hull of at
 // most four of them (a triangle: its vertices, radius 0).
@@ -44,10 +48,33 @@ struct ScenePrimRow {
   // The hull balls of primitive `prim` (no range check beyond the arrays' .at()); returns
   // how many of `out` it filled.
   int (*balls)(const Geometry&, std::size_t prim, PrimBalls& out);
+
+  // Strands: how files of polylines, the generators and the curve conversions make
+  // primitives of this type. nullptr where the type is not made that way.
+  //
+  // Appends the segment from ball (a, ra) to ball (b, rb) as one primitive (a capsule of
+  // the mean radius 0.5 (ra + rb), a round cone with both radii). The rows that have one
+  // are the strand types a loader accepts (require_strand_type).
+  void (*add_segment)(Geometry&, const glm::vec3& a, float ra, const glm::vec3& b, float rb);
+  void (*reserve)(Geometry&, std::size_t n); // room for n more primitives in its array
+  // Appends segment i (points i, i + 1) of a polyline with per-point radii: add_segment,
+  // or for a curve the Catmull-Rom piece through the points (end points repeated) as a
+  // cubic Bezier of the mean radius (strands_to_geometry).
+  void (*add_strand_piece)(Geometry&, const Strand&, std::size_t i);
+  // One strand of the masquerade bundle (make_bundle) along the axis a -> b of radius r:
+  // a capsule; a round cone of r at a, r/2 at b; a curve with an S-bend of `bend`; eight
+  // balls of radius 3r strung along it. nullptr: the type cannot be a bundle strand.
+  void (*add_bundle_strand)(Geometry&, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& bend, float r);
+  // A random geometry of this type (scenes/generators.h, make_random_geometry).
+  Geometry (*random)(int count, float min_radius, float max_radius, double extent, std::uint64_t seed);
 };
 
 // The row of type t (rows are in enum order: scenes/prim_table.cpp static_asserts it).
 const ScenePrimRow& scene_prim_row(PrimType t);
+
+// The names of the types that strands can be loaded as (rows with add_segment), plural,
+// joined by " or ": "capsules or round cones", for messages.
+std::string strand_type_names();
 
 // The largest ball radius of primitive `prim` (0 for a triangle).
 float prim_max_radius(const Geometry& g, std::size_t prim);

@@ -1,5 +1,6 @@
 #include "scenes/strand_generators.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -48,32 +49,15 @@ void bounds(const std::vector<Strand>& s, glm::dvec3& lo, glm::dvec3& hi) {
 } // namespace
 
 Geometry strands_to_geometry(const std::vector<Strand>& strands, PrimType type) {
+  const ScenePrimRow& row = scene_prim_row(type);
+  if (!row.add_strand_piece) throw Error(std::string("strands: cannot make ") + prim_type_name(type) + "s");
   Geometry g;
   g.type = type;
   for (const Strand& s : strands) {
     const std::size_t n = s.points.size();
     if (s.radii.size() != n) throw Error("strands: a strand has " + std::to_string(n) + " points but " +
                                          std::to_string(s.radii.size()) + " radii");
-    for (std::size_t i = 0; i + 1 < n; ++i) {
-      glm::vec3 a(s.points[i]), b(s.points[i + 1]);
-      float ra = float(s.radii[i]), rb = float(s.radii[i + 1]);
-      switch (type) {
-        case PrimType::Capsule: g.capsules.push_back({a, b, 0.5f * (ra + rb)}); break;
-        case PrimType::RoundCone: g.round_cones.push_back({a, ra, b, rb}); break;
-        case PrimType::Curve: {
-          // Catmull-Rom through the points (end points repeated), as Bezier pieces.
-          const glm::dvec3& p0 = s.points[i > 0 ? i - 1 : i];
-          const glm::dvec3& p3 = s.points[i + 2 < n ? i + 2 : i + 1];
-          CurvePrim c{};
-          c.p = {a, glm::vec3(s.points[i] + (s.points[i + 1] - p0) / 6.0),
-                 glm::vec3(s.points[i + 1] - (p3 - s.points[i]) / 6.0), b};
-          c.radius = 0.5f * (ra + rb);
-          g.curves.push_back(c);
-          break;
-        }
-        default: throw Error(std::string("strands: cannot make ") + prim_type_name(type) + "s");
-      }
-    }
+    for (std::size_t i = 0; i + 1 < n; ++i) row.add_strand_piece(g, s, i);
   }
   return g;
 }

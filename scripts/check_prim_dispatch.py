@@ -31,20 +31,6 @@ TABLE_FILES = {
     "stress/stress_prim_rows.cpp": "the stress suite's rows: placement, degenerate cells, aims",
 }
 
-# Files whose dispatches are not yet rows of a table, with the most they may hold: the
-# count may fall (lower it here), never grow. Empty this list, not extend it.
-PENDING = {
-    "scenes/curve_tools.cpp": 7,         # curves to segments and back
-    "scenes/generators.cpp": 11,         # the random scenes and bundles per type
-    "scenes/loaders/load_hair.cpp": 4,   # strand loaders: capsule or round cone array
-    "scenes/loaders/load_obj.cpp": 1,
-    "scenes/loaders/load_ply.cpp": 1,
-    "scenes/loaders/load_tracks.cpp": 2,
-    "scenes/loaders/load_tressfx.cpp": 2,
-    "scenes/loaders/loader.cpp": 2,      # which strand types a loader accepts
-    "scenes/strand_generators.cpp": 3,
-}
-
 TYPE = r"(?:PrimType::\w+|MASQ_PRIM_\w+)"
 DISPATCH = re.compile(r"\bcase\s+" + TYPE + r"|(?:==|!=)\s*" + TYPE + r"|" + TYPE + r"\s*(?:==|!=)")
 
@@ -74,16 +60,11 @@ def main():
         exempt = next((k for k in EXEMPT_FOLDERS if f.startswith(k)), None)
         total += len(found)
         if count_only:
-            where = "exempt" if exempt else "table" if f in TABLE_FILES else "pending" if f in PENDING else "outside"
+            where = "exempt" if exempt else "table" if f in TABLE_FILES else "outside"
             print(f"{len(found):4d}  {f}  ({where})")
         if exempt or f in TABLE_FILES:
             continue
         outside += len(found)
-        if f in PENDING:
-            if len(found) > PENDING[f]:
-                problems.append(f"{f}: {len(found)} dispatches on the primitive type, more than its {PENDING[f]} "
-                                f"in PENDING of scripts/check_prim_dispatch.py")
-            continue
         problems += [f"{f}:{n}: dispatches on the primitive type: {line.strip()}" for n, line in found]
     if count_only:
         print(f"check_prim_dispatch: {total} dispatches in all, {outside} outside kernels/, tests/ and the tables")
@@ -94,7 +75,7 @@ def main():
         print("check_prim_dispatch: call through the layer's table of primitive types, or read a column of its row "
               "(docs/architecture.md, \"The tables\")")
         return 1
-    print(f"check_prim_dispatch: no dispatch on the primitive type outside the tables ({outside} pending)")
+    print("check_prim_dispatch: no dispatch on the primitive type outside the tables")
     return 0
 
 

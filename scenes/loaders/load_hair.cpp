@@ -1,6 +1,7 @@
 #include "scenes/loaders/load_hair.h"
 #include "scenes/camera.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -158,16 +159,14 @@ Scene load_hair(std::span<const std::byte> data, const std::string& name, const 
 
   Geometry g;
   g.type = opt.strand_type;
-  const std::size_t nseg = needed - strands; // every strand has >= 1 point
-  if (g.type == PrimType::Capsule) g.capsules.reserve(nseg);
-  else g.round_cones.reserve(nseg);
+  const ScenePrimRow& row = scene_prim_row(g.type);
+  row.reserve(g, needed - strands); // every strand has >= 1 point
   std::size_t i = 0;
   for (std::uint32_t s = 0; s < strands; ++s) {
     const std::uint64_t n = std::uint64_t(segs.empty() ? default_segments : segs[s]) + 1;
     for (std::uint64_t k = 0; k + 1 < n; ++k) {
       const std::size_t a = i + k, b = a + 1;
-      if (g.type == PrimType::Capsule) g.capsules.push_back({pts[a], pts[b], rad[a] + 0.5f * (rad[b] - rad[a])});
-      else g.round_cones.push_back({pts[a], rad[a], pts[b], rad[b]});
+      row.add_segment(g, pts[a], rad[a], pts[b], rad[b]);
     }
     i += n;
   }
@@ -195,10 +194,13 @@ std::vector<std::byte> write_hair(const Scene& scene) {
   };
   auto write_geometry = [&](std::size_t gi) {
     const Geometry& g = scene.geometries[gi];
-    if (g.type == PrimType::Capsule) {
-      for (const CapsulePrim& c : g.capsules) add(c.a, c.radius, c.b, c.radius);
-    } else if (g.type == PrimType::RoundCone) {
-      for (const RoundConePrim& c : g.round_cones) add(c.a, c.ra, c.b, c.rb);
+    const ScenePrimRow& row = scene_prim_row(g.type);
+    if (row.shape == PrimShape::Segment) { // the hull of two balls: a capsule or a round cone
+      for (std::size_t i = 0; i < row.count(g); ++i) {
+        PrimBalls ends;
+        row.balls(g, i, ends);
+        add(ends[0].centre, ends[0].radius, ends[1].centre, ends[1].radius);
+      }
     } else if (g.primitive_count() > 0) {
       throw Error(scene.name + ": write_hair: geometry " + std::to_string(gi) + " holds " +
                   prim_type_name(g.type) + " primitives; .hair stores only capsule or round-cone strands");

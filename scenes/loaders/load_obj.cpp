@@ -1,5 +1,6 @@
 #include "scenes/loaders/load_obj.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <tiny_obj_loader.h>
 #include <cmath>
 #include <cstdlib>
@@ -167,10 +168,8 @@ Scene load_obj(std::span<const std::byte> data, const std::string& name, const L
     }
     Geometry g;
     g.type = opt.strand_type;
-    for (const glm::uvec2& sg : segments) {
-      if (g.type == PrimType::Capsule) g.capsules.push_back({vertices[sg.x], vertices[sg.y], radius});
-      else g.round_cones.push_back({vertices[sg.x], radius, vertices[sg.y], radius});
-    }
+    const ScenePrimRow& row = scene_prim_row(g.type);
+    for (const glm::uvec2& sg : segments) row.add_segment(g, vertices[sg.x], radius, vertices[sg.y], radius);
     s.geometries.push_back(std::move(g));
   }
   for (std::uint32_t i = 0; i < s.geometries.size(); ++i) s.instances.push_back({i, {}});

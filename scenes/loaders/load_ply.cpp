@@ -1,5 +1,6 @@
 #include "scenes/loaders/load_ply.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -394,11 +395,11 @@ Scene load_ply(std::span<const std::byte> data, const std::string& name, const L
     require_strand_type(opt, name);
     Geometry g;
     g.type = opt.strand_type;
+    const ScenePrimRow& row = scene_prim_row(g.type);
     for (const glm::uvec2& ed : edges) {
       float ra = pr >= 0 ? radii[ed.x] : radius;
       float rb = pr >= 0 ? radii[ed.y] : radius;
-      if (g.type == PrimType::Capsule) g.capsules.push_back({vertices[ed.x], vertices[ed.y], 0.5f * (ra + rb)});
-      else g.round_cones.push_back({vertices[ed.x], ra, vertices[ed.y], rb});
+      row.add_segment(g, vertices[ed.x], ra, vertices[ed.y], rb);
     }
     s.geometries.push_back(std::move(g));
   }

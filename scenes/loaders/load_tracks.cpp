@@ -1,5 +1,6 @@
 #include "scenes/loaders/load_tracks.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -16,6 +17,7 @@ class StrandBuilder {
   StrandBuilder(const std::string& name, const LoadOptions& opt) {
     require_strand_type(opt, name);
     g_.type = opt.strand_type;
+    row_ = &scene_prim_row(g_.type);
     radius_ = opt.radius;
     if (!(radius_ > 0.0f)) {
       radius_ = kDefaultTrackRadius;
@@ -24,19 +26,13 @@ class StrandBuilder {
                  " mm (set LoadOptions::radius)");
     }
   }
-  void segment(const glm::vec3& a, const glm::vec3& b) {
-    if (g_.type == PrimType::Capsule)
-      g_.capsules.push_back(CapsulePrim{a, b, radius_});
-    else
-      g_.round_cones.push_back(RoundConePrim{a, radius_, b, radius_});
-  }
-  void reserve(std::size_t n) {
-    if (g_.type == PrimType::Capsule) g_.capsules.reserve(n); else g_.round_cones.reserve(n);
-  }
+  void segment(const glm::vec3& a, const glm::vec3& b) { row_->add_segment(g_, a, radius_, b, radius_); }
+  void reserve(std::size_t n) { row_->reserve(g_, n); }
   Geometry take() { return std::move(g_); }
 
  private:
   Geometry g_;
+  const ScenePrimRow* row_ = nullptr;
   float radius_ = kDefaultTrackRadius;
 };
 

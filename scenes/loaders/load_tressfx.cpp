@@ -1,6 +1,7 @@
 #include "scenes/loaders/load_tressfx.h"
 #include "scenes/camera.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -104,9 +105,8 @@ Scene load_tressfx(std::span<const std::byte> data, const std::string& name, con
 
   Geometry g;
   g.type = opt.strand_type;
-  const std::size_t nseg = std::size_t(strands) * (vps - 1);
-  if (g.type == PrimType::Capsule) g.capsules.reserve(nseg);
-  else g.round_cones.reserve(nseg);
+  const ScenePrimRow& row = scene_prim_row(g.type);
+  row.reserve(g, std::size_t(strands) * (vps - 1));
   for (std::uint32_t s = 0; s < strands; ++s) {
     const float rad = thickness.empty() ? base : thickness[s] * base;
     if (!std::isfinite(rad))
@@ -114,8 +114,7 @@ Scene load_tressfx(std::span<const std::byte> data, const std::string& name, con
                                                  " x radius " + format_number(base) + " overflows");
     const glm::vec3* p = pts.data() + std::size_t(s) * vps;
     for (std::uint32_t v = 0; v + 1 < vps; ++v) {
-      if (g.type == PrimType::Capsule) g.capsules.push_back({p[v], p[v + 1], rad});
-      else g.round_cones.push_back({p[v], rad, p[v + 1], rad});
+      row.add_segment(g, p[v], rad, p[v + 1], rad);
     }
   }
   Scene sc = scene_of(std::move(g), name);

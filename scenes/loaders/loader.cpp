@@ -1,5 +1,6 @@
 #include "scenes/loaders/loader.h"
 #include "masq/error.h"
+#include "scenes/prim_table.h"
 #include <cerrno>
 #include <cmath>
 #include <sstream>
@@ -46,8 +47,8 @@ void ByteReader::read(std::size_t offset, void* dst, std::size_t n, const char* 
 }
 
 void require_strand_type(const LoadOptions& opt, const std::string& source) {
-  if (opt.strand_type != PrimType::Capsule && opt.strand_type != PrimType::RoundCone)
-    throw Error(source + ": strands can be capsules or round cones, not " + prim_type_name(opt.strand_type));
+  if (!scene_prim_row(opt.strand_type).add_segment)
+    throw Error(source + ": strands can be " + strand_type_names() + ", not " + prim_type_name(opt.strand_type));
 }
 
 bool finite3(const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
