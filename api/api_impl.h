@@ -9,7 +9,10 @@ namespace masq::api {
 
 struct Scene::Impl {
   masq::Scene scene;
-  bool has_camera = false; // a loaded description's own camera; else camera_rays frames the scene
+  bool has_camera = false; // a loaded file's own camera (.json, .nff); else camera_rays frames the scene
+  // The scene as an Accel sees it: without instances, every geometry placed once with the
+  // identity (the documented default placement).
+  masq::Scene placed() const;
 };
 
 struct Accel::Impl {

@@ -23,9 +23,7 @@ static_assert(sizeof(RayStats) == sizeof(kernel::RayStats) &&
 const char* version() { return MASQ_VERSION; }
 
 Accel Accel::build(const Scene& scene, const AccelOptions& options) {
-  masq::Scene s = scene.impl().scene;
-  if (s.instances.empty())
-    for (std::uint32_t g = 0; g < s.geometries.size(); ++g) s.instances.push_back({g, {}});
+  masq::Scene s = scene.impl().placed();
   validate_scene(s);
   AccelOptions o = options;
   // The public option enums are the builder's own (bvh/options.h): they pass as they

@@ -3,6 +3,7 @@
 #include "masq/error.h"
 #include "scenes/camera.h"
 #include "scenes/loaders/load_any.h"
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
@@ -17,6 +18,13 @@ std::uint32_t push(masq::Scene& s, masq::Geometry g) {
 }
 
 } // namespace
+
+masq::Scene Scene::Impl::placed() const {
+  masq::Scene s = scene;
+  if (s.instances.empty())
+    for (std::uint32_t g = 0; g < s.geometries.size(); ++g) s.instances.push_back({g, {}});
+  return s;
+}
 
 Scene::Scene() : impl_(std::make_unique<Impl>()) { impl_->scene.name = "api"; }
 Scene::~Scene() = default;
@@ -33,13 +41,20 @@ Scene& Scene::operator=(Scene&& o) noexcept {
 }
 
 Scene Scene::load(const std::string& path, const LoadOptions& options) {
+  // A negative radius would otherwise read as "the loader's default" (radius > 0 is the
+  // loaders' test for a given one).
+  if (!std::isfinite(options.radius) || options.radius < 0.0f)
+    throw Error("Scene::load: radius " + std::to_string(options.radius) +
+                " (must be > 0, or 0 for the file's radii or the loader's default)");
   masq::LoadOptions lo;
   lo.radius = options.radius;
   lo.strand_type = options.round_cones ? PrimType::RoundCone : PrimType::Capsule;
+  lo.warn = options.warn;
   Scene s;
   s.impl_->scene = load_scene_file(path, lo);
-  // A .json description carries (or frames) its own camera; other formats have none.
-  s.impl_->has_camera = std::filesystem::path(path).extension() == ".json";
+  // .json and .nff files carry their own camera; the others' loaders framed what they hold,
+  // which camera_rays does again so that geometry added after loading is in view too.
+  s.impl_->has_camera = scene_file_carries_view(path);
   return s;
 }
 
@@ -102,26 +117,21 @@ std::uint32_t Scene::add_instance(std::uint32_t geometry, const Transform& t) {
 
 std::size_t Scene::geometry_count() const { return impl_->scene.geometries.size(); }
 std::size_t Scene::instance_count() const { return impl_->scene.instances.size(); }
-std::size_t Scene::primitive_count() const { return impl_->scene.primitive_count(); }
-
-void Scene::validate() const {
-  if (impl_->scene.instances.empty()) {
-    // The documented default placement, checked the same way the Accel will see it.
-    masq::Scene placed = impl_->scene;
-    for (std::uint32_t g = 0; g < placed.geometries.size(); ++g) placed.instances.push_back({g, {}});
-    validate_scene(placed);
-    return;
-  }
-  validate_scene(impl_->scene);
+std::size_t Scene::primitive_count() const {
+  const masq::Scene& s = impl_->scene;
+  if (!s.instances.empty()) return s.primitive_count();
+  std::size_t n = 0;
+  for (const masq::Geometry& g : s.geometries) n += g.primitive_count();
+  return n;
 }
+
+void Scene::validate() const { validate_scene(impl_->placed()); }
 
 std::vector<Ray> Scene::camera_rays(int width, int height) const {
   if (width <= 0 || height <= 0)
     throw Error("Scene::camera_rays: width and height must be positive, got " + std::to_string(width) + "x" +
                 std::to_string(height));
-  masq::Scene framed = impl_->scene;
-  if (framed.instances.empty())
-    for (std::uint32_t g = 0; g < framed.geometries.size(); ++g) framed.instances.push_back({g, {}});
+  masq::Scene framed = impl_->placed();
   if (!impl_->has_camera) frame_scene(framed);
   std::vector<kernel::Ray> kr = make_camera_rays(framed.camera, width, height);
   static_assert(sizeof(Ray) == sizeof(kernel::Ray));

@@ -120,9 +120,16 @@ struct Scene {
   std::size_t primitive_count() const;
 };
 
+// The farthest a primitive may reach from the origin, |coordinate| + radius, in object
+// and in world space: 2^60. A difference of two points of the scene is then below 2^61 per
+// axis, and the intersectors' largest sums of squared distances (3 axes, with a factor of
+// 16 for their products: 3 * 16 * 2^122 < 2^128) stay below FLT_MAX; at 1e19 they overflow
+// and every ray misses (docs/robustness.md, "Scene range").
+inline constexpr double kMaxSceneReach = 1152921504606846976.0; // 2^60
+
 // Throws masq::Error naming the offending geometry/primitive/instance: out-of-range
 // indices, NaN/Inf coordinates, negative or NaN radii, singular or non-finite
-// transforms, empty scenes. Zero-length capsules (spheres) and zero-radius capsules
+// transforms, primitives beyond kMaxSceneReach, empty scenes. Zero-length capsules (spheres) and zero-radius capsules
 // (no surface, never hit) are allowed and documented.
 void validate_scene(const Scene& scene);
 

@@ -66,3 +66,23 @@ TEST(SceneValidation, DegenerateCapsulesAreHandled) {
   EXPECT_EQ(ps.tlas_entry_count(), 1u);
   EXPECT_NO_THROW(build_accel(s, Method::Ref));
 }
+
+// Beyond 2^60 from the origin the intersectors' squared distances overflow fp32 and every
+// ray would miss: refused, naming the element, the reach and the limit (docs/robustness.md,
+// "Scene range"). Within it, accepted.
+TEST(SceneValidation, RangeBeyondFp32IsRefused) {
+  const float near_limit = 1e18f, beyond = 1e19f;
+  EXPECT_EQ(error_of(one_capsule({{near_limit, 0, 0}, {near_limit, 1e17f, 0}, 1e16f})), "");
+  const std::string far = error_of(one_capsule({{beyond, 0, 0}, {beyond, 1e18f, 0}, 1e17f}));
+  EXPECT_NE(far.find("geometry 0 reaches 1.01e+19"), std::string::npos) << far;
+  EXPECT_NE(far.find("2^60 (1.15e+18)"), std::string::npos) << far;
+  // A radius alone can reach too far.
+  EXPECT_NE(error_of(one_capsule({{0, 0, 0}, {1, 0, 0}, beyond})).find("geometry 0 reaches"), std::string::npos);
+  // In range in object space, out of it in world space: the instance is named.
+  Scene scaled = one_capsule({{near_limit, 0, 0}, {near_limit, 1e17f, 0}, 1e16f});
+  scaled.instances[0].object_to_world.linear = glm::dmat3(10.0);
+  EXPECT_NE(error_of(scaled).find("instance 0 reaches 1.02e+19"), std::string::npos) << error_of(scaled);
+  Scene moved = one_capsule({{0, 0, 0}, {1, 0, 0}, 0.1f});
+  moved.instances[0].object_to_world.translation = glm::dvec3(0.0, -2e18, 0.0);
+  EXPECT_NE(error_of(moved).find("instance 0 reaches 2e+18"), std::string::npos) << error_of(moved);
+}

@@ -2,6 +2,7 @@
 /// A scene: geometries (arrays of one primitive type each) placed by instances.
 #pragma once
 #include "masq/types.h"
+#include <functional>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -13,8 +14,14 @@ namespace masq::api {
 
 /// How a scene file is read (Scene::load).
 struct LoadOptions {
-  float radius = 0.0f;        ///< radius for strands whose file has none; 0: the loader's default
+  /// Radius for strands whose file has none (or the scale of a file's relative
+  /// thickness); 0: the loader's default. Negative or not finite: Scene::load throws.
+  float radius = 0.0f;
   bool round_cones = false;   ///< strands as round cones (radius interpolated) instead of capsules
+  /// Receives one line for each repair or assumption the loader made (negative SWC radii
+  /// made positive, a default radius chosen, bytes after the data ignored). Empty: the
+  /// repairs are made all the same, silently.
+  std::function<void(const std::string&)> warn;
 };
 
 /// An in-memory scene. A value type: copies are deep, moves are cheap (a moved-from
@@ -55,7 +62,9 @@ class Scene {
 
   std::size_t geometry_count() const;
   std::size_t instance_count() const;
-  std::size_t primitive_count() const; ///< over geometries (not instances)
+  /// The primitives an Accel of this scene traces: each instance counts its geometry's
+  /// (a scene without instances: each geometry's once).
+  std::size_t primitive_count() const;
 
   /// Throws masq::Error naming the first bad element; see the class comment.
   void validate() const;

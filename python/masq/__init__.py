@@ -18,6 +18,7 @@ from ._masq import (  # noqa: F401
     BackendUnavailable,
     Context,
     Error,
+    LoadWarning,
     Scene,
     __version__,
     available_backends,

@@ -1,6 +1,7 @@
 // masq.Accel and masq.Context: builds and traces with the GIL released, rays in and hits
 // out as numpy arrays of the library's own layouts (bindings.h), options by the names of
 // the C++ option tables (masq/types.h), so a new table row is a new Python value too.
+#include <variant>
 #include "arrays.h"
 #include "bindings.h"
 #include "masq/context.h"
@@ -9,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <variant>
 
 namespace masq::py {
 
@@ -216,12 +218,16 @@ void bind_context(pyb::module_& m) {
       .def_property_readonly("options", &accel_options);
 
   pyb::class_<api::Context>(m, "Context", R"(One backend on one device. Use it from one thread at a time.)")
-      .def(pyb::init([](const std::string& backend, std::optional<std::string> device) {
+      .def(pyb::init([](const std::string& backend, std::optional<std::variant<long, std::string>> device) {
+             // An integer device is an index of `masq info`'s list, as the string "0" is.
+             std::optional<std::string> selector;
+             if (device) selector = std::holds_alternative<long>(*device) ? std::to_string(std::get<long>(*device))
+                                                                          : std::get<std::string>(*device);
              pyb::gil_scoped_release unlocked;
-             return device ? api::Context(backend, *device) : api::Context(backend);
+             return selector ? api::Context(backend, *selector) : api::Context(backend);
            }),
            pyb::arg("backend") = "best", pyb::arg("device") = pyb::none(),
-           "backend: a name of masq.backends() or 'best'; device: an index of `masq info`'s list or a device "
+           "backend: a name of masq.backends() or 'best'; device: an index (int or str) of `masq info`'s list or a device "
            "name substring (GPU backends). Raises masq.BackendUnavailable when it cannot run here.")
       .def_static("backends", &api::Context::backends, "Every backend compiled in.")
       .def_static("available_backends", &api::Context::available_backends, "The backends that open here.")

@@ -5,6 +5,8 @@
 #include "bindings.h"
 #include "masq/scene.h"
 #include <cmath>
+#include <filesystem>
+#include <pybind11/stl/filesystem.h>
 #include <cstring>
 
 namespace masq::py {
@@ -104,13 +106,25 @@ checked when added (arrays) and when an Accel is built (topology, degenerate tra
       .def(pyb::init<>())
       .def_static(
           "load",
-          [](const std::string& path, float radius, bool round_cones) {
-            pyb::gil_scoped_release unlocked;
-            return api::Scene::load(path, {radius, round_cones});
+          [](const std::filesystem::path& path, float radius, bool round_cones) {
+            // The loader's repairs (negative radii made positive, a default radius) reach
+            // Python as warnings.warn, raised once the GIL is held again.
+            std::vector<std::string> notes;
+            api::LoadOptions options{radius, round_cones, [&notes](const std::string& line) { notes.push_back(line); }};
+            api::Scene scene = [&] {
+              pyb::gil_scoped_release unlocked;
+              return api::Scene::load(path.string(), options);
+            }();
+            if (!notes.empty()) {
+              auto warn = pyb::module_::import("warnings").attr("warn");
+              for (const std::string& line : notes) warn(line, pyb::handle(load_warning()), 2);
+            }
+            return scene;
           },
           pyb::arg("path"), pyb::arg("radius") = 0.0f, pyb::arg("round_cones") = false,
-          "Reads a scene file chosen by its extension (Scene.file_extensions()). radius: for strands whose file "
-          "has none (0: the loader's default); round_cones: strands as round cones instead of capsules.")
+          "Reads a scene file (a str or os.PathLike) chosen by its extension (Scene.file_extensions()). radius: "
+          "for strands whose file has none (0: the loader's default; negative: an error); round_cones: strands as "
+          "round cones instead of capsules. Each repair the loader makes is a masq.LoadWarning.")
       .def_static("file_extensions", &api::Scene::file_extensions)
       .def("add_triangles", &add_triangles, pyb::arg("vertices"), pyb::arg("indices"),
            "vertices: (n, 3) floats; indices: (m, 3) integers. Returns the geometry id.")

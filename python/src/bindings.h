@@ -26,6 +26,9 @@ inline pyb::array record_array(const pyb::dtype& dtype, std::size_t n) {
 // An array of ray_dtype holding `rays` (one copy).
 pyb::array rays_to_numpy(const std::vector<api::Ray>& rays);
 
+// masq.LoadWarning, the category of the loaders' repairs (a UserWarning subclass).
+PyObject* load_warning();
+
 void bind_records(pyb::module_& m);  // the dtypes
 void bind_scene(pyb::module_& m);    // Scene
 void bind_context(pyb::module_& m);  // AccelStats, Accel, Context

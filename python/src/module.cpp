@@ -6,6 +6,12 @@
 
 namespace masq::py {
 
+PyObject* load_warning() {
+  static PyObject* type = PyErr_NewExceptionWithDoc(
+      "masq.LoadWarning", "A repair or assumption a scene file loader made (Scene.load).", PyExc_UserWarning, nullptr);
+  return type;
+}
+
 namespace {
 
 // {"method": {"ref": "what it does", ...}, ...}: every option table, for discovery.
@@ -38,6 +44,8 @@ PYBIND11_MODULE(_masq, m) {
       PyErr_SetString(error.ptr(), e.what());
     }
   });
+  // masq.LoadWarning (a UserWarning): a repair or assumption a file loader made.
+  m.attr("LoadWarning") = pyb::handle(py::load_warning());
   m.attr("__version__") = api::version();
   pyb::dict options;
   options["method"] = py::option_rows(api::method_table);

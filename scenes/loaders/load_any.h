@@ -10,4 +10,7 @@
 namespace masq {
 Scene load_scene_file(const std::string& path, const LoadOptions& opt = {});
 const std::vector<std::string>& scene_file_extensions(); // ".tfx", ".hair", ...
+// True for the formats whose files carry their own camera (.nff, .json); the others'
+// cameras frame what the file holds. Throws masq::Error for an unknown extension.
+bool scene_file_carries_view(const std::string& path);
 } // namespace masq

@@ -1,5 +1,6 @@
 #include "scenes/loaders/load_nff.h"
 #include "masq/error.h"
+#include "scenes/camera.h"
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -114,12 +115,14 @@ Scene load_nff(std::span<const std::byte> data, const std::string& name, const L
   };
 
   std::string_view kw;
+  bool viewed = false; // a "v" block's "from" seen: the file's own camera
   while (tk.next(kw)) {
     const std::size_t L = tk.line();
     if (kw[0] == '#') {
       tk.skip_line();
     } else if (kw == "v") {
     } else if (kw == "from") {
+      viewed = true;
       s.camera.eye = vec(L, "from");
     } else if (kw == "at") {
       s.camera.target = vec(L, "at");
@@ -172,6 +175,7 @@ Scene load_nff(std::span<const std::byte> data, const std::string& name, const L
     s.geometries.push_back(std::move(*g));
   }
   if (s.geometries.empty()) throw Error(name + ": no primitives (no s, c or p statements)");
+  if (!viewed) frame_scene(s); // SPD files have a view; one without gets a camera that frames it
   return s;
 }
 
