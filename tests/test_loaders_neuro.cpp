@@ -599,7 +599,12 @@ TEST(Tck, BadInputs) {
   expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nfile: . 60\n")), {"bad.tck", "END"});
   // Unsupported datatype, malformed header line, bad file key.
   expect_error(load(text("mrtrix tracks\ndatatype: Int16LE\nfile: . 60\nEND\n")), {"bad.tck:2:", "datatype"});
-  expect_error(load(text("mrtrix tracks\ndatatype Float32LE\nEND\n")), {"bad.tck:2:", "key: value"});
+  // A line without "key:" is skipped, as MRtrix does, so here the datatype is missing.
+  expect_error(load(text("mrtrix tracks\ndatatype Float32LE\nfile: . 60\nEND\n")), {"bad.tck", "offset 0", "no datatype"});
+  // The datatype that counts is the last; a bad one is named with its line.
+  expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\ndatatype: Int16LE\nfile: . 60\nEND\n")),
+               {"bad.tck:3:", "datatype 'Int16LE'"});
+  expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nfile: . 60\nfile: . x\nEND\n")), {"bad.tck:4:", "offset"});
   expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nfile: other.dat 0\nEND\n")), {"bad.tck:3:", "file: ."});
   expect_error(load(text("mrtrix tracks\ndatatype: Float32LE\nfile: . x\nEND\n")), {"bad.tck:3:", "offset"});
   expect_error(load(text("mrtrix tracks\nfile: . 40\nEND\n")), {"bad.tck", "datatype"});
@@ -620,6 +625,79 @@ TEST(Tck, BadInputs) {
     expect_error(load(b), {"bad.tck", ("offset " + std::to_string(data_off + 12)).c_str(), "not finite"});
   }
   expect_error([] { load_tck(std::string("/nonexistent/x.tck")); }, {"/nonexistent/x.tck", "cannot open"});
+}
+
+// A header using what MRtrix's reader allows (docs "Tracks file format", File::KeyValue::
+// Reader, Tractography::__ReaderBase__::open): comment lines and trailing comments,
+// whitespace around keys and values, lines without a key (skipped, with a warning),
+// repeated keys (datatype and file: the last counts; others are joined, so ignored
+// here), keys and datatype names in any case, DOS line ends, "END" followed by a comment.
+// "@" stands for the data offset, 512.
+std::vector<std::byte> tck_with_header(const std::string& lines, const std::vector<std::vector<glm::vec3>>& tracks,
+                                       bool dos = false) {
+  std::vector<std::byte> b = write_tck(tracks, "Float32LE", true, 512);
+  std::string h = "mrtrix tracks\n" + lines;
+  for (std::size_t at; (at = h.find('@')) != std::string::npos;) h.replace(at, 1, "512");
+  if (dos)
+    for (std::size_t at = 0; (at = h.find('\n', at)) != std::string::npos; at += 2) h.replace(at, 1, "\r\n");
+  EXPECT_LE(h.size(), 512u);
+  std::fill(b.begin(), b.begin() + 512, std::byte{0});
+  std::memcpy(b.data(), h.data(), h.size());
+  return b;
+}
+
+TEST(Tck, HeaderAsMrtrixReadsIt) {
+  const std::string lines =
+      "# a comment line\n"                              // 2
+      "   timestamp:   1.0   # a comment after a value\n" // 3
+      "command_history: tckgen in.mif out.tck\n"          // 4
+      "command_history: tckedit out.tck final.tck\n"      // 5: repeated, joined by MRtrix
+      "this line has no colon\n"                          // 6: skipped
+      ": a value without a key\n"                         // 7: skipped
+      "DataType: Int16LE\n"                               // 8: overridden by line 9
+      "datatype:   float32le\n"                           // 9
+      "count: 4\n"                                        // 10
+      "file: . 40\n"                                      // 11: overridden by line 12
+      "  FILE : . @   # the data\n"                       // 12
+      "END   # the header ends here\n";                   // 13
+  for (bool dos : {false, true}) {
+    WarnLog log;
+    Scene s = load_tck(tck_with_header(lines, kTracks, dos), "h.tck", log.opts(PrimType::Capsule, 1.0f));
+    const std::vector<glm::vec3> p = segment_points(s.geometries[0]);
+    ASSERT_EQ(p.size(), 2u * 6u) << (dos ? "CRLF" : "LF");
+    EXPECT_EQ(p[0], kTracks[0][0]);
+    EXPECT_EQ(p.back(), kTracks[3][2]);
+    ASSERT_EQ(log.lines.size(), 4u);
+    EXPECT_NE(log.lines[0].find("h.tck:6:"), std::string::npos) << log.lines[0];
+    EXPECT_NE(log.lines[0].find("ignored"), std::string::npos) << log.lines[0];
+    EXPECT_NE(log.lines[1].find("h.tck:7:"), std::string::npos) << log.lines[1];
+    EXPECT_NE(log.lines[2].find("h.tck:9:"), std::string::npos) << log.lines[2];
+    EXPECT_NE(log.lines[2].find("earlier on line 8"), std::string::npos) << log.lines[2];
+    EXPECT_NE(log.lines[3].find("h.tck:12:"), std::string::npos) << log.lines[3];
+    EXPECT_NE(log.lines[3].find("earlier on line 11"), std::string::npos) << log.lines[3];
+  }
+  // The same key repeated with the same value: nothing to say.
+  {
+    WarnLog log;
+    load_tck(tck_with_header("datatype: Float32LE\ndatatype: Float32LE\nfile: . @\nEND\n", kTracks), "same.tck",
+             log.opts(PrimType::Capsule, 1.0f));
+    EXPECT_TRUE(log.lines.empty()) << (log.lines.empty() ? "" : log.lines[0]);
+  }
+  // A repeated count is, as MRtrix joins it, no single number: not checked, said once;
+  // so is a count that is not a number. A count that disagrees with the data is said.
+  for (const char* count_lines : {"count: 4\ncount: 4\n", "count: many\n", "count: 3\n", "Count: 3\n"}) {
+    WarnLog log;
+    load_tck(tck_with_header(std::string("datatype: Float32LE\n") + count_lines + "file: . @\nEND\n", kTracks),
+             "c.tck", log.opts(PrimType::Capsule, 1.0f));
+    const std::string which = count_lines;
+    if (which == "Count: 3\n") { // keys other than datatype and file are case-sensitive in MRtrix
+      EXPECT_TRUE(log.lines.empty()) << (log.lines.empty() ? "" : log.lines[0]);
+      continue;
+    }
+    ASSERT_EQ(log.lines.size(), 1u) << which;
+    const char* expect = which == "count: 4\ncount: 4\n" ? "c.tck:4: 'count' given again (first on line 3)" : which == "count: many\n" ? "not a number" : "header count 3";
+    EXPECT_NE(log.lines[0].find(expect), std::string::npos) << log.lines[0];
+  }
 }
 
 // A .trk written from world points the way TrackVis files store them (voxmm =

@@ -368,9 +368,127 @@ namespace {
 enum class TckType { F32LE, F32BE, F64LE, F64BE };
 
 std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; };
+  while (!s.empty() && space(s.front())) s.remove_prefix(1);
+  while (!s.empty() && space(s.back())) s.remove_suffix(1);
   return s;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
+  return true;
+}
+
+[[noreturn]] void fail_tck_line(const std::string& name, std::size_t line, const std::string& what) {
+  throw Error(name + ":" + std::to_string(line) + ": " + what);
+}
+
+// One "key: value" entry of the header and the line it is on (0: absent).
+struct TckEntry {
+  std::string_view value;
+  std::size_t line = 0;
+};
+
+// The entries this loader uses, gathered the way MRtrix reads a tracks header
+// (File::KeyValue::Reader, Tractography::__ReaderBase__::open): text from the first '#'
+// on a line is a comment; whitespace around keys and values is dropped; "END" ends the
+// header; a line without ':' or with an empty key is skipped (MRtrix logs it and reads
+// on, it continues nothing). The keys datatype and file are matched without case and
+// the last of each counts (MRtrix assigns them); any other key repeated has its values
+// joined with newlines, so a repeated "count" is no longer one number.
+struct TckHeader {
+  std::size_t end = 0; // offset just past the END line
+  TckEntry datatype, file;
+  std::vector<TckEntry> counts;
+};
+
+TckHeader read_tck_header(std::string_view text, const ByteReader& r, const std::string& name, const LoadOptions& opt) {
+  TckHeader h;
+  std::size_t pos = 0, line_no = 0;
+  bool ended = false;
+  auto keep_last = [&](TckEntry& slot, std::string_view key, std::string_view value) {
+    if (slot.line != 0 && slot.value != value && opt.warn)
+      opt.warn(name + ":" + std::to_string(line_no) + ": '" + std::string(key) + "' given again (earlier on line " +
+               std::to_string(slot.line) + "); the last one counts, as in MRtrix");
+    slot = TckEntry{value, line_no};
+  };
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view raw = text.substr(pos, end - pos);
+    pos = std::min(end + 1, text.size());
+    ++line_no;
+    if (line_no == 1) {
+      if (trim(raw) != "mrtrix tracks") r.fail(0, "not an MRtrix .tck file (first line is not \"mrtrix tracks\")");
+      continue;
+    }
+    std::string_view line = trim(raw.substr(0, raw.find('#')));
+    if (line == "END") {
+      ended = true;
+      break;
+    }
+    if (line.empty()) continue;
+    const std::size_t colon = line.find(':');
+    const std::string_view key = colon == std::string_view::npos ? std::string_view{} : trim(line.substr(0, colon));
+    if (key.empty()) {
+      if (opt.warn)
+        opt.warn(name + ":" + std::to_string(line_no) + ": header line without 'key: value' ignored (as MRtrix does)");
+      continue;
+    }
+    const std::string_view value = trim(line.substr(colon + 1));
+    if (iequals(key, "datatype")) keep_last(h.datatype, key, value);
+    else if (iequals(key, "file")) keep_last(h.file, key, value);
+    else if (key == "count") h.counts.push_back(TckEntry{value, line_no});
+  }
+  if (!ended) r.fail(text.size(), "header has no END line (truncated?)");
+  h.end = pos;
+  return h;
+}
+
+TckType parse_tck_datatype(const TckEntry& e, const std::string& name) {
+  // MRtrix reads datatype names without regard to case.
+  const std::pair<const char*, TckType> types[] = {
+      {"Float32LE", TckType::F32LE}, {"Float32BE", TckType::F32BE}, {"Float64LE", TckType::F64LE}, {"Float64BE", TckType::F64BE}};
+  for (const auto& [spelling, type] : types)
+    if (iequals(e.value, spelling)) return type;
+  fail_tck_line(name, e.line, "unsupported datatype '" + std::string(e.value) + "' (Float32LE/BE, Float64LE/BE)");
+}
+
+std::size_t parse_tck_data_offset(const TckEntry& e, const std::string& name) {
+  const std::string_view v = e.value;
+  if (v.size() < 2 || v[0] != '.' || (v[1] != ' ' && v[1] != '\t'))
+    fail_tck_line(name, e.line, "only 'file: . <offset>' (data in the same file) is supported");
+  const std::string_view num = trim(v.substr(1));
+  unsigned long long o = 0;
+  auto [p, ec] = std::from_chars(num.data(), num.data() + num.size(), o);
+  if (ec != std::errc() || p != num.data() + num.size())
+    fail_tck_line(name, e.line, "bad data offset '" + std::string(num) + "'");
+  return static_cast<std::size_t>(o);
+}
+
+// The header's streamline count, where it is one number; only used to warn when the
+// data disagree, so an unusable count is reported and skipped rather than fatal.
+std::optional<unsigned long long> tck_count(const TckHeader& h, const std::string& name, const LoadOptions& opt) {
+  if (h.counts.empty()) return std::nullopt;
+  const TckEntry& e = h.counts.back();
+  if (h.counts.size() > 1) {
+    if (opt.warn)
+      opt.warn(name + ":" + std::to_string(e.line) + ": 'count' given again (first on line " +
+               std::to_string(h.counts.front().line) +
+               "); MRtrix joins repeated values, which leaves no single count, so it is not checked");
+    return std::nullopt;
+  }
+  unsigned long long c = 0;
+  auto [p, ec] = std::from_chars(e.value.data(), e.value.data() + e.value.size(), c);
+  if (ec != std::errc() || p != e.value.data() + e.value.size()) {
+    if (opt.warn)
+      opt.warn(name + ":" + std::to_string(e.line) + ": count '" + std::string(e.value) +
+               "' is not a number; not checked");
+    return std::nullopt;
+  }
+  return c;
 }
 
 double decode(const std::byte* p, TckType t) {
@@ -400,58 +518,13 @@ Scene load_tck(const std::string& path, const LoadOptions& opt) {
 Scene load_tck(std::span<const std::byte> data, const std::string& name, const LoadOptions& opt) {
   ByteReader r(data, name);
   std::string_view text(reinterpret_cast<const char*>(data.data()), data.size());
-  auto fail_line = [&](std::size_t line, const std::string& what) -> void {
-    throw Error(name + ":" + std::to_string(line) + ": " + what);
-  };
-  std::size_t pos = 0, line_no = 0;
-  bool ended = false, have_type = false, have_file = false;
-  TckType type = TckType::F32LE;
-  std::size_t data_offset = 0;
-  long long count = -1;
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = trim(text.substr(pos, end - pos));
-    pos = end + 1;
-    ++line_no;
-    if (line_no == 1) {
-      if (line != "mrtrix tracks") r.fail(0, "not an MRtrix .tck file (first line is not \"mrtrix tracks\")");
-      continue;
-    }
-    if (line == "END") {
-      ended = true;
-      break;
-    }
-    if (line.empty()) continue;
-    std::size_t colon = line.find(':');
-    if (colon == std::string_view::npos) fail_line(line_no, "header line without 'key: value'");
-    std::string_view key = trim(line.substr(0, colon)), value = trim(line.substr(colon + 1));
-    if (key == "datatype") {
-      if (value == "Float32LE") type = TckType::F32LE;
-      else if (value == "Float32BE") type = TckType::F32BE;
-      else if (value == "Float64LE") type = TckType::F64LE;
-      else if (value == "Float64BE") type = TckType::F64BE;
-      else fail_line(line_no, "unsupported datatype '" + std::string(value) + "' (Float32LE/BE, Float64LE/BE)");
-      have_type = true;
-    } else if (key == "file") {
-      if (value.size() < 2 || value[0] != '.' || (value[1] != ' ' && value[1] != '\t'))
-        fail_line(line_no, "only 'file: . <offset>' (data in the same file) is supported");
-      std::string_view num = trim(value.substr(1));
-      unsigned long long o = 0;
-      auto [p, ec] = std::from_chars(num.data(), num.data() + num.size(), o);
-      if (ec != std::errc() || p != num.data() + num.size()) fail_line(line_no, "bad data offset '" + std::string(num) + "'");
-      data_offset = static_cast<std::size_t>(o);
-      have_file = true;
-    } else if (key == "count") {
-      long long c = 0;
-      auto [p, ec] = std::from_chars(value.data(), value.data() + value.size(), c);
-      if (ec == std::errc() && p == value.data() + value.size()) count = c;
-    }
-  }
-  if (!ended) r.fail(text.size(), "header has no END line (truncated?)");
-  if (!have_type) r.fail(0, "header has no datatype");
-  if (!have_file) r.fail(0, "header has no 'file: . <offset>'");
-  if (data_offset < pos) r.fail(pos, "data offset " + std::to_string(data_offset) + " lies inside the header");
+  const TckHeader h = read_tck_header(text, r, name, opt);
+  if (h.datatype.line == 0) r.fail(0, "header has no datatype");
+  const TckType type = parse_tck_datatype(h.datatype, name);
+  if (h.file.line == 0) r.fail(0, "header has no 'file: . <offset>'");
+  const std::size_t data_offset = parse_tck_data_offset(h.file, name);
+  const std::optional<unsigned long long> count = tck_count(h, name, opt);
+  if (data_offset < h.end) r.fail(h.end, "data offset " + std::to_string(data_offset) + " lies inside the header");
   if (data_offset > r.size())
     r.fail(data_offset, "data offset " + std::to_string(data_offset) + " is beyond the end of the file (" +
                             std::to_string(r.size()) + " bytes)");
@@ -487,8 +560,8 @@ Scene load_tck(std::span<const std::byte> data, const std::string& name, const L
   if (in_track > 0) ++tracks; // last streamline without its NaN separator
   if (!terminated && opt.warn)
     opt.warn(name + ": offset " + std::to_string(off) + ": the data end without the Inf terminator (truncated?)");
-  if (count >= 0 && static_cast<unsigned long long>(count) != tracks && opt.warn)
-    opt.warn(name + ": header count " + std::to_string(count) + " but the data hold " + std::to_string(tracks) +
+  if (count && *count != tracks && opt.warn)
+    opt.warn(name + ": header count " + std::to_string(*count) + " but the data hold " + std::to_string(tracks) +
              " streamlines");
   return scene_of(sb.take(), name);
 }

@@ -9,7 +9,7 @@
 // n_properties @238, vox_to_ras @440 (version 2), voxel_order @948, n_count @988,
 // version @992 (1..3 accepted), hdr_size @996 == 1000), then per streamline i32 m,
 // m*(3+n_scalars) f32, n_properties f32. Either byte order: a file whose hdr_size reads
-// 1000 only byte-swapped is read big-endian throughout (header, counts, coordinates).
+// 1000 only byte-swapped is read swapped throughout (header, counts, coordinates).
 // Stored points are in "voxmm" (voxel index * voxel_size, origin at the corner of voxel
 // 0). Where the header has a vox_to_ras ([3][3] nonzero; version 1 has none) they are
 // returned in RAS+ world mm as nibabel.streamlines / dipy compute it:
@@ -20,10 +20,15 @@
 // one warning. n_count 0 means "unknown": streamlines are read to the end of the file.
 // Bytes after n_count streamlines are ignored with a warning.
 //
-// .tck: text header "mrtrix tracks", "key: value" lines, "END"; "datatype:" Float32LE,
-// Float32BE, Float64LE or Float64BE; "file: . <offset>" (data in the same file). Data are
-// xyz triplets; a NaN triplet ends a streamline, an Inf triplet ends the data. Points are
-// in scanner space (mm), returned as stored. A missing Inf terminator is accepted with a
+// .tck (MRtrix): text header "mrtrix tracks", "key: value" lines, "END", read as MRtrix
+// reads it: text from a '#' on is a comment, whitespace around keys and values is
+// dropped, a line without "key:" is skipped (with a warning; MRtrix has no continuation
+// lines), the keys datatype and file match in any case and the last of each counts
+// (a changed value gets a warning), other repeated keys are joined by MRtrix, so a
+// repeated "count" is not checked (warning). "datatype:" Float32LE, Float32BE, Float64LE
+// or Float64BE (any case); "file: . <offset>" (data in the same file). Data are xyz
+// triplets; a NaN triplet ends a streamline, an Inf triplet ends the data. Points are in
+// scanner (RAS+) mm, returned as stored. A missing Inf terminator is accepted with a
 // warning; a "count:" that disagrees with the data gets a warning.
 //
 // Errors (masq::Error "<file>: offset <o>: ..." or "<file>:<line>: ..." in the .tck
@@ -33,7 +38,7 @@
 // a vox_to_ras that is singular or not finite, a voxel_size that is not positive or a
 // voxel_order that is not three of L/R, P/A, I/S when a vox_to_ras is applied (and a
 // dim that is not positive on an axis it reverses), unsupported datatype, missing
-// END/file keys.
+// END/datatype/file keys.
 #pragma once
 #include "scenes/loaders/loader.h"
 #include <span>
