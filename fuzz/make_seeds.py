@@ -30,27 +30,34 @@ def hair():
     b += b''.join(struct.pack('<f', 0.01 * (i + 1)) for i in range(pts))
     return b
 
-def trk():
+def trk(order='<', vox_to_ras=False):
     h = bytearray(1000)
     h[0:6] = b'TRACK\0'
-    struct.pack_into('<h', h, 36, 1)     # n_scalars
-    struct.pack_into('<h', h, 238, 1)    # n_properties
-    struct.pack_into('<iii', h, 988, 2, 2, 1000)
+    struct.pack_into(order + 'h', h, 36, 1)     # n_scalars
+    struct.pack_into(order + 'h', h, 238, 1)    # n_properties
+    if vox_to_ras:  # version 2 space: dim, voxel_size, vox_to_ras (a turn and a shift), voxel_order
+        struct.pack_into(order + '3h', h, 6, 4, 5, 6)
+        struct.pack_into(order + '3f', h, 12, 2, 4, 0.5)
+        struct.pack_into(order + '16f', h, 440, 0, -4, 0, 10, 2, 0, 0, -20, 0, 0, 0.5, 5, 0, 0, 0, 1)
+        h[948:952] = b'LPS\0'  # disagrees with vox_to_ras ("ALS"): reoriented
+    struct.pack_into(order + 'iii', h, 988, 2, 2, 1000)
     body = b''
     for m in (3, 2):
-        body += struct.pack('<i', m)
-        for p in range(m): body += struct.pack('<4f', p, p * 2, 1, 0.5)
-        body += struct.pack('<f', 7)
+        body += struct.pack(order + 'i', m)
+        for p in range(m): body += struct.pack(order + '4f', p, p * 2, 1, 0.5)
+        body += struct.pack(order + 'f', 7)
     return bytes(h) + body
 
-def tck():
-    head = 'mrtrix tracks\ndatatype: Float32LE\ncount: 2\nfile: . {}\nEND\n'
-    off = 64
+def tck(head='mrtrix tracks\ndatatype: Float32LE\ncount: 2\nfile: . {}\nEND\n', off=64):
     text = head.format(off).encode()
     text += b'\0' * (off - len(text))
     nan, inf = float('nan'), float('inf')
     data = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (nan, nan, nan), (0, 0, 1), (0, 1, 1), (nan, nan, nan), (inf, inf, inf)]
     return text + b''.join(struct.pack('<3f', *p) for p in data)
+
+# A header as MRtrix reads it: comments, a line without a key, repeated keys, any case.
+TCK_HEAD = ('mrtrix tracks\n# comment\ncommand_history: a\ncommand_history: b\nno colon here\n'
+            'DataType: Int16LE\ndatatype: float32le # last wins\ncount: 2\nFILE : . {}\nEND\n')
 
 SWC = b"""# tiny neuron
 1 1 0 0 0 2.0 -1
@@ -127,8 +134,9 @@ JSON = b"""{"name": "seed", "camera": {"eye": [0, 0, -5], "target": [0, 0, 0], "
 SEEDS = {
     'tfx': {'v3.tfx': tfx(3), 'v4.tfx': tfx(4, thickness=False)},
     'hair': {'tiny.hair': hair()},
-    'trk': {'tiny.trk': trk()},
-    'tck': {'tiny.tck': tck()},
+    'trk': {'tiny.trk': trk(), 'big.trk': trk('>'), 'space.trk': trk(vox_to_ras=True),
+            'space_big.trk': trk('>', vox_to_ras=True)},
+    'tck': {'tiny.tck': tck(), 'header.tck': tck(TCK_HEAD, 192)},
     'swc': {'tiny.swc': SWC},
     'ply': {'ascii.ply': PLY, 'binary.ply': PLYBIN},
     'obj': {'tiny.obj': OBJ},
