@@ -217,6 +217,30 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) 
   return t;
 }
 
+Table bench_headline(const std::vector<BenchRow>& rows) {
+  Table t;
+  t.header = {"backend", "rays", "ref Mrays/s", "masq vs ref", "isect calls ref/masq", "fastest", "vs ref"};
+  t.left_columns = 2;
+  for (const BenchRow& r : rows) {
+    if (r.method != Method::Ref || !r.unavailable.empty() || !(r.mrays_per_s() > 0)) continue;
+    const BenchRow* m = find_row(rows, r.backend, Method::Masq, r.ray_set, r.builder, r.nodes, r.curve_isect);
+    if (m && (!m->unavailable.empty() || !(m->mrays_per_s() > 0))) m = nullptr;
+    const BenchRow* best = &r;
+    for (const BenchRow& o : rows)
+      if (o.backend == r.backend && o.ray_set == r.ray_set && o.builder == r.builder && o.nodes == r.nodes &&
+          o.curve_isect == r.curve_isect && o.unavailable.empty() && o.mrays_per_s() > best->mrays_per_s())
+        best = &o;
+    std::string label = r.backend;
+    if (r.builder != Builder::Sah) label += std::string(" ") + builder_name(r.builder);
+    if (r.nodes != NodeFormat::W4) label += std::string(" ") + node_format_name(r.nodes);
+    t.add({label, rays_label(r), fmt::format("{:.3f}", r.mrays_per_s()),
+           m ? fmt::format("{:.2f}x", m->mrays_per_s() / r.mrays_per_s()) : "-",
+           m && m->isect_calls > 0 ? fmt::format("{:.1f}x", r.isect_calls / m->isect_calls) : "-",
+           method_label(*best), fmt::format("{:.2f}x", best->mrays_per_s() / r.mrays_per_s())});
+  }
+  return t;
+}
+
 nlohmann::json bench_row_json(const BenchRow& r) {
   nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"builder", builder_name(r.builder)},
                       {"nodes", node_format_name(r.nodes)}, {"curve_isect", curve_isect_name(r.curve_isect)}, {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},

@@ -11,6 +11,10 @@ Table bench_table(const std::vector<BenchRow>& rows);
 // Per backend and ray set: masq vs ref (speedup, intersector calls, memory, OBB/AABB
 // area, and the RT cost model's predicted speedup).
 Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model = {});
+// The headline (within 100 columns): per backend and ray set, ref's rate, masq against
+// ref with the intersector calls it saves, and the fastest method against ref. Rows of
+// several builders, node formats or curve intersectors: one line each (they are in the label).
+Table bench_headline(const std::vector<BenchRow>& rows);
 // Per backend, method and ray set with more than one builder: each builder's SAH
 // costs, references per primitive, build time, intersector calls and rays/s, and its
 // ratios to the first builder of the run (empty when only one builder ran).

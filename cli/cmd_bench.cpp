@@ -13,6 +13,8 @@
 #include <fmt/ranges.h>
 #include <algorithm>
 #include <chrono>
+#include <ctime>
+#include <filesystem>
 #include <functional>
 #include <cstdlib>
 #include <fstream>
@@ -38,7 +40,8 @@ struct BenchCli {
   bool error_mode = false;
   std::vector<std::string> suites;
   bool quick = false;
-  std::string out_dir; // "" : bench/results, or bench/results-quick with --quick
+  std::string out_dir; // "": a new folder of this run's own (new_suite_folder)
+  bool wide = false;   // the full tables after the headline
   std::string data_dir;
   std::string command_line;
   CLI::Option* count_opt = nullptr;
@@ -130,13 +133,32 @@ void print_auto_choices(const std::vector<BenchRow>& rows, AutoBy by) {
   }
 }
 
+// The default output folder of a suite run: a new one in the working directory, named by
+// the run's start (masq-suites-YYYYmmdd-HHMMSS[-quick], then -2, -3 if taken), so a run
+// never writes over another's, nor over the repository's reference results
+// (bench/results*, which scripts/results.sh writes with --out on purpose).
+std::string new_suite_folder(bool quick) {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &utc);
+  const std::string base = std::string("masq-suites-") + stamp + (quick ? "-quick" : "");
+  std::string name = base;
+  for (int k = 2; std::filesystem::exists(name); ++k) name = base + "-" + std::to_string(k);
+  return name;
+}
+
 // --suite: the papers' tables and figures, the results document and its raw figures.
 int bench_suites(BenchCli& c) {
   std::vector<std::string> names = c.suites;
   if (std::find(names.begin(), names.end(), "all") != names.end()) names = suite_names();
   SuiteContext ctx;
   ctx.config.quick = c.quick;
-  if (c.out_dir.empty()) c.out_dir = c.quick ? "bench/results-quick" : "bench/results";
+  if (c.out_dir.empty()) {
+    c.out_dir = new_suite_folder(c.quick);
+    fmt::print(stderr, "masq bench: writing the suites' results to {}/ (--out chooses the folder)\n", c.out_dir);
+  }
   ctx.config.out_dir = c.out_dir;
   ctx.config.mode = parse_mode(c.scene.mode);
   ctx.config.auto_by = parse_auto_by(c.auto_by);
@@ -190,15 +212,25 @@ int bench(BenchCli& c) {
              fmt::join(c.scene.builders, ", "), auto_by_name(c.bench.auto_by));
   std::vector<BenchRow> rows = run_bench(scene, c.bench);
   clear_progress(c.quiet);
-  Table ratios = bench_ratios(rows);
-  Table builders = bench_builders(rows);
-  fmt::print("{}\n{}", bench_table(rows).text(),
-             ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n") : ratios.text());
-  if (c.bench.node_formats.size() > 1) fmt::print("\nnode formats side by side:\n{}", bench_node_ratios(rows).text());
-  if (c.bench.curve_isects.size() > 1)
-    fmt::print("\ncurve intersectors side by side:\n{}", bench_curve_isect_ratios(rows).text());
-  print_auto_choices(rows, c.bench.auto_by);
-  if (!builders.rows.empty()) fmt::print("\nbuilders side by side:\n{}", builders.text());
+  const Table headline = bench_headline(rows);
+  if (!headline.rows.empty()) fmt::print("{}", headline.text());
+  if (c.wide) {
+    Table ratios = bench_ratios(rows);
+    Table builders = bench_builders(rows);
+    fmt::print("\n{}\n{}", bench_table(rows).text(),
+               ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n")
+                                   : ratios.text());
+    if (c.bench.node_formats.size() > 1) fmt::print("\nnode formats side by side:\n{}", bench_node_ratios(rows).text());
+    if (c.bench.curve_isects.size() > 1)
+      fmt::print("\ncurve intersectors side by side:\n{}", bench_curve_isect_ratios(rows).text());
+    print_auto_choices(rows, c.bench.auto_by);
+    if (!builders.rows.empty()) fmt::print("\nbuilders side by side:\n{}", builders.text());
+  } else {
+    // Methods without ref (the headline's baseline) still get their own lines.
+    if (headline.rows.empty()) fmt::print("{}", bench_table(rows).text());
+    fmt::print("every figure per backend x method x ray set (rates, counters, memory, build and compile times, "
+               "auto's choices): --wide; all of them as JSON: --json FILE\n");
+  }
   if (c.fit_prices) {
     // The auto method's cost-model prices for each backend, fitted to these rows.
     for (const std::string& b : c.bench.backends) {
@@ -256,6 +288,9 @@ Action add_bench(CLI::App& app) {
   cmd->add_flag("--fit-prices", c->fit_prices,
                 "Fit the auto method's cost-model prices per backend to the measured rows (docs/methods.md)");
   cmd->add_option("--json", c->json_path, "Also write every raw figure as JSON");
+  cmd->add_flag("--wide", c->wide,
+                "Print every figure per row (rates, counters, memory, build and compile times, the method ratios and "
+                "auto's choices; about 200 columns) after the headline");
   std::vector<std::string> suites = suite_names();
   suites.push_back("all");
   cmd->add_option("--suite", c->suites,
@@ -264,7 +299,7 @@ Action add_bench(CLI::App& app) {
       ->check(CLI::IsMember(suites));
   cmd->add_flag("--quick", c->quick, "Suites: the small variant (fewer cases, fewer rays; docs/results.md gives its run time)");
   cmd->add_option("--out", c->out_dir, "Suites: output directory of RESULTS.md, results.json and images (default: "
-                                        "bench/results, with --quick bench/results-quick)");
+                                        "a new folder masq-suites-<UTC date-time>[-quick] in the working directory)");
   cmd->add_option("--data", c->data_dir, "Suites: directory of the shared scenes (default: $MASQ_DATA or " MASQ_DATA_DIR ")");
   cmd->add_flag("-q,--quiet", c->quiet, "No progress display");
   cmd->footer("Examples:\n"
@@ -274,7 +309,7 @@ Action add_bench(CLI::App& app) {
               "  masq bench --error --json error.json         run time against error of the curve variants\n"
               "  masq bench --builder sah,sbvh,sah+reinsert,sbvh+reinsert --method ref,masq --backend cpu,opencl\n"
               "                                               the BVH builders side by side (SAH cost, refs/prim, speed)\n"
-              "  masq bench --suite all --quick               the papers' tables, small variant -> bench/results-quick/\n"
+              "  masq bench --suite all --quick               the papers' tables, small variant -> masq-suites-<date>-quick/\n"
               "  masq bench --device vulkan=1,opencl=nvidia   choose the devices (indices and names: masq info)\n"
               "  bash scripts/results.sh                      the full results document with plots");
   return [c] {

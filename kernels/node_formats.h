@@ -253,8 +253,10 @@ FN WideHits node_hits(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded,
   return hits_w4(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
 }
 
+// Nested choices rather than '||': PoCL's clang warns of '||' between constant operands
+// ("use of logical '||' with constant operand"), once per kernel build, on stderr.
 FN int node_width() {
-  return (MASQ_NODE_FORMAT == MASQ_NODES_W4 || MASQ_NODE_FORMAT == MASQ_NODES_O4) ? MASQ_WIDTH : MASQ_WIDTH8;
+  return MASQ_NODE_FORMAT == MASQ_NODES_W8 ? MASQ_WIDTH8 : (MASQ_NODE_FORMAT == MASQ_NODES_Q8 ? MASQ_WIDTH8 : MASQ_WIDTH);
 }
 
 KERNEL_NS_END

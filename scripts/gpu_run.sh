@@ -254,7 +254,7 @@ bench() { # NAME SECONDS SIZE REPS BACKENDS ARGS...
   b_name=$1 b_limit=$2 b_size=$3 b_reps=$4 b_backends=$5
   shift 5
   # shellcheck disable=SC2086 # the backends are separate arguments
-  if step "bench $b_name" "$b_limit" "$bin/masq" bench -q --backend $b_backends --rays primary --width "$b_size" \
+  if step "bench $b_name" "$b_limit" "$bin/masq" bench -q --wide --backend $b_backends --rays primary --width "$b_size" \
       --height "$b_size" --warmup 1 --reps "$b_reps" --json "$scratch/speed_$b_name.json" "$@"; then
     note '```'
     # The tables bench printed: the log's lines between this step's header and its verdict.

@@ -44,6 +44,7 @@ packages=(
   libglm-dev libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev libembree-dev libtbb-dev
   python3-matplotlib python3-numpy python3-dev pybind11-dev python3-pytest
+  python3-venv python3-pip # pip install . into a virtual environment (tests/python_pip_install.sh)
   clang libclang-rt-dev doxygen
   patchelf busybox-static # the GPU bundle's $ORIGIN paths and its sealed test's shell (scripts/gpu_bundle.sh)
   libglvnd0 libglx0 libegl1 libgl1 libopengl0 libgles2 libdrm2 libx11-6 libxext6 # the bundle carries them for NVIDIA's Vulkan ICD
@@ -63,8 +64,10 @@ mesa_ok() {
   [ -n "$v" ] && dpkg --compare-versions "$v" ge 24.1
 }
 
+skbuild_ok() { dpkg-query -W -f='${Status}' python3-scikit-build-core 2>/dev/null | grep -q 'install ok installed'; }
+
 add_backports_source
-if [ ${#need_install[@]} -gt 0 ] || ! mesa_ok; then
+if [ ${#need_install[@]} -gt 0 ] || ! mesa_ok || ! skbuild_ok; then
   $SUDO apt-get update -q
 fi
 if [ ${#need_install[@]} -gt 0 ]; then
@@ -74,4 +77,9 @@ if ! mesa_ok; then
   $SUDO apt-get install -y -q --no-install-recommends -t bookworm-backports mesa-vulkan-drivers
 fi
 mesa_ok || { echo "setup: mesa-vulkan-drivers >= 24.1 could not be installed" >&2; exit 1; }
+# pyproject.toml's build backend: bookworm has no scikit-build-core, bookworm-backports
+# has it (with the newer python3-packaging it needs, hence -t).
+if ! skbuild_ok; then
+  $SUDO apt-get install -y -q --no-install-recommends -t bookworm-backports python3-scikit-build-core
+fi
 echo "setup: all packages present (mesa-vulkan-drivers $(dpkg-query -W -f='${Version}' mesa-vulkan-drivers))"
