@@ -201,19 +201,21 @@ int bench(BenchCli& c) {
   c.bench.curve_isects = curve_isects(c.scene);
   c.bench.progress = progress_line(c.quiet);
   const bool bundle = c.scene.file.empty() && embedded_scene_table.parse(c.scene.scene) == EmbeddedScene::Bundle;
-  fmt::print("scene '{}': {} primitives{}, {} mode, nodes {}, {} masquerade entries, {}x{} camera rays; ray sets: {}; "
-             "{} warm-up + {} timed traces, median (min-max) of device time; builders: {}; auto by {}\n",
-             scene.name, scene.primitive_count(),
+  // Short lines (the headline is read in 100 columns): the scene, the structure, the rays, the timing.
+  fmt::print("scene '{}': {} primitives{}\n", scene.name, scene.primitive_count(),
              bundle ? fmt::format(" ({} {} strands r={} tilt {} deg + ground plane)", c.scene.bundle.count, c.scene.prim,
                                   c.scene.bundle.radius, c.scene.bundle.tilt_deg)
-                    : std::string(),
-             c.scene.mode, fmt::join(c.scene.nodes, ","), c.scene.masq_instance, c.bench.width, c.bench.height,
-             ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit), c.bench.warmup, c.bench.repetitions,
-             fmt::join(c.scene.builders, ", "), auto_by_name(c.bench.auto_by));
+                    : std::string());
+  fmt::print("  {} mode, nodes {}, {} masquerade entries, builders {}, auto by {}\n", c.scene.mode,
+             fmt::join(c.scene.nodes, ","), c.scene.masq_instance, fmt::join(c.scene.builders, ", "),
+             auto_by_name(c.bench.auto_by));
+  fmt::print("  {}x{} camera rays; ray sets: {}\n", c.bench.width, c.bench.height,
+             ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit));
+  fmt::print("  {} warm-up + {} timed traces each, median of device time\n", c.bench.warmup, c.bench.repetitions);
   std::vector<BenchRow> rows = run_bench(scene, c.bench);
   clear_progress(c.quiet);
   const Table headline = bench_headline(rows);
-  if (!headline.rows.empty()) fmt::print("{}", headline.text());
+  if (!headline.rows.empty()) fmt::print("\n{}", headline.text());
   if (c.wide) {
     Table ratios = bench_ratios(rows);
     Table builders = bench_builders(rows);
@@ -228,8 +230,8 @@ int bench(BenchCli& c) {
   } else {
     // Methods without ref (the headline's baseline) still get their own lines.
     if (headline.rows.empty()) fmt::print("{}", bench_table(rows).text());
-    fmt::print("every figure per backend x method x ray set (rates, counters, memory, build and compile times, "
-               "auto's choices): --wide; all of them as JSON: --json FILE\n");
+    fmt::print("every figure per row (counters, memory, build and compile times, auto's choices): --wide\n"
+               "all of them as JSON: --json FILE\n");
   }
   if (c.fit_prices) {
     // The auto method's cost-model prices for each backend, fitted to these rows.
