@@ -33,7 +33,7 @@ SuiteImage write_call_heatmaps(SuiteContext& ctx, const Scene& scene, const std:
   std::vector<int> calls;
   for (const kernel::RayStats& s : stats[0]) calls.push_back(s.isect_calls);
   std::nth_element(calls.begin(), calls.begin() + calls.size() * 99 / 100, calls.end());
-  const float scale = float(std::max(1, calls[calls.size() * 99 / 100]));
+  const int scale = std::max(1, calls[calls.size() * 99 / 100]);
   const int gap = 8, W = 2 * width + gap;
   std::vector<float> rgb(std::size_t(W) * height * 3, 1.0f);
   for (int half = 0; half < 2; ++half)
@@ -41,13 +41,13 @@ SuiteImage write_call_heatmaps(SuiteContext& ctx, const Scene& scene, const std:
       for (int x = 0; x < width; ++x) {
         std::size_t i = std::size_t(y) * width + x;
         // Logarithmic: masq's few calls per pixel stay visible beside ref's hundreds.
-        float v = std::log2(1.0f + float(stats[half][i].isect_calls)) / std::log2(1.0f + scale);
-        heat_color(std::min(v, 1.0f), &rgb[(std::size_t(y) * W + half * (width + gap) + x) * 3]);
+        heat_color(heat_position(stats[half][i].isect_calls, scale),
+                   &rgb[(std::size_t(y) * W + half * (width + gap) + x) * 3]);
       }
   std::filesystem::create_directories(ctx.config.out_dir);
-  write_rgb((std::filesystem::path(ctx.config.out_dir) / file).string(), W, height, rgb);
+  write_heatmap((std::filesystem::path(ctx.config.out_dir) / file).string(), W, height, rgb, scale);
   const double n = double(rays.size());
-  return {file, fmt::format("{} ({}x{} cpu rays; log scale: black 0, blue-red-yellow, white {:.0f}+ calls; mean {:.2f} vs {:.2f} calls per ray)", caption,
+  return {file, fmt::format("{} ({}x{} cpu rays; log scale: black 0, blue-red-yellow, white {}+ calls, colour bar below; mean {:.2f} vs {:.2f} calls per ray)", caption,
                             width, height, scale, mean[0] / n, mean[1] / n)};
 }
 

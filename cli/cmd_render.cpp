@@ -25,6 +25,9 @@ struct RenderOptions {
   int width = 640, height = 480;
   std::string out = "masq";
   std::string ext = "png";
+  // The heatmap's top colour, in intersector calls: one fixed scale by default, so the
+  // heatmaps of two methods or runs compare colour for colour.
+  int heat_max = 1024;
 };
 
 int render(const RenderOptions& o) {
@@ -40,7 +43,7 @@ int render(const RenderOptions& o) {
   std::vector<kernel::RayStats> stats(rays.size());
   be->trace(rays, hits, stats);
   std::vector<float> shaded(rays.size() * 3), heatmap(rays.size() * 3);
-  int max_calls = 1;
+  int max_calls = 0;
   for (const kernel::RayStats& s : stats) max_calls = std::max(max_calls, s.isect_calls);
   const glm::vec3 light = glm::normalize(glm::vec3(-0.4f, 0.8f, -0.5f));
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -55,13 +58,15 @@ int render(const RenderOptions& o) {
       glm::vec3 albedo = hits[i].geom == 0 ? glm::vec3(0.85f, 0.6f, 0.3f) : glm::vec3(0.6f, 0.65f, 0.7f);
       for (int k = 0; k < 3; ++k) px[k] = std::pow(albedo[k] * lambert, 1.0f / 2.2f);
     }
-    heat_color(float(stats[i].isect_calls) / float(max_calls), &heatmap[3 * i]);
+    heat_color(heat_position(stats[i].isect_calls, o.heat_max), &heatmap[3 * i]);
   }
   std::string shaded_path = o.out + "_shaded." + o.ext, heat_path = o.out + "_heat." + o.ext;
   write_rgb(shaded_path, o.width, o.height, shaded);
-  write_rgb(heat_path, o.width, o.height, heatmap);
-  fmt::print("{} ({} {}, {}x{}): wrote {} and {} (heatmap: intersector calls per pixel, max {})\n", scene.name,
-             o.backend, o.method, o.width, o.height, shaded_path, heat_path, max_calls);
+  write_heatmap(heat_path, o.width, o.height, heatmap, o.heat_max);
+  fmt::print("{} ({} {}, {}x{}): wrote {} and {} (heatmap: intersector calls per pixel on a log scale, black 0, "
+             "white {}+, colour bar below; this image's max {}{})\n",
+             scene.name, o.backend, o.method, o.width, o.height, shaded_path, heat_path, o.heat_max, max_calls,
+             max_calls > o.heat_max ? ", above the scale: --heat-max" : "");
   return 0;
 }
 
@@ -82,11 +87,17 @@ Action add_render(CLI::App& app) {
   cmd->add_option("--height", o->height, "Image height")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--out", o->out, "Output prefix: PREFIX_shaded.EXT and PREFIX_heat.EXT")->capture_default_str();
   cmd->add_option("--format", o->ext, "png or exr")->capture_default_str()->check(CLI::IsMember({"png", "exr"}));
+  cmd->add_option("--heat-max", o->heat_max,
+                  "Heatmap: the intersector calls per pixel the top colour stands for (log scale from 0; the same "
+                  "for every method and run, so heatmaps compare colour for colour)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 30));
   cmd->footer("Examples:\n"
               "  masq render                                  default bundle on cpu -> masq_shaded.png, masq_heat.png\n"
               "  masq render --backend vulkan --method ref --out bundle\n"
               "  masq render --backend vulkan --device llvmpipe   on the Vulkan device whose name holds llvmpipe\n"
               "  masq render --method ref --builder sbvh+reinsert\n"
+              "  masq render --method ref --out ref && masq render --method masq --out masq   two heatmaps, one scale\n"
               "  masq render --file scene.json --width 1024 --height 768 --format exr");
   return [o] {
     apply_device_option(o->device, std::vector<std::string>{o->backend});

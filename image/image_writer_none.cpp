@@ -9,6 +9,10 @@ void write_rgb(const std::string& path, int, int, const std::vector<float>&) {
   throw Error("image: '" + path + "' not written: this masq was built without image output (-DMASQ_WITH_IMAGES=OFF)");
 }
 
+void write_heatmap(const std::string& path, int width, int height, const std::vector<float>& rgb, int) {
+  write_rgb(path, width, height, rgb);
+}
+
 bool image_output_built() { return false; }
 
 } // namespace masq
