@@ -76,6 +76,10 @@ Action add_info(CLI::App& app) {
         fmt::print("{:<11} unavailable  {}\n", r.name, e.what());
       }
     }
+    std::vector<std::string> order = best_backend_order();
+    fmt::print("best (the API's and Python's default Context) tries: {} (a GPU backend on a device that runs on "
+               "the host's cores comes after cpu)\n",
+               fmt::join(order, ", "));
     for (const ApiDevices& a : list_devices()) print_api(a);
     return available > 0 ? 0 : 1;
   };

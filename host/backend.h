@@ -92,8 +92,12 @@ bool driver_traversal(std::string_view backend);
 // Throws BackendUnavailable (one line naming the cause) when it cannot run here,
 // masq::Error for a name the registry does not hold.
 std::unique_ptr<Backend> make_backend(std::string_view name);
-// The first backend by best_rank that opens here; throws BackendUnavailable with every
-// one's cause when none does.
+// "best": the backends in the order it tries them: those whose device is a real GPU or
+// accelerator (by best_rank), then cpu, then those whose device runs on the host's cores
+// (lavapipe, PoCL), which the cpu backend outruns.
+std::vector<std::string> best_backend_order();
+// The first backend of best_backend_order that opens here; throws BackendUnavailable with
+// every one's cause when none does.
 std::unique_ptr<Backend> make_best_backend();
 
 } // namespace masq

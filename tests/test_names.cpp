@@ -6,6 +6,7 @@
 #include "bvh/bv/bv_scene.h"
 #include "bvh/options.h"
 #include "host/backend.h"
+#include "host/device_list.h"
 #include "host/device_choice.h"
 #include "host/bv_tracer.h"
 #include "scenes/scene.h"
@@ -105,10 +106,31 @@ TEST(Names, BuilderColumns) {
   }
 }
 
+// "best" is the best real device: a GPU backend whose device runs on the host's cores
+// (lavapipe, PoCL's CPU device) comes after the cpu backend, a real GPU's before it
+// (issue 40). Checked against the device list's own picks and types.
+TEST(BackendRegistry, BestPutsDevicesOnTheHostsCoresAfterCpu) {
+  const std::vector<std::string> order = best_backend_order();
+  std::vector<std::string> ranked;
+  for (const BackendRow& r : backend_table.rows())
+    if (r.best_rank > 0) ranked.push_back(r.name);
+  EXPECT_TRUE(std::is_permutation(order.begin(), order.end(), ranked.begin(), ranked.end()));
+  const auto cpu = std::find(order.begin(), order.end(), "cpu");
+  ASSERT_NE(cpu, order.end());
+  for (const ApiDevices& a : list_devices())
+    for (const auto& [backend, choice] : a.picks) {
+      const auto at = std::find(order.begin(), order.end(), backend);
+      if (at == order.end() || choice.position < 0) continue;
+      const bool host_cores = a.devices.at(std::size_t(choice.position)).type == DeviceType::Cpu;
+      EXPECT_EQ(at > cpu, host_cores) << backend << " on " << a.devices.at(std::size_t(choice.position)).name;
+    }
+}
+
 TEST(BackendRegistry, OneTableForEveryList) {
   EXPECT_EQ(backend_names(), (std::vector<std::string>{"cpu", "vulkan", "opencl", "rayquery", "rtpipeline"}));
   EXPECT_EQ(bv_backend_names(), (std::vector<std::string>{"cpu", "vulkan", "opencl"}));
-  // "best": vulkan, then opencl, then cpu; never the driver-traversal backends.
+  // best_rank: vulkan, then opencl, then cpu; never the driver-traversal backends (and
+  // best_backend_order moves a GPU backend on the host's cores after cpu).
   std::map<int, std::string> best;
   for (const BackendRow& r : backend_table.rows())
     if (r.best_rank > 0) best[r.best_rank] = r.name;

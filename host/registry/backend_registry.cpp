@@ -2,6 +2,7 @@
 // choices, the bench's defaults, "best" and the bv tracers all read backend_table.
 #include "host/backend.h"
 #include "host/bv_tracer.h"
+#include "host/device_list.h"
 #include "host/cpu/cpu_backend.h"
 #include "host/opencl/opencl_backend.h"
 #include "host/vulkan/vulkan_backends.h"
@@ -42,16 +43,38 @@ bool driver_traversal(std::string_view backend) {
 
 std::unique_ptr<Backend> make_backend(std::string_view name) { return backend_table.at(name).make(); }
 
-std::unique_ptr<Backend> make_best_backend() {
-  std::vector<const BackendRow*> ranked;
+namespace {
+// Whether the device backend `r` would open runs on the host's own cores (lavapipe, PoCL's
+// CPU device): the cpu backend runs the same kernels natively there, without a driver's
+// compile (issue 40: Context("best") took lavapipe, 3 s of shader compile, then 6x slower).
+bool on_host_cores(const BackendRow& r, const std::vector<ApiDevices>& apis) {
+  if (!r.device_api) return false;
+  for (const ApiDevices& a : apis)
+    for (const auto& [backend, choice] : a.picks)
+      if (backend == r.name && choice.position >= 0)
+        return a.devices.at(std::size_t(choice.position)).type == DeviceType::Cpu;
+  return false; // no device listed: opening it says why
+}
+} // namespace
+
+std::vector<std::string> best_backend_order() {
+  const std::vector<ApiDevices> apis = list_devices();
+  std::vector<std::pair<int, const BackendRow*>> ranked; // (tier, row): real devices, cpu, software devices
   for (const BackendRow& r : backend_table.rows())
-    if (r.best_rank > 0) ranked.push_back(&r);
-  std::sort(ranked.begin(), ranked.end(),
-            [](const BackendRow* a, const BackendRow* b) { return a->best_rank < b->best_rank; });
+    if (r.best_rank > 0) ranked.emplace_back(on_host_cores(r, apis) ? 1 : 0, &r);
+  std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : a.second->best_rank < b.second->best_rank;
+  });
+  std::vector<std::string> names;
+  for (const auto& [tier, r] : ranked) names.push_back(r->name);
+  return names;
+}
+
+std::unique_ptr<Backend> make_best_backend() {
   std::string why;
-  for (const BackendRow* r : ranked) {
+  for (const std::string& name : best_backend_order()) {
     try {
-      return r->make();
+      return backend_table.at(name).make();
     } catch (const BackendUnavailable& e) {
       why += (why.empty() ? "" : "; ") + std::string(e.what());
     }

@@ -72,8 +72,10 @@ struct Timing {
 /// library), and give the same results as when used one after the other.
 class Context {
  public:
-  /// Opens `backend`: "cpu", "vulkan", "opencl", "rayquery", "rtpipeline", or "best" (the first of
-  /// vulkan, opencl, cpu that opens here). Throws masq::BackendUnavailable naming the
+  /// Opens `backend`: "cpu", "vulkan", "opencl", "rayquery", "rtpipeline", or "best" (the first
+  /// that opens of vulkan and opencl on a real GPU or accelerator, then cpu, then vulkan
+  /// and opencl on a device that runs on the host's cores, such as lavapipe or PoCL,
+  /// which the cpu backend outruns; `masq info` prints the order). Throws masq::BackendUnavailable naming the
   /// cause when the backend cannot run here, masq::Error for an unknown name.
   explicit Context(const std::string& backend = "best");
   /// Opens `backend` on the device `device` names: an index of `masq info`'s list for the
