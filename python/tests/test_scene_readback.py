@@ -223,3 +223,11 @@ def test_an_accel_says_what_it_was_built_with():
     assert "masq.Scene" in repr(s) and "300 primitives" in repr(s)
     assert "method=masq" in repr(masq_accel.stats)
 
+
+def test_the_package_carries_its_type_stub():
+    folder = os.path.dirname(masq.__file__)
+    assert os.path.isfile(os.path.join(folder, "py.typed"))
+    with open(os.path.join(folder, "_masq.pyi")) as f:
+        stub = f.read()
+    for name in ("class Scene", "def trace", "def geometry", "def pinhole_rays", "def bounds", "def method"):
+        assert name in stub, name
