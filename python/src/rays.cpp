@@ -68,22 +68,44 @@ struct Column {
   bool number = false; // a Python number: messages give no row
 };
 
+// Whether a float32 array of one row per ray (no broadcast to do) can be read in place:
+// 1-D rows of values, or (n, columns) rows whose columns lie side by side, at any row
+// stride; C-contiguous arrays of more axes too. Else nothing: numpy is asked.
+std::optional<Column> as_it_lies(const pyb::array& a, const Shape& shape, int columns) {
+  constexpr auto f4 = static_cast<pyb::ssize_t>(sizeof(float));
+  if (!a.dtype().equal(pyb::dtype::of<float>()) || shape_of(a, columns ? 1 : 0) != shape) return std::nullopt;
+  if (reinterpret_cast<std::uintptr_t>(a.data()) % alignof(float) != 0) return std::nullopt;
+  Column c;
+  c.data = static_cast<const float*>(a.data());
+  c.keep = a;
+  const pyb::ssize_t flat_axes = columns ? 2 : 1;
+  if (a.ndim() == flat_axes && a.strides(0) % f4 == 0 && (!columns || a.strides(1) == f4)) {
+    c.stride = a.strides(0) / f4;
+    return c;
+  }
+  if (a.flags() & pyb::array::c_style) {
+    c.stride = columns ? columns : 1;
+    return c;
+  }
+  return std::nullopt;
+}
+
 // `a` broadcast to `shape` (+ (columns,) when columns > 0) and flattened to one row per
-// ray: a view where numpy can make one, read in place when it is float32 with its columns
-// side by side; else one copy (numpy.ascontiguousarray), converting the dtype.
+// ray: read in place when it is float32 with its columns side by side (as_it_lies, or
+// numpy's broadcast view flattened without a copy); else one copy
+// (numpy.ascontiguousarray), converting the dtype.
 Column column(const pyb::array& a, const Shape& shape, int columns, ArgName name) {
   require_float(a, name);
+  if (std::optional<Column> c = as_it_lies(a, shape, columns)) return *c; // the common case: no numpy call
   pyb::module_ np = numpy();
   pyb::object b = np.attr("broadcast_to")(a, shape_tuple(shape, columns));
   pyb::array flat = columns ? b.attr("reshape")(-1, columns) : b.attr("reshape")(-1);
-  constexpr auto f4 = static_cast<pyb::ssize_t>(sizeof(float));
-  const auto aligned = [&] { return reinterpret_cast<std::uintptr_t>(flat.data()) % alignof(float) == 0; };
-  const bool in_place = flat.dtype().equal(pyb::dtype::of<float>()) && flat.strides(0) % f4 == 0 &&
-                        (!columns || flat.strides(1) == f4) && aligned();
-  if (!in_place) flat = np.attr("ascontiguousarray")(flat, "float32");
+  if (std::optional<Column> c = as_it_lies(flat, {static_cast<pyb::ssize_t>(element_count(shape))}, columns))
+    return *c;
+  flat = np.attr("ascontiguousarray")(flat, "float32");
   Column c;
   c.data = static_cast<const float*>(flat.data());
-  c.stride = flat.strides(0) / f4;
+  c.stride = columns ? columns : 1;
   c.keep = flat;
   return c;
 }
@@ -113,15 +135,13 @@ Shape bound_shape(const pyb::handle& value, ArgName name, pyb::object& array) {
   return shape_of(a, 0);
 }
 
+// A number is read from `storage`, which must outlive the pack (no numpy array for it).
 Column bound_column(const pyb::handle& value, const pyb::object& array, const Shape& shape, float fallback,
-                    ArgName name) {
+                    ArgName name, float& storage) {
   if (array) return column(pyb::reinterpret_borrow<pyb::array>(array), shape, 0, name);
+  storage = value.is_none() ? fallback : static_cast<float>(number(value, name));
   Column c;
-  const double v = value.is_none() ? fallback : number(value, name);
-  pyb::array_t<float> one(1);
-  one.mutable_data()[0] = static_cast<float>(v);
-  c.data = one.data();
-  c.keep = one;
+  c.data = &storage;
   c.number = true;
   return c;
 }
@@ -322,8 +342,10 @@ RayInput ray_input(const pyb::handle& origins, const pyb::handle& directions, co
   const ArgName rays_name{function, "rays"};
   const Column co = column(o, in.shape, 3, form == RayForm::Six ? rays_name : origins_name);
   const Column cd = column(d, in.shape, 3, form == RayForm::Six ? rays_name : directions_name);
-  const Column t0 = bound_column(tmin, tmin_array, in.shape, 0.0f, tmin_name);
-  const Column t1 = bound_column(tmax, tmax_array, in.shape, std::numeric_limits<float>::infinity(), tmax_name);
+  float tmin_number = 0, tmax_number = 0;
+  const Column t0 = bound_column(tmin, tmin_array, in.shape, 0.0f, tmin_name, tmin_number);
+  const Column t1 =
+      bound_column(tmax, tmax_array, in.shape, std::numeric_limits<float>::infinity(), tmax_name, tmax_number);
   std::vector<api::Ray>& packed = packed_buffer();
   packed.resize(element_count(in.shape));
   for (std::size_t i = 0; i < packed.size(); ++i) {
