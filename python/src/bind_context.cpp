@@ -126,7 +126,8 @@ std::string accel_repr(const api::Accel& a) {
   const api::AccelStats s = a.stats();
   const api::AccelOptions o = a.options();
   std::string method = kept_method(s);
-  if (o.method != s.method || s.method == api::Method::Auto) method += " (chosen by " + std::string(api::method_table.name(o.method)) + ")";
+  if (o.method != s.method || s.method == api::Method::Auto)
+    method += " (chosen by " + std::string(api::method_table.name(o.method)) + ")";
   return "<masq.Accel method=" + method + " mode=" + api::mode_table.name(o.mode) +
          " nodes=" + api::node_format_table.name(o.nodes) + " primitives=" + std::to_string(s.primitives) +
          " instances=" + std::to_string(s.instances) + " bytes=" + std::to_string(s.bytes) + ">";

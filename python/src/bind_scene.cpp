@@ -1,6 +1,7 @@
 // masq.Scene: scenes from files and from numpy arrays. Each add_* checks its arrays
 // (arrays.h) and packs them into the public API's primitive structs; the Scene copies
-// them in, so the caller's arrays may change afterwards.
+// them in, so the caller's arrays may change afterwards. Read back: geometry(i) (one
+// row per primitive type), bounds, camera; and the rays of cameras (pinhole_rays).
 #include "arrays.h"
 #include "bindings.h"
 #include "masq/scene.h"
@@ -350,12 +351,12 @@ checked when added (arrays) and when an Accel is built (topology, degenerate tra
            "the strand of each primitive, numbered in order, primitive i + 1 continuing i's strand when it starts "
            "where i ends (as the strand loaders write them).")
       .def_property_readonly("bounds", &bounds,
-                             "numpy.ndarray: world-space box of the placed scene, radii included, as a (2, 3) float64 array: "
-                             "lower, upper (lo, hi = scene.bounds). A curve is bounded by its control points' "
-                             "balls. An empty scene: +inf, -inf.")
+                             "numpy.ndarray: world-space box of the placed scene, radii included, as a (2, 3) "
+                             "float64 array: lower, upper (lo, hi = scene.bounds). A curve is bounded by its control "
+                             "points' balls. An empty scene: +inf, -inf.")
       .def_property_readonly("camera", &camera_dict,
-                             "dict: the camera camera_rays uses, the file's, else a view framing the scene: eye, target, "
-                             "up ((3,) float64), fov (vertical, degrees), orthographic, ortho_height.")
+                             "dict: the camera camera_rays uses, the file's, else a view framing the scene: eye, "
+                             "target, up ((3,) float64), fov (vertical, degrees), orthographic, ortho_height.")
       .def("camera_rays", &scene_camera_rays, pyb::arg("width"), pyb::arg("height"), pyb::arg("eye") = pyb::none(),
            pyb::arg("target") = pyb::none(), pyb::arg("up") = pyb::none(), pyb::arg("fov") = pyb::none(),
            "Primary rays (row-major from the top: reshape(height, width) for an image-shaped trace) as a flat "

@@ -110,8 +110,8 @@ Column column(const pyb::array& a, const Shape& shape, int columns, ArgName name
   return c;
 }
 
-// tmin or tmax: a number (Python's, numpy's, a 0-d array) or an array broadcast
-// against the rays; `fallback` for None.
+// tmin and tmax are numbers (Python's, numpy's, a 0-d array), None (their defaults) or
+// arrays broadcast against the rays. Whether `value` is taken as a number:
 bool is_number(const pyb::handle& value) {
   if (pyb::isinstance<pyb::list>(value) || pyb::isinstance<pyb::tuple>(value)) return false;
   return !pyb::isinstance<pyb::array>(value) || pyb::reinterpret_borrow<pyb::array>(value).ndim() == 0;
@@ -126,8 +126,8 @@ double number(const pyb::handle& value, ArgName name) {
   }
 }
 
-// The shape a bound adds to the rays' broadcast: () for a number or None.
-// `array` is left null (a default pyb::object) for a number or None.
+// The shape a bound adds to the rays' broadcast: () for a number or None, which leave
+// `array` null (a default pyb::object); an array's own shape, the array in `array`.
 Shape bound_shape(const pyb::handle& value, ArgName name, pyb::object& array) {
   if (value.is_none() || is_number(value)) return {};
   pyb::array a = as_array(value, name);
@@ -135,7 +135,8 @@ Shape bound_shape(const pyb::handle& value, ArgName name, pyb::object& array) {
   return shape_of(a, 0);
 }
 
-// A number is read from `storage`, which must outlive the pack (no numpy array for it).
+// The bound's column: the array broadcast, or the number (`fallback` for None) read
+// from `storage`, which must outlive the pack (no numpy array is made for it).
 Column bound_column(const pyb::handle& value, const pyb::object& array, const Shape& shape, float fallback,
                     ArgName name, float& storage) {
   if (array) return column(pyb::reinterpret_borrow<pyb::array>(array), shape, 0, name);
@@ -290,9 +291,9 @@ Shape ray_shape(const Shape& origins, std::initializer_list<ShapePart> parts) {
   for (const ShapePart& p : parts) {
     std::optional<Shape> b = broadcast(shape, p.shape);
     if (!b)
-      throw pyb::value_error(p.name.text() + ": " + p.what + " " + shape_text(p.shape) + " does not broadcast against " +
-                             (first ? "origins' leading shape " : "the rays' shape ") + shape_text(shape) +
-                             " (numpy's rules: sizes equal or 1, aligned at the right)");
+      throw pyb::value_error(p.name.text() + ": " + p.what + " " + shape_text(p.shape) +
+                             " does not broadcast against " + (first ? "origins' leading shape " : "the rays' shape ") +
+                             shape_text(shape) + " (numpy's rules: sizes equal or 1, aligned at the right)");
     shape = *b;
     first = false;
   }

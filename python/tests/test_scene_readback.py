@@ -184,7 +184,8 @@ def test_the_scenes_camera_is_what_camera_rays_uses():
 
 
 @pytest.mark.parametrize("kwargs, words", [
-    ({"fov": 0}, "fov: 0"), ({"fov": 180}, "fov: 180"), ({"target": (0, 0, -5), "eye": (0, 0, -5)}, "target: equals eye"),
+    ({"fov": 0}, "fov: 0"), ({"fov": 180}, "fov: 180"),
+    ({"target": (0, 0, -5), "eye": (0, 0, -5)}, "target: equals eye"),
     ({"eye": (0, 0, -5), "target": (0, 0, 0), "up": (0, 0, 1)}, "up: zero or parallel"),
     ({"eye": (0, np.nan, 0)}, "eye: component 1 is not finite"), ({"up": (0, 1)}, r"up: expected three numbers"),
 ])
