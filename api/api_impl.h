@@ -18,6 +18,8 @@ struct Scene::Impl {
 struct Accel::Impl {
   masq::PackedScene packed;
   AccelOptions options;
+  std::size_t primitives = 0; // the placed scene's, for AccelStats
+
 };
 
 } // namespace masq::api

@@ -43,6 +43,7 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
   auto impl = std::make_shared<Impl>();
   impl->packed = build_accel(s, options.method, ao);
   impl->options = o;
+  impl->primitives = s.primitive_count();
   Accel a;
   a.impl_ = std::move(impl);
   return a;
@@ -51,8 +52,11 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
 AccelStats Accel::stats() const {
   if (!impl_) throw Error("Accel::stats: the Accel was not built (use Accel::build)");
   const PackedScene& p = impl_->packed;
+  // auto marks its structure Method::Auto and records the candidate it kept
+  // (bvh/twolevel/build_accel.h, mark_as_auto); the kept one is what callers ask about.
+  const Method kept = p.method == Method::Auto ? p.stats.auto_choice : p.method;
   return {p.stats.instances, p.stats.tlas_nodes, p.stats.blas_nodes, p.acceleration_bytes() + p.primitive_bytes(),
-          p.stats.node_bytes, p.stats.build_seconds};
+          p.stats.node_bytes, p.stats.build_seconds, kept, impl_->primitives};
 }
 
 AccelOptions Accel::options() const {

@@ -2,6 +2,7 @@
 #include "api/api_impl.h"
 #include "masq/error.h"
 #include "scenes/camera.h"
+#include "scenes/curve_tools.h"
 #include "scenes/loaders/load_any.h"
 #include <cmath>
 #include <cstring>
@@ -11,6 +12,36 @@ namespace masq::api {
 namespace {
 
 glm::vec3 to_glm(const Vec3& v) { return {v.x, v.y, v.z}; }
+Vec3 to_api(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+glm::dvec3 to_glm(const Vec3d& v) { return {v.x, v.y, v.z}; }
+Vec3d to_api(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+masq::Camera to_scene_camera(const Camera& c) {
+  masq::Camera out;
+  out.eye = to_glm(c.eye);
+  out.target = to_glm(c.target);
+  out.up = to_glm(c.up);
+  out.fov_y_deg = c.fov_y_deg;
+  out.orthographic = c.orthographic;
+  out.ortho_height = c.ortho_height;
+  return out;
+}
+
+// Every array of the geometry converted; only its type's array holds anything, so no
+// question of which type it is needs asking.
+GeometryData geometry_data(const masq::Geometry& g) {
+  GeometryData d;
+  d.type = prim_type_key(g.type);
+  for (const glm::vec3& v : g.vertices) d.vertices.push_back(to_api(v));
+  for (const glm::uvec3& t : g.triangles) d.indices.insert(d.indices.end(), {t.x, t.y, t.z});
+  for (const CapsulePrim& c : g.capsules) d.capsules.push_back({to_api(c.a), to_api(c.b), c.radius});
+  for (const RoundConePrim& c : g.round_cones) d.round_cones.push_back({to_api(c.a), c.ra, to_api(c.b), c.rb});
+  for (const SpherePrim& c : g.spheres) d.spheres.push_back({to_api(c.center), c.radius});
+  for (const CurvePrim& c : g.curves)
+    d.curves.push_back({{to_api(c.p[0]), to_api(c.p[1]), to_api(c.p[2]), to_api(c.p[3])}, c.radius});
+  d.strands = strand_ids(g);
+  return d;
+}
 
 std::uint32_t push(masq::Scene& s, masq::Geometry g) {
   s.geometries.push_back(std::move(g));
@@ -116,6 +147,13 @@ std::uint32_t Scene::add_instance(std::uint32_t geometry, const Transform& t) {
 }
 
 std::size_t Scene::geometry_count() const { return impl_->scene.geometries.size(); }
+
+GeometryData Scene::geometry(std::uint32_t id) const {
+  if (id >= impl_->scene.geometries.size())
+    throw Error("Scene::geometry: geometry " + std::to_string(id) + " does not exist (the scene has " +
+                std::to_string(impl_->scene.geometries.size()) + ")");
+  return geometry_data(impl_->scene.geometries[id]);
+}
 std::size_t Scene::instance_count() const { return impl_->scene.instances.size(); }
 std::size_t Scene::primitive_count() const {
   const masq::Scene& s = impl_->scene;
@@ -127,13 +165,41 @@ std::size_t Scene::primitive_count() const {
 
 void Scene::validate() const { validate_scene(impl_->placed()); }
 
+Box Scene::bounds() const {
+  glm::dvec3 lo, hi;
+  scene_world_bounds(impl_->placed(), lo, hi);
+  return {to_api(lo), to_api(hi)};
+}
+
+Camera Scene::camera() const {
+  masq::Scene framed = impl_->placed();
+  if (!impl_->has_camera) frame_scene(framed);
+  const masq::Camera& c = framed.camera;
+  return {to_api(c.eye), to_api(c.target), to_api(c.up), c.fov_y_deg, c.orthographic, c.ortho_height};
+}
+
 std::vector<Ray> Scene::camera_rays(int width, int height) const {
   if (width <= 0 || height <= 0)
     throw Error("Scene::camera_rays: width and height must be positive, got " + std::to_string(width) + "x" +
                 std::to_string(height));
-  masq::Scene framed = impl_->placed();
-  if (!impl_->has_camera) frame_scene(framed);
-  std::vector<kernel::Ray> kr = make_camera_rays(framed.camera, width, height);
+  return api::camera_rays(camera(), width, height);
+}
+
+std::vector<Ray> camera_rays(const Camera& camera, int width, int height) {
+  if (width <= 0 || height <= 0)
+    throw Error("camera_rays: width and height must be positive, got " + std::to_string(width) + "x" +
+                std::to_string(height));
+  const masq::Camera c = to_scene_camera(camera);
+  auto finite3 = [](const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const bool finite = finite3(c.eye) && finite3(c.target) && finite3(c.up) && std::isfinite(c.fov_y_deg) &&
+                      std::isfinite(c.ortho_height);
+  if (!finite) throw Error("camera_rays: the camera has a non-finite eye, target, up, fov or height");
+  // tan(fov / 2) is 0 or negative outside (0, 180): no image, or one upside down.
+  if (!c.orthographic && !(c.fov_y_deg > 0.0 && c.fov_y_deg < 180.0))
+    throw Error("camera_rays: fov_y_deg " + std::to_string(c.fov_y_deg) + " (must be in (0, 180) degrees)");
+  if (c.orthographic && !(c.ortho_height > 0.0))
+    throw Error("camera_rays: ortho_height " + std::to_string(c.ortho_height) + " (must be > 0)");
+  std::vector<kernel::Ray> kr = make_camera_rays(c, width, height);
   static_assert(sizeof(Ray) == sizeof(kernel::Ray));
   std::vector<Ray> rays(kr.size());
   std::memcpy(static_cast<void*>(rays.data()), kr.data(), kr.size() * sizeof(Ray));

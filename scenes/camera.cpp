@@ -45,24 +45,33 @@ std::vector<kernel::Ray> make_camera_rays(const Camera& cam, int width, int heig
   return rays;
 }
 
-void frame_scene(Scene& scene) {
-  glm::dvec3 lo(INFINITY), hi(-INFINITY);
-  auto grow = [&](const Affine3& xf, const glm::vec3& p, double r) {
-    glm::dvec3 w = xf.apply_point(glm::dvec3(p));
-    double s = r * std::max({glm::length(xf.linear[0]), glm::length(xf.linear[1]), glm::length(xf.linear[2])});
-    lo = glm::min(lo, w - s);
-    hi = glm::max(hi, w + s);
-  };
+void scene_world_bounds(const Scene& scene, glm::dvec3& lo, glm::dvec3& hi) {
+  lo = glm::dvec3(INFINITY);
+  hi = glm::dvec3(-INFINITY);
   for (const Instance& inst : scene.instances) {
     const Geometry& g = scene.geometries.at(inst.geometry);
     const Affine3& xf = inst.object_to_world;
+    // A ball of radius r becomes an ellipsoid reaching r * |row i| along axis i (glm is
+    // column-major: row i is (linear[0][i], linear[1][i], linear[2][i])).
+    glm::dvec3 reach;
+    for (int i = 0; i < 3; ++i) reach[i] = glm::length(glm::dvec3(xf.linear[0][i], xf.linear[1][i], xf.linear[2][i]));
     const ScenePrimRow& row = scene_prim_row(g.type);
     PrimBalls balls;
     for (std::size_t p = 0, n = row.count(g); p < n; ++p) {
       const int count = row.balls(g, p, balls);
-      for (int k = 0; k < count; ++k) grow(xf, balls[std::size_t(k)].centre, balls[std::size_t(k)].radius);
+      for (int k = 0; k < count; ++k) {
+        const glm::dvec3 w = xf.apply_point(glm::dvec3(balls[std::size_t(k)].centre));
+        const glm::dvec3 s = double(balls[std::size_t(k)].radius) * reach;
+        lo = glm::min(lo, w - s);
+        hi = glm::max(hi, w + s);
+      }
     }
   }
+}
+
+void frame_scene(Scene& scene) {
+  glm::dvec3 lo, hi;
+  scene_world_bounds(scene, lo, hi);
   if (!(lo.x <= hi.x)) return; // nothing to frame
   glm::dvec3 centre = 0.5 * (lo + hi);
   double size = std::max(glm::length(hi - lo), 1e-30);

@@ -77,17 +77,30 @@ Scene curves_to_segments(const Scene& scene, int n, PrimType type) {
 
 namespace {
 
+// The first and last hull balls of primitive i: where it starts and ends along its axis
+// (a segment's two balls, a curve's first and last control points).
+std::array<PrimBall, 2> prim_ends(const ScenePrimRow& row, const Geometry& g, std::size_t i) {
+  PrimBalls balls;
+  const int n = row.balls(g, i, balls);
+  return {balls[0], balls[std::size_t(n - 1)]};
+}
+
+// Whether a primitive starting at `next` continues the strand of one ending at `prev`:
+// the loaders write a strand's segments in order, each starting at the last one's end.
+bool continues_strand(const std::array<PrimBall, 2>& prev, const std::array<PrimBall, 2>& next) {
+  return prev[1].centre == next[0].centre;
+}
+
 // Chains consecutive segments sharing an end point into strands: segment i is the hull of
 // its two balls (scene_prim_row's balls of a Segment-shaped type).
 std::vector<Strand> chain_segments(const Geometry& g) {
   const ScenePrimRow& row = scene_prim_row(g.type);
   std::vector<Strand> strands;
-  PrimBalls prev{};
+  std::array<PrimBall, 2> prev{};
   for (std::size_t i = 0; i < row.count(g); ++i) {
-    PrimBalls ends;
-    row.balls(g, i, ends);
-    bool continues = i > 0 && prev[1].centre == ends[0].centre;
-    if (!continues) strands.push_back({{glm::dvec3(ends[0].centre)}, {double(ends[0].radius)}});
+    const std::array<PrimBall, 2> ends = prim_ends(row, g, i);
+    if (i == 0 || !continues_strand(prev, ends))
+      strands.push_back({{glm::dvec3(ends[0].centre)}, {double(ends[0].radius)}});
     strands.back().points.push_back(glm::dvec3(ends[1].centre));
     strands.back().radii.push_back(double(ends[1].radius));
     prev = ends;
@@ -103,6 +116,22 @@ Scene segments_to_curves(const Scene& scene) {
     if (scene_prim_row(g.type).shape == PrimShape::Segment) g = strands_to_geometry(chain_segments(g), PrimType::Curve);
   out.name = scene.name + " (as curves)";
   return out;
+}
+
+std::vector<std::uint32_t> strand_ids(const Geometry& g) {
+  const ScenePrimRow& row = scene_prim_row(g.type);
+  std::vector<std::uint32_t> ids;
+  if (!row.oriented) return ids;
+  ids.resize(row.count(g));
+  std::array<PrimBall, 2> prev{};
+  std::uint32_t strand = 0;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const std::array<PrimBall, 2> ends = prim_ends(row, g, i);
+    if (i > 0 && !continues_strand(prev, ends)) ++strand;
+    ids[i] = strand;
+    prev = ends;
+  }
+  return ids;
 }
 
 } // namespace masq

@@ -26,4 +26,10 @@ namespace masq {
 // points, one curve per segment (strands_to_geometry's Curve form). Other geometries
 // are kept as they are.
 Scene segments_to_curves(const Scene& scene);
+
+// The strand of each primitive of a geometry whose type has an axis (scene_prim_row's
+// `oriented`: capsules, round cones, curves), numbered from 0 in order: primitive i + 1
+// is in primitive i's strand when it starts where i ends (its first hull ball's centre is
+// i's last one's), the chaining segments_to_curves reads. Other types: empty.
+std::vector<std::uint32_t> strand_ids(const Geometry& g);
 } // namespace masq

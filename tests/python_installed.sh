@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs masq from BUILD_DIR into BUILD_DIR/_install_python, then imports the Python
 # package from that prefix alone (outside the build and source trees) and traces one ray
-# through it (a ctest test: python_installed).
+# through it, and checks that its type stub and py.typed marker are there (a ctest
+# test: python_installed).
 set -euo pipefail
 build=$1
 python=$2
@@ -9,6 +10,10 @@ prefix="$build/_install_python"
 rm -rf "$prefix"
 cmake --install "$build" --prefix "$prefix" >/dev/null
 site="$prefix/lib/python3/dist-packages"
+# Type checkers read the stub beside the module when the package has the PEP 561 marker.
+for f in _masq.pyi py.typed; do
+  [[ -f "$site/masq/$f" ]] || { echo "python_installed: $site/masq/$f was not installed" >&2; exit 1; }
+done
 cd /
 PYTHONPATH="$site" "$python" - "$site" <<'PY'
 import os, sys

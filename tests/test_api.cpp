@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -249,6 +250,69 @@ TEST(Api, BadInputAndMisuseThrowErrorsNamingTheCause) {
   std::vector<Hit> hits(3);
   EXPECT_NE(message([&] { ctx.trace(accel, rays, hits); }).find("4 rays"), std::string::npos);
   EXPECT_NE(message([&] { ctx.trace(Accel{}, rays); }).find("not built"), std::string::npos);
+}
+
+// Read-back of geometry (with the strands of chained segments), world bounds of placed
+// instances, the scene's camera and rays of a given camera, and what auto kept.
+TEST(Api, GeometryBoundsCamerasAndTheKeptMethod) {
+  Scene s;
+  // Two strands: 0-1-2 chained (each segment starts where the last ended), then 3 alone.
+  Capsule caps[] = {{{0, 0, 0}, {1, 0, 0}, 0.1f}, {{1, 0, 0}, {2, 0, 0}, 0.1f}, {{5, 0, 0}, {6, 0, 0}, 0.2f}};
+  const std::uint32_t g = s.add_capsules(caps);
+  Sphere sp{{0, 3, 0}, 0.5f};
+  s.add_spheres({&sp, 1});
+  GeometryData d = s.geometry(g);
+  EXPECT_EQ(d.type, "capsule");
+  ASSERT_EQ(d.capsules.size(), 3u);
+  EXPECT_EQ(d.capsules[2].b.x, 6.0f);
+  EXPECT_EQ(d.strands, (std::vector<std::uint32_t>{0, 0, 1}));
+  EXPECT_TRUE(d.spheres.empty() && d.vertices.empty());
+  GeometryData ds = s.geometry(1);
+  EXPECT_EQ(ds.type, "sphere");
+  EXPECT_TRUE(ds.strands.empty());
+  EXPECT_NE(message([&] { s.geometry(2); }).find("geometry 2 does not exist"), std::string::npos);
+
+  // No instances: every geometry once. Capsule ends +- radius, the sphere's ball.
+  Box b = s.bounds();
+  EXPECT_DOUBLE_EQ(b.lower.x, -0.5);
+  EXPECT_DOUBLE_EQ(b.upper.x, 6.0 + double(0.2f));
+  EXPECT_DOUBLE_EQ(b.lower.y, -double(0.2f));
+  EXPECT_DOUBLE_EQ(b.upper.y, 3.5);
+  EXPECT_DOUBLE_EQ(b.lower.z, -0.5);
+  // A scaled instance: x stretched by 2, the radius along x with it.
+  Scene t;
+  t.add_instance(t.add_spheres({&sp, 1}), Transform::scale(2, 1, 1));
+  Box tb = t.bounds();
+  EXPECT_DOUBLE_EQ(tb.lower.x, -1.0);
+  EXPECT_DOUBLE_EQ(tb.upper.x, 1.0);
+  EXPECT_DOUBLE_EQ(tb.upper.y, 3.5);
+  EXPECT_GT(Scene{}.bounds().lower.x, Scene{}.bounds().upper.x);
+
+  // camera_rays() is camera_rays(camera()); a given pinhole looks where it is told.
+  Camera c = s.camera();
+  std::vector<Ray> framed = s.camera_rays(4, 3), again = camera_rays(c, 4, 3);
+  ASSERT_EQ(framed.size(), 12u);
+  EXPECT_EQ(std::memcmp(framed.data(), again.data(), framed.size() * sizeof(Ray)), 0);
+  Camera pin;
+  pin.eye = {0, 0, -10};
+  pin.target = {0, 0, 0};
+  pin.fov_y_deg = 90;
+  std::vector<Ray> one = camera_rays(pin, 1, 1);
+  EXPECT_FLOAT_EQ(one[0].dir.z, 1.0f);
+  EXPECT_FLOAT_EQ(one[0].org.z, -10.0f);
+  std::vector<Ray> wide = camera_rays(pin, 2, 1); // pixel centres at +-1/2 of tan(45 deg) * aspect 2
+  EXPECT_NEAR(std::abs(wide[1].dir.x / wide[1].dir.z), 1.0, 1e-6);
+  pin.fov_y_deg = 180;
+  EXPECT_NE(message([&] { camera_rays(pin, 2, 2); }).find("fov_y_deg"), std::string::npos);
+
+  // Accel stats: what it traces and the method built; auto names what it kept.
+  Accel masq_accel = Accel::build(s, {Method::Masq});
+  EXPECT_EQ(masq_accel.stats().method, Method::Masq);
+  EXPECT_EQ(masq_accel.stats().primitives, 4u);
+  Accel automatic = Accel::build(s, {Method::Auto});
+  EXPECT_EQ(automatic.options().method, Method::Auto);
+  const Method kept = automatic.stats().method;
+  EXPECT_TRUE(kept == Method::Ref || kept == Method::Masq || kept == Method::Cluster || kept == Method::Auto);
 }
 
 // Two contexts on two threads at once give the same hits as one context alone: per

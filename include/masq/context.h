@@ -35,6 +35,10 @@ struct AccelStats {
   std::size_t bytes = 0;       ///< acceleration + primitive arrays as uploaded to a device
   std::size_t node_bytes = 0;  ///< TLAS and BLAS nodes alone, in the Accel's node format
   double build_seconds = 0;
+  /// The method the structure was built with: the one asked for or, for Method::Auto,
+  /// the candidate auto kept (Ref, Masq, Cluster; Auto itself: its per-cluster mix).
+  Method method = Method::Ref;
+  std::size_t primitives = 0;  ///< primitives traced (Scene::primitive_count)
 };
 
 /// A scene built for tracing with one method. Immutable once built and cheap to copy

@@ -24,6 +24,50 @@ struct LoadOptions {
   std::function<void(const std::string&)> warn;
 };
 
+/// A point or direction in double precision (cameras and bounds, which the library
+/// computes in double).
+struct Vec3d {
+  double x = 0, y = 0, z = 0;
+};
+
+/// A camera: a pinhole with a vertical field of view, or orthographic with a view height
+/// (Scene::camera, camera_rays).
+struct Camera {
+  Vec3d eye{0, 0, -5};
+  Vec3d target{0, 0, 0};
+  Vec3d up{0, 1, 0};
+  double fov_y_deg = 40;      ///< pinhole: vertical field of view in degrees, in (0, 180)
+  bool orthographic = false;
+  double ortho_height = 2;    ///< orthographic: the view's height in world units
+};
+
+/// Primary rays of `camera` for a width x height image, row-major from the top (pixel
+/// centres; pinhole rays unit length, from the eye). Throws masq::Error for an empty
+/// image, an eye on the target, an up along the view, a field of view outside (0, 180)
+/// or a non-finite value.
+std::vector<Ray> camera_rays(const Camera& camera, int width, int height);
+
+/// An axis-aligned box; lower > upper on every axis (+inf, -inf) when it holds nothing.
+struct Box {
+  Vec3d lower, upper;
+};
+
+/// One geometry read back (Scene::geometry): its primitive type's name and that type's
+/// array; the arrays of the other types are empty.
+struct GeometryData {
+  std::string type; ///< "triangle", "capsule", "round_cone", "sphere" or "curve"
+  std::vector<Vec3> vertices;          ///< triangles
+  std::vector<std::uint32_t> indices;  ///< triangles: 3 vertex indices each
+  std::vector<Capsule> capsules;
+  std::vector<RoundCone> round_cones;
+  std::vector<Sphere> spheres;
+  std::vector<Curve> curves;
+  /// Types with an axis (capsules, round cones, curves): the strand of each primitive,
+  /// numbered from 0 in order. Primitive i + 1 is in primitive i's strand when it starts
+  /// where i ends, as the strand loaders write a strand's segments. Other types: empty.
+  std::vector<std::uint32_t> strands;
+};
+
 /// An in-memory scene. A value type: copies are deep, moves are cheap (a moved-from
 /// Scene may only be assigned to or destroyed). Not thread-safe
 /// for writing; const member functions may be called from several threads at once.
@@ -61,6 +105,9 @@ class Scene {
   std::uint32_t add_instance(std::uint32_t geometry, const Transform& object_to_world = Transform::identity());
 
   std::size_t geometry_count() const;
+  /// A copy of geometry `id` as it was added or loaded (object space). Throws masq::Error
+  /// for an unknown id.
+  GeometryData geometry(std::uint32_t id) const;
   std::size_t instance_count() const;
   /// The primitives an Accel of this scene traces: each instance counts its geometry's
   /// (a scene without instances: each geometry's once).
@@ -69,8 +116,16 @@ class Scene {
   /// Throws masq::Error naming the first bad element; see the class comment.
   void validate() const;
 
-  /// Primary rays (row-major from the top) of the scene's camera: the file's camera for
-  /// scenes loaded with one, else a view framing the whole scene from -z.
+  /// The world-space box of every primitive as an Accel places them (a scene without
+  /// instances: every geometry once), radii included; a curve is bounded by its control
+  /// points' balls, so the box may be a little larger than the curve. Empty scene: the
+  /// empty Box.
+  Box bounds() const;
+
+  /// The scene's camera: the file's camera for scenes loaded with one, else a view
+  /// framing the whole scene (bounds()) from -z and a little above.
+  Camera camera() const;
+  /// Primary rays (row-major from the top) of camera(): camera_rays(camera(), width, height).
   std::vector<Ray> camera_rays(int width, int height) const;
 
   struct Impl;

@@ -8,42 +8,7 @@ namespace masq::py {
 
 namespace {
 
-std::string shape_text(const pyb::array& a) {
-  std::ostringstream s;
-  s << "(";
-  for (pyb::ssize_t i = 0; i < a.ndim(); ++i) s << (i ? ", " : "") << a.shape(i);
-  s << (a.ndim() == 1 ? ",)" : ")");
-  return s.str();
-}
-
-std::string strides_text(const pyb::array& a) {
-  std::ostringstream s;
-  s << "(";
-  for (pyb::ssize_t i = 0; i < a.ndim(); ++i) s << (i ? ", " : "") << a.strides(i);
-  s << ")";
-  return s.str();
-}
-
 std::string dtype_text(const pyb::array& a) { return pyb::str(a.dtype()).cast<std::string>(); }
-
-// The argument as a numpy array: arrays as they are (a view, whatever its layout, so the
-// layout checks below see what the caller passed), lists and tuples through
-// numpy.asarray.
-pyb::array as_array(const pyb::handle& value, ArgName name) {
-  if (pyb::isinstance<pyb::array>(value)) return pyb::reinterpret_borrow<pyb::array>(value);
-  if (value.is_none()) throw pyb::type_error(name.text() + ": expected an array, got None");
-  try {
-    return pyb::module_::import("numpy").attr("asarray")(value);
-  } catch (pyb::error_already_set& e) {
-    throw pyb::type_error(name.text() + ": cannot be read as an array (" + std::string(e.what()) + ")");
-  }
-}
-
-void require_contiguous(const pyb::array& a, ArgName name) {
-  if (!(a.flags() & pyb::array::c_style))
-    throw pyb::value_error(name.text() + ": the array is not C-contiguous (shape " + shape_text(a) + ", strides " +
-                           strides_text(a) + " bytes); pass numpy.ascontiguousarray(" + name.argument + ")");
-}
 
 void require_shape(const pyb::array& a, ArgName name, const std::vector<std::size_t>& tail, long rows,
                    const std::string& expected) {
@@ -53,16 +18,6 @@ void require_shape(const pyb::array& a, ArgName name, const std::vector<std::siz
   if (rows >= 0 && a.shape(0) != rows)
     throw pyb::value_error(name.text() + ": " + std::to_string(a.shape(0)) + " rows where " + std::to_string(rows) +
                            " are needed (one per ray or primitive), shape " + shape_text(a));
-}
-
-// float32 as it lies, or a float32 copy of float16/float64; other dtypes raise.
-pyb::array_t<float> as_float32(const pyb::array& a, ArgName name) {
-  const char kind = a.dtype().kind();
-  if (kind != 'f')
-    throw pyb::type_error(name.text() + ": expected a float32 or float64 array, got dtype " + dtype_text(a));
-  if (a.dtype().itemsize() == 4 && a.dtype().equal(pyb::dtype::of<float>()))
-    return pyb::reinterpret_borrow<pyb::array_t<float>>(a);
-  return a.attr("astype")("float32");
 }
 
 void require_finite(const pyb::array_t<float>& a, ArgName name, std::size_t per_row, bool allow_inf) {
@@ -83,6 +38,42 @@ std::string rows_of(std::size_t columns) { return columns ? "(n, " + std::to_str
 
 } // namespace
 
+std::string shape_text(const std::vector<pyb::ssize_t>& shape) {
+  std::ostringstream s;
+  s << "(";
+  for (std::size_t i = 0; i < shape.size(); ++i) s << (i ? ", " : "") << shape[i];
+  s << (shape.size() == 1 ? ",)" : ")");
+  return s.str();
+}
+
+std::string shape_text(const pyb::array& a) {
+  return shape_text(std::vector<pyb::ssize_t>(a.shape(), a.shape() + a.ndim()));
+}
+
+pyb::array as_array(const pyb::handle& value, ArgName name) {
+  if (pyb::isinstance<pyb::array>(value)) return pyb::reinterpret_borrow<pyb::array>(value);
+  if (value.is_none()) throw pyb::type_error(name.text() + ": expected an array, got None");
+  try {
+    return pyb::module_::import("numpy").attr("asarray")(value);
+  } catch (pyb::error_already_set& e) {
+    throw pyb::type_error(name.text() + ": cannot be read as an array (" + std::string(e.what()) + ")");
+  }
+}
+
+void require_float(const pyb::array& a, ArgName name) {
+  if (a.dtype().kind() != 'f')
+    throw pyb::type_error(name.text() + ": expected a float32 or float64 array, got dtype " + dtype_text(a));
+}
+
+// The array as C-contiguous float32: in place when it is one, else one copy that converts
+// the dtype and gathers strided or broadcast rows together (numpy.ascontiguousarray).
+pyb::array_t<float> contiguous_float32(const pyb::array& a, ArgName name) {
+  require_float(a, name);
+  if (a.dtype().equal(pyb::dtype::of<float>()) && (a.flags() & pyb::array::c_style))
+    return pyb::reinterpret_borrow<pyb::array_t<float>>(a);
+  return pyb::module_::import("numpy").attr("ascontiguousarray")(a, "float32");
+}
+
 bool any_nonfinite(const float* p, std::size_t n) {
   // NaN and infinity are the floats whose exponent bits are all ones.
   constexpr std::uint32_t kExponent = 0x7f800000u;
@@ -101,8 +92,7 @@ pyb::array_t<float> float_rows(const pyb::handle& value, ArgName name, std::size
   std::vector<std::size_t> tail;
   if (columns) tail.push_back(columns);
   require_shape(a, name, tail, rows, rows_of(columns));
-  require_contiguous(a, name);
-  pyb::array_t<float> f = as_float32(a, name);
+  pyb::array_t<float> f = contiguous_float32(a, name);
   require_finite(f, name, columns ? columns : 1, allow_inf);
   return f;
 }
@@ -111,8 +101,7 @@ pyb::array_t<float> float_blocks(const pyb::handle& value, ArgName name, std::si
   pyb::array a = as_array(value, name);
   require_shape(a, name, {a_size, b_size}, -1,
                 "(n, " + std::to_string(a_size) + ", " + std::to_string(b_size) + ")");
-  require_contiguous(a, name);
-  pyb::array_t<float> f = as_float32(a, name);
+  pyb::array_t<float> f = contiguous_float32(a, name);
   require_finite(f, name, a_size * b_size, false);
   return f;
 }
@@ -144,7 +133,6 @@ PerRowFloat per_row_float(const pyb::handle& value, ArgName name, std::size_t ro
 std::vector<std::uint32_t> index_rows(const pyb::handle& value, ArgName name, std::size_t columns) {
   pyb::array a = as_array(value, name);
   require_shape(a, name, {columns}, -1, rows_of(columns));
-  require_contiguous(a, name);
   const char kind = a.dtype().kind();
   if (kind != 'i' && kind != 'u')
     throw pyb::type_error(name.text() + ": expected an integer array (e.g. uint32), got dtype " + dtype_text(a));
@@ -159,6 +147,24 @@ std::vector<std::uint32_t> index_rows(const pyb::handle& value, ArgName name, st
     out[i] = static_cast<std::uint32_t>(p[i]);
   }
   return out;
+}
+
+} // namespace masq::py
+
+namespace masq::py {
+
+std::array<double, 3> vec3_arg(const pyb::handle& value, ArgName name) {
+  pyb::array a = as_array(value, name);
+  if (a.dtype().kind() != 'f' && a.dtype().kind() != 'i' && a.dtype().kind() != 'u')
+    throw pyb::type_error(name.text() + ": expected three numbers, got dtype " + dtype_text(a));
+  if (a.ndim() != 1 || a.shape(0) != 3)
+    throw pyb::value_error(name.text() + ": expected three numbers (shape (3,)), got shape " + shape_text(a));
+  auto d = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(a);
+  std::array<double, 3> v{d.data()[0], d.data()[1], d.data()[2]};
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(v[std::size_t(k)]))
+      throw pyb::value_error(name.text() + ": component " + std::to_string(k) + " is not finite");
+  return v;
 }
 
 } // namespace masq::py

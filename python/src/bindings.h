@@ -11,6 +11,27 @@ namespace masq::py {
 
 namespace pyb = pybind11;
 
+// Arguments of any Python value that the binding reads with numpy.asarray (or as a
+// number): plain objects, named in the signatures pybind11 writes (help(), the .pyi
+// stubs) by what they take.
+inline bool any_object(PyObject*) { return true; }
+class ArrayLike : public pyb::object { // numpy.typing.ArrayLike
+ public:
+  PYBIND11_OBJECT_DEFAULT(ArrayLike, object, any_object)
+};
+class OptionalArrayLike : public pyb::object { // Optional[numpy.typing.ArrayLike]
+ public:
+  PYBIND11_OBJECT_DEFAULT(OptionalArrayLike, object, any_object)
+};
+class HitsAndStats : public pyb::tuple { // Tuple[numpy.ndarray, numpy.ndarray]
+ public:
+  PYBIND11_OBJECT_DEFAULT(HitsAndStats, tuple, any_object)
+};
+class OptionalArray : public pyb::object { // Optional[numpy.ndarray]
+ public:
+  PYBIND11_OBJECT_DEFAULT(OptionalArray, object, any_object)
+};
+
 // The structured dtypes of rays, hits and counters: the public structs' own layouts, so
 // arrays of them cross into the library without a copy (ray_dtype, hit_dtype and
 // stats_dtype in the module). Made once by bind_records.
@@ -33,4 +54,47 @@ void bind_records(pyb::module_& m);  // the dtypes
 void bind_scene(pyb::module_& m);    // Scene
 void bind_context(pyb::module_& m);  // AccelStats, Accel, Context
 
+// Context.trace's `stats` as its two overloads take it (False: hits; True: hits and
+// counters), so that type checkers see which it returns. Either takes what bool() makes
+// False or True respectively.
+struct StatsOff {};
+struct StatsOn {};
+
 } // namespace masq::py
+
+namespace pybind11::detail {
+// Loads when bool(src) is `Value`; the name is what signatures show.
+template <class T, bool Value>
+struct flag_caster {
+  PYBIND11_TYPE_CASTER(T, const_name("typing.Literal[") + const_name<Value>("True", "False") + const_name("]"));
+  bool load(handle src, bool) {
+    const int truth = PyObject_IsTrue(src.ptr());
+    if (truth < 0) {
+      PyErr_Clear();
+      return false;
+    }
+    return (truth == 1) == Value;
+  }
+  static handle cast(T, return_value_policy, handle) { return pybind11::bool_(Value).release(); }
+};
+template <>
+struct type_caster<masq::py::StatsOff> : flag_caster<masq::py::StatsOff, false> {};
+template <>
+struct type_caster<masq::py::StatsOn> : flag_caster<masq::py::StatsOn, true> {};
+template <>
+struct handle_type_name<masq::py::ArrayLike> {
+  static constexpr auto name = const_name("numpy.typing.ArrayLike");
+};
+template <>
+struct handle_type_name<masq::py::OptionalArrayLike> {
+  static constexpr auto name = const_name("Optional[numpy.typing.ArrayLike]");
+};
+template <>
+struct handle_type_name<masq::py::HitsAndStats> {
+  static constexpr auto name = const_name("Tuple[numpy.ndarray, numpy.ndarray]");
+};
+template <>
+struct handle_type_name<masq::py::OptionalArray> {
+  static constexpr auto name = const_name("Optional[numpy.ndarray]");
+};
+} // namespace pybind11::detail
