@@ -45,6 +45,7 @@ packages=(
   libopenimageio-dev libcli11-dev libfmt-dev nlohmann-json3-dev libtinyobjloader-dev libembree-dev libtbb-dev
   python3-matplotlib python3-numpy python3-dev pybind11-dev python3-pytest
   python3-venv python3-pip # pip install . into a virtual environment (tests/python_pip_install.sh)
+  python3-mypy            # stubgen and stubtest: the Python stubs (ctest python_stub, python_stubtest)
   clang libclang-rt-dev doxygen
   patchelf busybox-static # the GPU bundle's $ORIGIN paths and its sealed test's shell (scripts/gpu_bundle.sh)
   libglvnd0 libglx0 libegl1 libgl1 libopengl0 libgles2 libdrm2 libx11-6 libxext6 # the bundle carries them for NVIDIA's Vulkan ICD
