@@ -176,14 +176,14 @@ Scene load_hair(std::span<const std::byte> data, const std::string& name, const 
 }
 
 std::vector<std::byte> write_hair(const Scene& scene) {
-  struct Strand {
+  struct HairStrand { // float points and radii, as the file stores them
     std::vector<glm::vec3> p;
     std::vector<float> r;
   };
-  std::vector<Strand> strands;
+  std::vector<HairStrand> strands;
   auto add = [&](const glm::vec3& a, float ra, const glm::vec3& b, float rb) {
     if (!strands.empty()) {
-      Strand& s = strands.back();
+      HairStrand& s = strands.back();
       if (s.p.size() < 65536 && same_bits(s.p.back(), a) && same_bits(s.r.back(), ra)) {
         s.p.push_back(b);
         s.r.push_back(rb);
@@ -226,7 +226,7 @@ std::vector<std::byte> write_hair(const Scene& scene) {
   bool same_segs = true, same_rad = true;
   const std::size_t seg0 = strands[0].p.size() - 1;
   const float r0 = strands[0].r[0];
-  for (const Strand& s : strands) {
+  for (const HairStrand& s : strands) {
     npoints += s.p.size();
     same_segs = same_segs && s.p.size() - 1 == seg0;
     for (float rr : s.r) same_rad = same_rad && same_bits(rr, r0);
@@ -253,11 +253,11 @@ std::vector<std::byte> write_hair(const Scene& scene) {
   std::memcpy(info, "masq write_hair", 15);
   w.put(info);
   if (!same_segs)
-    for (const Strand& s : strands) w.put(std::uint16_t(s.p.size() - 1));
-  for (const Strand& s : strands)
+    for (const HairStrand& s : strands) w.put(std::uint16_t(s.p.size() - 1));
+  for (const HairStrand& s : strands)
     for (const glm::vec3& p : s.p) w.put(p.x), w.put(p.y), w.put(p.z);
   if (!same_rad)
-    for (const Strand& s : strands)
+    for (const HairStrand& s : strands)
       for (float rr : s.r) w.put(2.0f * rr);
   return out;
 }
