@@ -90,7 +90,10 @@ std::string knob_expected(const KnobRow& row) {
       std::string out;
       for (std::size_t i = 0; i < choices.size(); ++i) {
         if (i > 0) out += i + 1 == choices.size() ? " or " : ", ";
-        out += "'" + std::string(choices[i]) + "'";
+        // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) of "'" + s.
+        out += '\'';
+        out += choices[i];
+        out += '\'';
       }
       return out;
     }

@@ -189,7 +189,10 @@ std::string ray_place(const Shape& shape, std::size_t ray, const char* one_d) {
     ray /= static_cast<std::size_t>(shape[k]);
   }
   std::string s = "ray [";
-  for (std::size_t k = 0; k < index.size(); ++k) s += (k ? ", " : "") + std::to_string(index[k]);
+  for (std::size_t k = 0; k < index.size(); ++k) {
+    if (k) s += ", "; // appended apart: GCC 12 warns (a false positive) of ", " + std::string
+    s += std::to_string(index[k]);
+  }
   return s + "]";
 }
 

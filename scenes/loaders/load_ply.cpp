@@ -120,12 +120,15 @@ class DataReader {
       if (!is_float(t) && !in_range(t, v)) fail(what + ": '" + std::string(tok) + "' is not a valid integer of its type");
       return v;
     }
-    std::size_t n = type_size(t);
     unsigned char b[8];
+    // At most 8 bytes (a double): said to GCC too, whose -Wstringop-overflow otherwise
+    // warns of a write past b below (a false positive of std::reverse's inlining).
+    const std::size_t n = std::min(type_size(t), sizeof b);
     val_off_ = pos_;
     br_.read(pos_, b, n, what.c_str());
     pos_ += n;
-    if (format_ == 2) std::reverse(b, b + n);
+    if (format_ == 2) // big-endian: swap the bytes in place
+      for (std::size_t i = 0; i < n / 2; ++i) std::swap(b[i], b[n - 1 - i]);
     switch (t) {
       case PType::I8: return load_as<std::int8_t>(b);
       case PType::U8: return load_as<std::uint8_t>(b);
