@@ -6,31 +6,7 @@ import numpy as np
 import pytest
 
 import masq
-from conftest import random_rays
-
-
-def sphere_scene(rng, n=40):
-    centers = rng.uniform(-1, 1, size=(n, 3))
-    radii = rng.uniform(0.05, 0.2, size=n)
-    s = masq.Scene()
-    s.add_spheres(centers, radii)
-    return s, centers, radii
-
-
-def nearest_sphere_t(o, d, centers, radii):
-    """Nearest t >= 0 of each ray (rows of o, d) against every sphere; inf where none."""
-    o = o.reshape(-1, 3).astype(np.float64)[:, None, :]
-    d = d.reshape(-1, 3).astype(np.float64)[:, None, :]
-    oc = o - centers[None]
-    a = np.sum(d * d, axis=2)
-    b = np.sum(oc * d, axis=2)
-    c = np.sum(oc * oc, axis=2) - radii[None] ** 2
-    disc = b * b - a * c
-    with np.errstate(invalid="ignore"):
-        root = np.sqrt(disc)
-    t0, t1 = (-b - root) / a, (-b + root) / a
-    t = np.where(t0 >= 0, t0, t1)
-    return np.where((disc >= 0) & (t >= 0), t, np.inf).min(axis=1)
+from conftest import random_rays, sphere_oracle, sphere_scene
 
 
 def same_hits(a, b):
@@ -43,7 +19,7 @@ def same_hits(a, b):
 @pytest.fixture(scope="module")
 def setup():
     rng = np.random.default_rng(21)
-    scene, centers, radii = sphere_scene(rng)
+    scene, centers, radii = sphere_scene(rng, 40, (0.05, 0.2))
     accel = masq.Accel.build(scene, method="masq")
     return masq.Context("cpu"), accel, centers, radii, rng
 
@@ -56,7 +32,7 @@ def test_a_grid_of_rays_gives_a_grid_of_hits(setup):
     assert hits.shape == (6, 7) and hits.dtype == masq.hit_dtype
     same_hits(hits.reshape(-1), ctx.trace(accel, o, d))
     # The hits themselves, against the oracle.
-    t_ref = nearest_sphere_t(o, d, centers, radii).reshape(6, 7)
+    t_ref = sphere_oracle(o, d, centers, radii)[0].reshape(6, 7)
     both = (hits["prim"] >= 0) & np.isfinite(t_ref)
     assert both.sum() > 5
     np.testing.assert_allclose(hits["t"][both], t_ref[both], rtol=2e-4, atol=1e-5)
@@ -151,7 +127,7 @@ def test_bounds_broadcast_against_the_rays(setup):
     ctx, accel, centers, radii, rng = setup
     o, d = random_rays(rng, 8 * 9)
     go, gd = o.reshape(8, 9, 3), d.reshape(8, 9, 3)
-    t_ref = nearest_sphere_t(o, d, centers, radii).reshape(8, 9)
+    t_ref = sphere_oracle(o, d, centers, radii)[0].reshape(8, 9)
     per_column = np.linspace(0.5, 4.0, 9)  # (9,): one bound per column of the grid
     hits = ctx.trace(accel, go, gd, tmax=per_column)
     same_hits(hits, ctx.trace(accel, go, gd, tmax=np.broadcast_to(per_column, (8, 9)).copy()))

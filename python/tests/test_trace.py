@@ -5,33 +5,7 @@ import numpy as np
 import pytest
 
 import masq
-from conftest import random_rays
-
-
-def sphere_oracle(o, d, centers, radii):
-    """Nearest t >= 0 of each ray against every sphere (inf: none), and the sphere's index."""
-    o = o.astype(np.float64)[:, None, :]
-    d = d.astype(np.float64)[:, None, :]
-    oc = o - centers[None, :, :]
-    a = np.sum(d * d, axis=2)
-    b = np.sum(oc * d, axis=2)
-    c = np.sum(oc * oc, axis=2) - radii[None, :] ** 2
-    disc = b * b - a * c
-    with np.errstate(invalid="ignore"):
-        root = np.sqrt(disc)
-    t0 = (-b - root) / a
-    t1 = (-b + root) / a
-    t = np.where(t0 >= 0, t0, t1)
-    t = np.where((disc >= 0) & (t >= 0), t, np.inf)
-    return t.min(axis=1), t.argmin(axis=1)
-
-
-def sphere_scene(rng, n=60):
-    centers = rng.uniform(-1, 1, size=(n, 3))
-    radii = rng.uniform(0.02, 0.15, size=n)
-    s = masq.Scene()
-    s.add_spheres(centers, radii)
-    return s, centers, radii
+from conftest import random_rays, sphere_oracle, sphere_scene
 
 
 @pytest.mark.parametrize("method", ["ref", "masq", "cluster"])
