@@ -11,10 +11,6 @@ namespace masq {
 
 namespace {
 
-void say(const BenchOptions& opt, const std::string& line) {
-  if (opt.progress) opt.progress(line);
-}
-
 void fill_counters(BenchRow& row, const std::vector<kernel::RayStats>& stats, const std::vector<kernel::Hit>& hits) {
   double t = 0, b = 0, x = 0, c = 0, h = 0;
   for (const kernel::RayStats& s : stats) {
@@ -126,7 +122,7 @@ void run_pilots(Lane& lane, int lane_index, const std::string& name, const std::
   bool held = false; // the slots hold the candidates since an earlier batch's pilot
   for (std::size_t b = 0; b < batches.size(); ++b) {
     if (batches[b].rays.empty()) continue;
-    say(*lane.opt, fmt::format("{} auto {}: pilot of auto's candidates", name, ray_set_name(batches[b].set)));
+    lane.opt->say(fmt::format("{} auto {}: pilot of auto's candidates", name, ray_set_name(batches[b].set)));
     PilotOptions popt = lane.opt->pilot;
     popt.slots_hold_candidates = held;
     try {
@@ -164,7 +160,7 @@ void prepare_lane(Lane& lane, BenchRow& row, const RayBatch& batch, std::size_t 
   const PackedScene& ps = lane_structure(lane, row, b);
   if (&ps != &lane.built->scenes.at(lane.method)) describe_structure(row, ps);
   if (lane.uploaded != &ps) {
-    say(*lane.opt, tag + ": upload");
+    lane.opt->say(tag + ": upload");
     try {
       lane.be->set_scene(ps);
     } catch (const std::exception& e) {
@@ -178,7 +174,7 @@ void prepare_lane(Lane& lane, BenchRow& row, const RayBatch& batch, std::size_t 
   row.scene_s = lane.be->timing().scene_seconds;
   std::vector<kernel::Hit> hits(batch.rays.size());
   std::vector<kernel::RayStats> stats(batch.rays.size());
-  say(*lane.opt, tag + ": counters");
+  lane.opt->say(tag + ": counters");
   lane.be->trace(batch.rays, hits, stats, row.query);
   fill_counters(row, stats, hits);
   if (lane.opt->keep_per_ray) {
@@ -193,7 +189,7 @@ void time_lanes(std::vector<Lane>& lanes, std::vector<BenchRow>& rows, const Ray
   std::vector<kernel::Hit> hits(batch.rays.size());
   const int rounds = opt.warmup + opt.repetitions;
   for (int round = 0; round < rounds; ++round) {
-    say(opt, fmt::format("{} {}: trace round {}/{}", rows.empty() ? "" : rows[0].backend, ray_set_name(batch.set),
+    opt.say(fmt::format("{} {}: trace round {}/{}", rows.empty() ? "" : rows[0].backend, ray_set_name(batch.set),
                          round + 1, rounds));
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       BenchRow& row = rows[i];
@@ -286,7 +282,7 @@ std::vector<Lane> open_lanes(const std::string& name, const std::vector<const Bu
 BuiltMethods build_methods(const Scene& scene, const BenchOptions& opt) {
   BuiltMethods built;
   for (Method m : opt.methods) {
-    say(opt, std::string("building ") + method_name(m) + " (" + builder_name(opt.accel.builder.kind) + ", " +
+    opt.say(std::string("building ") + method_name(m) + " (" + builder_name(opt.accel.builder.kind) + ", " +
                  node_format_name(opt.accel.nodes) + ")");
     if (m == Method::Auto && opt.auto_by == AutoBy::Pilot && opt.accel.auto_select == AutoSelect::WholeStructure) {
       built.auto_candidates = build_auto_candidates(scene, opt.accel);

@@ -58,6 +58,9 @@ struct BenchOptions {
   AutoBy auto_by = AutoBy::Pilot;
   PilotOptions pilot;
   std::function<void(const std::string&)> progress; // one line per step, may be empty
+  void say(const std::string& line) const {
+    if (progress) progress(line);
+  }
 };
 
 struct BenchRow {

@@ -23,10 +23,6 @@ double curve_radius(const Scene& s) {
   throw Error("bench --error: the scene has no curves (use --prim curve)");
 }
 
-void say(const BenchOptions& opt, const std::string& line) {
-  if (opt.progress) opt.progress(line);
-}
-
 // Builds the variant's scene, times it and compares every ray with the oracle.
 void measure_variant(ErrorRow& row, Backend& be, const Scene& scene, const std::vector<kernel::Ray>& rays,
                      const std::vector<oracle::OracleHit>& truth, double r, const BenchOptions& opt) {
@@ -37,7 +33,7 @@ void measure_variant(ErrorRow& row, Backend& be, const Scene& scene, const std::
   ao.mode = v.mode;
   ao.curve_iters = v.curve_iters;
   ao.curve_isect = v.curve_isect;
-  say(opt, row.backend + " " + v.name);
+  opt.say(row.backend + " " + v.name);
   be.set_scene(build_accel(s, Method::Masq, ao));
   std::vector<kernel::Hit> hits(rays.size());
   std::vector<double> times;
@@ -109,9 +105,9 @@ std::vector<ErrorRow> run_error_bench(const Scene& scene, const std::vector<Erro
                                       const BenchOptions& opt, BackendPool& pool) {
   const double r = curve_radius(scene);
   std::vector<kernel::Ray> rays = make_camera_rays(scene.camera, opt.width, opt.height);
-  say(opt, fmt::format("oracle: {} rays x {} primitives (exact cubics, long double)", rays.size(),
+  opt.say(fmt::format("oracle: {} rays x {} primitives (exact cubics, long double)", rays.size(),
                        scene.primitive_count()));
-  std::vector<oracle::OracleHit> truth = oracle::Oracle(scene).trace_all(rays);
+  std::vector<oracle::OracleHit> truth = oracle::Oracle(scene, {.exact_clearance_below = 1}).trace_all(rays);
   std::vector<ErrorRow> rows;
   for (const std::string& name : opt.backends) {
     Backend* be = pool.get(name);

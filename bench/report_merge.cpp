@@ -50,8 +50,6 @@ std::string backend_of(const std::string& header, const ReportRun& run) {
   return best;
 }
 
-std::string cell(const std::vector<std::string>& row, std::size_t i) { return i < row.size() ? row[i] : std::string(); }
-
 // One run's copy of a table, indexed for the merge.
 struct TableSource {
   std::size_t run = 0;
@@ -78,7 +76,7 @@ TableSource index_table(std::size_t run, const Table& t, const std::vector<std::
   std::vector<std::string> keys;
   for (const auto& row : t.rows) {
     std::string key;
-    for (const auto& c : label_columns) key += (c ? cell(row, *c) : std::string()) + '\x1f';
+    for (const auto& c : label_columns) key += (c ? Table::cell(row, *c) : std::string()) + '\x1f';
     keys.push_back(key);
   }
   s.row_keys = numbered(keys);
@@ -145,7 +143,7 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
       std::optional<std::string> seen;
       for (const TableSource* s : having)
         if (const auto* row = s->row(r)) {
-          std::string v = cell(*row, *s->column(key));
+          std::string v = Table::cell(*row, *s->column(key));
           if (seen && v != *seen) agree = false;
           seen = v;
         }
@@ -172,7 +170,7 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
         const auto* source_row = s.row(r);
         auto column = s.column(c.key);
         if (source_row && column) {
-          value = cell(*source_row, *column);
+          value = Table::cell(*source_row, *column);
           break;
         }
       }

@@ -5,10 +5,6 @@
 
 namespace masq {
 
-namespace {
-std::string cell(const std::vector<std::string>& row, std::size_t i) { return i < row.size() ? row[i] : std::string(); }
-} // namespace
-
 std::string Table::text() const {
   std::vector<std::size_t> width(header.size());
   for (std::size_t i = 0; i < header.size(); ++i) {

@@ -20,6 +20,10 @@ struct Table {
   int row_label_columns() const { return label_columns >= 0 ? label_columns : left_columns; }
 
   void add(std::vector<std::string> row) { rows.push_back(std::move(row)); }
+  // Cell i of a row, "" past its end (short rows).
+  static std::string cell(const std::vector<std::string>& row, std::size_t i) {
+    return i < row.size() ? row[i] : std::string();
+  }
   std::string text() const;
   std::string markdown() const;
 };

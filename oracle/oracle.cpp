@@ -1,5 +1,6 @@
 #include "oracle/oracle.h"
 #include "oracle/oracle_prims.h"
+#include "oracle/prim_common.h"
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,35 +12,91 @@ namespace masq::oracle {
 namespace {
 
 using ld = long double;
-const ld kInf = std::numeric_limits<ld>::infinity();
+using detail::kInf;
+using detail::operator+;
+using detail::operator-;
+using detail::operator*;
 
-// The oracle's table of primitive types: its intersector for each, row i for PrimType(i).
+// A ball in a primitive's object space that holds every point closer to it than
+// `cutoff` relative clearances (PrimResult::clearance < cutoff): a ray segment that
+// passes outside it neither hits the primitive nor counts as near it. Radius inf: never
+// skipped (triangles, whose clearance is barycentric, not a distance).
+struct Reach {
+  Vld centre;
+  ld radius = kInf;
+};
+// Segment a-b swept by balls of radius at most r: clearance = gap / r, and the gap exceeds
+// cutoff * r wherever the segment stays farther than |b - a| / 2 + (1 + cutoff) r from
+// the midpoint.
+Reach segment_reach(const glm::vec3& a, const glm::vec3& b, ld r, ld cutoff) {
+  Vld va = detail::from(a), vb = detail::from(b);
+  return {ld(0.5) * (va + vb), ld(0.5) * detail::len(vb - va) + (1 + cutoff) * r};
+}
+
+// The oracle's table of primitive types: its intersector and reach for each, row i for PrimType(i).
 struct OraclePrimRow {
   PrimType type;
   PrimResult (*intersect)(const Geometry& g, std::size_t p, const PrimRay& ray);
+  Reach (*reach)(const Geometry& g, std::size_t p, ld cutoff);
 };
 constexpr OraclePrimRow prim_rows[] = {
     {PrimType::Triangle,
      [](const Geometry& g, std::size_t p, const PrimRay& ray) {
        const glm::uvec3& tri = g.triangles[p];
        return oracle_triangle(g.vertices[tri.x], g.vertices[tri.y], g.vertices[tri.z], ray);
+     },
+     [](const Geometry&, std::size_t, ld) { return Reach{}; }},
+    {PrimType::Capsule, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_capsule(g.capsules[p], ray); },
+     [](const Geometry& g, std::size_t p, ld cutoff) {
+       const CapsulePrim& c = g.capsules[p];
+       return segment_reach(c.a, c.b, detail::nonneg(c.radius), cutoff);
      }},
-    {PrimType::Capsule, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_capsule(g.capsules[p], ray); }},
     {PrimType::RoundCone,
-     [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_round_cone(g.round_cones[p], ray); }},
-    {PrimType::Sphere, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_sphere(g.spheres[p], ray); }},
-    {PrimType::Curve, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_curve(g.curves[p], ray); }},
+     [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_round_cone(g.round_cones[p], ray); },
+     [](const Geometry& g, std::size_t p, ld cutoff) { // clearance relative to max(ra, rb)
+       const RoundConePrim& c = g.round_cones[p];
+       return segment_reach(c.a, c.b, std::max(detail::nonneg(c.ra), detail::nonneg(c.rb)), cutoff);
+     }},
+    {PrimType::Sphere, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_sphere(g.spheres[p], ray); },
+     [](const Geometry& g, std::size_t p, ld cutoff) {
+       const SpherePrim& s = g.spheres[p];
+       return segment_reach(s.center, s.center, detail::nonneg(s.radius), cutoff);
+     }},
+    {PrimType::Curve, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_curve(g.curves[p], ray); },
+     [](const Geometry& g, std::size_t p, ld cutoff) {
+       // The curve lies in its control points' hull, so within the ball about their mean
+       // that holds them; its clearance is relative to its radius (oracle_curve).
+       const CurvePrim& c = g.curves[p];
+       Vld centre;
+       for (const glm::vec3& q : c.p) centre = centre + ld(0.25) * detail::from(q);
+       ld hull = 0;
+       for (const glm::vec3& q : c.p) hull = std::max(hull, detail::len(detail::from(q) - centre));
+       return Reach{centre, hull + (1 + cutoff) * detail::nonneg(c.radius)};
+     }},
 };
 static_assert(one_row_per_prim_type(prim_rows), "oracle prim rows: one row per PrimType, in enum order");
 
-PrimResult intersect(const Geometry& g, std::size_t p, const PrimRay& ray) {
+// Distance from the segment o + t d, t in [tmin, tmax], to the point c.
+ld segment_distance(const PrimRay& ray, Vld c) {
+  ld dd = detail::dot(ray.d, ray.d);
+  ld t = std::clamp(detail::dot(c - ray.o, ray.d) / dd, ray.tmin, ray.tmax);
+  return detail::len((ray.o + t * ray.d) - c);
+}
+
+PrimResult intersect(const Geometry& g, std::size_t p, const PrimRay& ray, ld cutoff) {
   const auto i = static_cast<std::size_t>(g.type);
-  return i < prim_type_count ? prim_rows[i].intersect(g, p, ray) : PrimResult{};
+  if (i >= prim_type_count) return PrimResult{};
+  if (std::isfinite(cutoff)) {
+    const Reach reach = prim_rows[i].reach(g, p, cutoff);
+    // The margin keeps the skip on the safe side of this test's own rounding.
+    if (segment_distance(ray, reach.centre) > reach.radius * (1 + 1e-9L)) return PrimResult{};
+  }
+  return prim_rows[i].intersect(g, p, ray);
 }
 
 } // namespace
 
-Oracle::Oracle(const Scene& scene) : scene_(scene) {
+Oracle::Oracle(const Scene& scene, OracleOptions options) : scene_(scene), options_(options) {
   for (const Instance& inst : scene.instances) {
     // Invert the 3x3 in long double by cofactors.
     ld m[3][3];
@@ -89,7 +146,7 @@ OracleHit Oracle::trace(const kernel::Ray& ray) const {
     const Geometry& g = scene_.geometries[il.geometry];
     std::size_t n = g.primitive_count();
     for (std::size_t p = 0; p < n; ++p) {
-      PrimResult c = intersect(g, p, pr);
+      PrimResult c = intersect(g, p, pr, options_.exact_clearance_below);
       if (c.clearance < kInf) near.push_back({c.clearance, c.t_near});
       if (!c.hit) continue;
       if (c.t < out.t) {

@@ -8,6 +8,7 @@
 #include "kernels/layout.h"
 #include "scenes/scene.h"
 #include <glm/glm.hpp>
+#include <limits>
 #include <vector>
 
 namespace masq::oracle {
@@ -26,9 +27,19 @@ struct OracleHit {
   long double clearance = 0;
 };
 
+struct OracleOptions {
+  // OracleHit::clearance is exact below this value; a primitive the ray passes farther
+  // from is not solved at all (its clearance could only be larger), so a clearance
+  // at or above it is a lower bound, or inf. Brute force solves every primitive for every
+  // ray: a cutoff skips most of them (the curve's solve costs ~50 us a pair), and a
+  // caller that reads clearance only as "below some small threshold" loses nothing.
+  // inf (the default): every primitive solved, every clearance exact.
+  long double exact_clearance_below = std::numeric_limits<long double>::infinity();
+};
+
 class Oracle {
  public:
-  explicit Oracle(const Scene& scene);
+  explicit Oracle(const Scene& scene, OracleOptions options = {});
   OracleHit trace(const kernel::Ray& ray) const;
   std::vector<OracleHit> trace_all(const std::vector<kernel::Ray>& rays) const; // on oneTBB's threads
 
@@ -38,6 +49,7 @@ class Oracle {
     int geometry;
   };
   const Scene& scene_;
+  OracleOptions options_;
   std::vector<InstanceLd> inst_;
 };
 

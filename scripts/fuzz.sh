@@ -7,10 +7,14 @@
 # tests/fuzz_regressions/<format>/ so test_fuzz_regressions replays it forever.
 #   bash scripts/fuzz.sh                 # all formats, 15000 runs each
 #   RUNS=1000000 bash scripts/fuzz.sh ply obj   # longer, chosen formats
+#   bash scripts/fuzz.sh --build-only    # build the targets, run nothing (scripts/test.sh,
+#                                        # so that ctest fuzz_smoke only fuzzes)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUNS=${RUNS:-15000}
 BUILD=${BUILD:-build-fuzz}
+build_only=0
+if [ "${1:-}" = --build-only ]; then build_only=1; shift; fi
 formats=("$@")
 [ ${#formats[@]} -gt 0 ] || formats=(tfx hair swc trk tck ply obj nff json)
 
@@ -18,6 +22,7 @@ command -v clang++ >/dev/null || { echo "fuzz: clang++ not found (bash scripts/s
 CC=clang CXX=clang++ cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMASQ_FUZZ=ON \
   -DMASQ_BUILD_TESTS=OFF >/dev/null
 nice -n 15 cmake --build "$BUILD" -j2 --target fuzz_all
+[ "$build_only" = 0 ] || exit 0
 
 python3 fuzz/make_seeds.py "$BUILD/seeds"
 mkdir -p "$BUILD/findings"

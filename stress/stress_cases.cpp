@@ -142,6 +142,14 @@ std::vector<CellSpec> sweep_cells(const SweepOptions& opt) {
       out.push_back(std::move(c));
     }
   }
+  if (opt.shard_count < 1 || opt.shard_index < 0 || opt.shard_index >= opt.shard_count)
+    throw Error("stress: shard " + std::to_string(opt.shard_index) + " of " + std::to_string(opt.shard_count) +
+                " does not exist");
+  std::erase_if(out, [&](const CellSpec& c) {
+    const bool type_kept =
+        opt.only_types.empty() || std::find(opt.only_types.begin(), opt.only_types.end(), c.type) != opt.only_types.end();
+    return !type_kept || int(c.ray_seed % std::uint64_t(opt.shard_count)) != opt.shard_index;
+  });
   return out;
 }
 

@@ -78,6 +78,13 @@ struct SweepOptions {
   std::uint64_t seed = 7;
   std::vector<std::string> sweeps; // only these sweeps (distance, length, ...); empty: all
   std::vector<CurveIsect> curve_isects = {CurveIsect::Phantom, CurveIsect::Roving}; // curve cells: one per
+  // Only the cells of these types out of the whole list (empty: all), each with the rays
+  // it has in the whole run: the ctests run the suite a type at a time, side by side.
+  std::vector<PrimType> only_types;
+  // And of those, only the cells whose rays' seed (their place in the whole list) is
+  // shard_index modulo shard_count: a type's cells in parts (the curve intersectors'
+  // cells of the same rays stay together, sharing the oracle's answers).
+  int shard_count = 1, shard_index = 0;
 };
 
 std::vector<CellSpec> sweep_cells(const SweepOptions& opt);

@@ -4,6 +4,7 @@
 #include "oracle/oracle.h"
 #include "stress/stress_prim_rows.h"
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -37,7 +38,7 @@ bool surface_kind(RayKind k) { return k == RayKind::SurfaceOut || k == RayKind::
 // moves when the origin moves by the band. A grazing ray's hit slides along the surface
 // by band / angle; |dt| within r + 2 x that spread is the same surface.
 struct Conditioning {
-  std::vector<bool> ambiguous;
+  std::vector<char> ambiguous; // not vector<bool>: rays are decided in parallel, each in its own byte
   std::vector<double> t_spread;
 };
 
@@ -48,9 +49,11 @@ Conditioning ambiguous_rays(const Cell& cell, const oracle::Oracle& oracle,
   cond.t_spread.assign(truth.size(), 0.0);
   auto& amb = cond.ambiguous;
   const double delta = 2.0 * cell.ambiguity * cell.radius;
-  for (std::size_t i = 0; i < truth.size(); ++i) {
+  // Up to 37 oracle traces a ray, each ray on its own: on oneTBB's threads (most of
+  // `masq stress`'s time is here), every ray writing only its own slots.
+  tbb::parallel_for(std::size_t(0), truth.size(), [&](std::size_t i) {
     const RayKind kind = cell.kinds[i];
-    if (kind == RayKind::Invalid) continue;
+    if (kind == RayKind::Invalid) return;
     kernel::Ray r = cell.rays[i];
     if (surface_kind(kind)) {
       kernel::Ray w = r;
@@ -70,11 +73,11 @@ Conditioning ambiguous_rays(const Cell& cell, const oracle::Oracle& oracle,
         for (int j = 0; j < 3; ++j) p.org[j] = float(double(p.org[j]) + step * double(p.dir[j]));
         amb[i] = oracle.trace(p).prim != truth[i].prim;
       }
-      continue;
+      return;
     }
     if (double(truth[i].clearance) < cell.ambiguity) {
       amb[i] = true;
-      continue;
+      return;
     }
     for (int k = 0; k < 36 && !amb[i]; ++k) {
       kernel::Ray p = r;
@@ -89,7 +92,7 @@ Conditioning ambiguous_rays(const Cell& cell, const oracle::Oracle& oracle,
       if (h.prim >= 0 && truth[i].prim >= 0)
         cond.t_spread[i] = std::max(cond.t_spread[i], std::fabs(double(h.t - truth[i].t)) * dir_length(r));
     }
-  }
+  });
   return cond;
 }
 

@@ -90,7 +90,7 @@ std::unique_ptr<Backend> backend_or_fail(const std::string& name) {
 }
 
 void check_all_backends(const Scene& scene, const std::vector<kernel::Ray>& rays, const AccelOptions& opt = {}) {
-  oracle::Oracle oracle(scene);
+  oracle::Oracle oracle(scene, {.exact_clearance_below = 1}); // clearance read below kClearance only
   std::vector<oracle::OracleHit> truth = oracle.trace_all(rays);
   for (const std::string& name : masq::test::tested_backends(backend_names())) {
     std::unique_ptr<Backend> be = backend_or_fail(name);

@@ -3,7 +3,10 @@
 // long-double oracle, with the CLI's rays per cell (SweepOptions' default, never fewer:
 // a test that sampled less could pass where the command users run fails) and the CLI's
 // acceptance (stress_failures). The fast mode must show the errors the robust forms
-// remove (the suite has teeth). One test: the run is shared.
+// remove (the suite has teeth). One test per primitive type (the curve's cells, the
+// longest, in two parts), each running its cells of the whole list with the rays they
+// have there (SweepOptions::only_types, shard_*), so ctest runs them side by side;
+// together they are the whole `masq stress --quick`.
 #include "stress/stress_report.h"
 #include <gtest/gtest.h>
 #include <cstdlib>
@@ -13,9 +16,29 @@
 using namespace masq;
 using namespace masq::stress;
 
-TEST(Stress, QuickSuiteOnEveryBackend) {
+namespace {
+
+struct Part {
+  PrimType type;
+  int index = 0, count = 1;
+};
+std::vector<Part> every_part() {
+  std::vector<Part> parts;
+  for (PrimType t : SweepOptions{}.types) {
+    const int count = t == PrimType::Curve ? 2 : 1;
+    for (int i = 0; i < count; ++i) parts.push_back({t, i, count});
+  }
+  return parts;
+}
+
+class Stress : public ::testing::TestWithParam<Part> {};
+
+TEST_P(Stress, QuickSuiteOnEveryBackend) {
   StressOptions opt;
   opt.sweep.quick = true;
+  opt.sweep.only_types = {GetParam().type};
+  opt.sweep.shard_count = GetParam().count;
+  opt.sweep.shard_index = GetParam().index;
   const StressReport r = run_stress(opt);
   std::cout << stress_matrix(r, Mode::Robust) << "\n"
             << stress_matrix(r, Mode::Fast) << "\n"
@@ -50,5 +73,38 @@ TEST(Stress, QuickSuiteOnEveryBackend) {
     if (c.spec.type == PrimType::Capsule && c.backend == "cpu" && c.spec.sweep == "distance")
       (c.mode == Mode::Fast ? fast_bad : robust_bad) += c.m.disagree;
   }
-  EXPECT_GT(fast_bad, 10 * robust_bad + 10);
+  if (GetParam().type == PrimType::Capsule) EXPECT_GT(fast_bad, 10 * robust_bad + 10);
 }
+
+TEST(StressParts, TogetherTheyAreTheWholeQuickSuite) {
+  SweepOptions whole;
+  whole.quick = true;
+  std::size_t cells = 0;
+  for (const Part& p : every_part()) {
+    SweepOptions o = whole;
+    o.only_types = {p.type};
+    o.shard_count = p.count;
+    o.shard_index = p.index;
+    for (const CellSpec& c : sweep_cells(o)) {
+      const std::vector<CellSpec> all = sweep_cells(whole);
+      const auto same = std::find_if(all.begin(), all.end(), [&](const CellSpec& w) {
+        return w.ray_seed == c.ray_seed && w.label == c.label && w.type == c.type;
+      });
+      EXPECT_NE(same, all.end()) << c.label << ": not in the whole run, or with other rays";
+      ++cells;
+    }
+  }
+  EXPECT_EQ(cells, sweep_cells(whole).size());
+  SweepOptions bad = whole;
+  bad.shard_count = 2;
+  bad.shard_index = 2;
+  EXPECT_THROW(sweep_cells(bad), Error);
+}
+
+} // namespace
+
+INSTANTIATE_TEST_SUITE_P(Types, Stress, ::testing::ValuesIn(every_part()), [](const ::testing::TestParamInfo<Part>& i) {
+  std::string name = prim_type_key(i.param.type);
+  if (i.param.count > 1) name += "_part" + std::to_string(i.param.index + 1) + "of" + std::to_string(i.param.count);
+  return name;
+});

@@ -81,7 +81,7 @@ Ball welzl(std::vector<glm::dvec3>& p, std::size_t n, std::vector<glm::dvec3>& s
 }
 
 // EPOS-26's 13 directions: the 3 axes, the 4 cube diagonals, the 6 edge diagonals.
-const std::array<glm::dvec3, 13> kDirs = {
+const std::array<glm::dvec3, 13> kSphereDirs = {
     glm::dvec3{1, 0, 0},  {0, 1, 0},  {0, 0, 1},  {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1},
     {1, 1, 0},  {1, -1, 0}, {1, 0, 1}, {1, 0, -1}, {0, 1, 1}, {0, 1, -1}};
 
@@ -96,7 +96,7 @@ Ball min_ball(std::span<const glm::dvec3> points) {
 Ball epos26_ball(std::span<const BallHull> hulls) {
   // Extremal ball centres along each direction, by the balls' support (radius included).
   std::vector<glm::dvec3> extremes;
-  for (const glm::dvec3& d : kDirs) {
+  for (const glm::dvec3& d : kSphereDirs) {
     double lo = INFINITY, hi = -INFINITY;
     glm::dvec3 plo{0.0}, phi{0.0};
     double len = glm::length(d);

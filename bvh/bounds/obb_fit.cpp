@@ -48,7 +48,7 @@ bool frame_from(glm::dvec3 e, glm::dvec3 n, glm::dmat3& out) {
   return true;
 }
 
-const std::array<glm::dvec3, 7> kDirs = {glm::dvec3{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1},
+const std::array<glm::dvec3, 7> kObbDirs = {glm::dvec3{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1},
                                          {1, 1, -1},          {1, -1, 1}, {1, -1, -1}};
 
 } // namespace
@@ -98,7 +98,7 @@ ObbFrame fit_obb(std::span<const BallHull> hulls) {
   // DiTO: extremal centres along 7 directions; the farthest pair and the point farthest
   // from its line span a triangle whose edges (with its normal) give three frames.
   std::vector<glm::dvec3> ext;
-  for (const glm::dvec3& d : kDirs) {
+  for (const glm::dvec3& d : kObbDirs) {
     double lo = INFINITY, hi = -INFINITY;
     glm::dvec3 plo{0.0}, phi{0.0};
     for (const BallHull& h : hulls)

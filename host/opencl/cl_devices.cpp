@@ -6,12 +6,12 @@
 
 namespace masq::opencl {
 
-namespace {
-
-std::string trim(std::string s) {
+std::string cl_trimmed(std::string s) {
   while (!s.empty() && (s.back() == '\0' || s.back() == '\n' || s.back() == ' ')) s.pop_back();
   return s;
 }
+
+namespace {
 
 DeviceType device_type(const cl::Device& d) {
   const cl_device_type t = d.getInfo<CL_DEVICE_TYPE>();
@@ -70,16 +70,16 @@ void subgroup(const cl::Device& d, DeviceInfo& info) {
 DeviceInfo describe(const cl::Platform& p, const cl::Device& d, int index) {
   DeviceInfo info;
   info.index = index;
-  info.name = trim(d.getInfo<CL_DEVICE_NAME>());
+  info.name = cl_trimmed(d.getInfo<CL_DEVICE_NAME>());
   info.type = device_type(d);
-  const std::string version = trim(d.getInfo<CL_DEVICE_VERSION>());
+  const std::string version = cl_trimmed(d.getInfo<CL_DEVICE_VERSION>());
   if (!d.getInfo<CL_DEVICE_AVAILABLE>()) info.unusable = "is not available (CL_DEVICE_AVAILABLE)";
   else if (!d.getInfo<CL_DEVICE_COMPILER_AVAILABLE>()) info.unusable = "has no compiler (CL_DEVICE_COMPILER_AVAILABLE)";
   else if (version_number(version) < 12) info.unusable = "reports '" + version + "', masq needs OpenCL 1.2";
   info.no_ray_query = "is an OpenCL device";
   info.memory_bytes = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
   subgroup(d, info);
-  info.driver = trim(d.getInfo<CL_DRIVER_VERSION>()) + ", " + trim(p.getInfo<CL_PLATFORM_VERSION>());
+  info.driver = cl_trimmed(d.getInfo<CL_DRIVER_VERSION>()) + ", " + cl_trimmed(p.getInfo<CL_PLATFORM_VERSION>());
   return info;
 }
 

@@ -89,14 +89,9 @@ double event_seconds(const std::vector<cl::Event>& events) {
 
 namespace {
 
-std::string trim(std::string s) {
-  while (!s.empty() && (s.back() == '\0' || s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  return s;
-}
-
 std::string describe(const cl::Platform& platform, const cl::Device& device) {
-  return trim(device.getInfo<CL_DEVICE_NAME>()) + " (driver " + trim(device.getInfo<CL_DRIVER_VERSION>()) +
-         ", " + trim(platform.getInfo<CL_PLATFORM_VERSION>()) + ")";
+  return cl_trimmed(device.getInfo<CL_DEVICE_NAME>()) + " (driver " + cl_trimmed(device.getInfo<CL_DRIVER_VERSION>()) +
+         ", " + cl_trimmed(platform.getInfo<CL_PLATFORM_VERSION>()) + ")";
 }
 
 // The error lines of a compiler log (else its first lines), joined into one line.
@@ -104,7 +99,7 @@ std::string summarize_log(const std::string& log) {
   std::vector<std::string> all, errors;
   std::istringstream in(log);
   for (std::string line; std::getline(in, line);) {
-    line = trim(line);
+    line = cl_trimmed(line);
     if (line.empty()) continue;
     all.push_back(line);
     if (line.find("error") != std::string::npos) errors.push_back(line);

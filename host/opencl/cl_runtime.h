@@ -19,6 +19,8 @@ namespace masq::opencl {
 
 // "CL_OUT_OF_RESOURCES", ..., or "CL error <n>" for codes without a name here.
 std::string cl_error_name(cl_int code);
+// A string the OpenCL runtime returned, without its trailing NULs, newlines and blanks.
+std::string cl_trimmed(std::string s);
 
 // Throws masq::Error "opencl: <what> failed (<CL_NAME>)" unless code is CL_SUCCESS.
 void check(cl_int code, std::string_view what);

@@ -18,7 +18,7 @@ namespace masq {
 namespace {
 
 using opencl::check;
-constexpr std::size_t kDummyBytes = 16; // OpenCL rejects zero-sized buffers
+constexpr std::size_t kBvDummyBytes = 16; // OpenCL rejects zero-sized buffers
 
 class OpenClBvTracer final : public BvTracer {
  public:
@@ -55,7 +55,7 @@ class OpenClBvTracer final : public BvTracer {
     cl::Buffer ray_buf = scratch("rays", n * sizeof(kernel::Ray), CL_MEM_READ_ONLY);
     cl::Buffer hit_buf = scratch("hits", chunk * sizeof(kernel::Hit), CL_MEM_WRITE_ONLY);
     cl::Buffer stat_buf =
-        scratch("stats", want_stats ? chunk * sizeof(kernel::RayStats) : kDummyBytes, CL_MEM_WRITE_ONLY);
+        scratch("stats", want_stats ? chunk * sizeof(kernel::RayStats) : kBvDummyBytes, CL_MEM_WRITE_ONLY);
     std::vector<cl::Event> dispatches, uploads, readbacks;
     check(rt_.queue.enqueueWriteBuffer(ray_buf, CL_FALSE, 0, n * sizeof(kernel::Ray), rays.data(), nullptr,
                                        &uploads.emplace_back()),
@@ -99,7 +99,7 @@ class OpenClBvTracer final : public BvTracer {
       throw Error("opencl bv: " + std::string(what) + " need " + std::to_string(bytes) +
                   " bytes, more than CL_DEVICE_MAX_MEM_ALLOC_SIZE (" + std::to_string(rt_.max_alloc_bytes()) + ")");
     cl_int err = CL_SUCCESS;
-    cl::Buffer b(rt_.context, flags, std::max(bytes, kDummyBytes), nullptr, &err);
+    cl::Buffer b(rt_.context, flags, std::max(bytes, kBvDummyBytes), nullptr, &err);
     check(err, "clCreateBuffer(" + std::string(what) + ")");
     return b;
   }

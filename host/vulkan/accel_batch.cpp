@@ -4,6 +4,7 @@
 // one allocation and one submit-and-wait per structure cannot hold a cluster scene's
 // thousands of BLAS; compaction also gives the bytes the structures really need (the
 // build sizes are the driver's worst case).
+#include "host/vulkan/vk_clock.h"
 #include "host/vulkan/acceleration_structures.h"
 #include "host/vulkan/vk_barriers.h"
 #include <fmt/format.h>
@@ -17,7 +18,6 @@ constexpr VkDeviceSize kInputAlign = 16;    // instances need 16, AABBs 8, verti
 constexpr VkBufferUsageFlags kStorageUsage =
     VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
 
-VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
 
 VkAccelerationStructureGeometryKHR geometry_of(const AccelInput& in, VkDeviceAddress data) {
   VkAccelerationStructureGeometryKHR g{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};

@@ -1,6 +1,7 @@
 // "rayquery" backend: the driver's own acceleration structures (host/vulkan/driver_scene.h)
 // traversed with VK_KHR_ray_query from a compute shader (kernels/rayquery.comp) that calls
 // the shared intersector on every procedural candidate.
+#include "host/vulkan/vk_clock.h"
 #include "host/device_fill.h"
 #include "host/scene_variant.h"
 #include "host/vulkan/driver_scene.h"
@@ -16,18 +17,18 @@
 namespace masq {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using vk::Clock;
+using vk::seconds_since;
 
-const char* const kName = "rayquery";
+const char* const kRayQueryName = "rayquery";
 
 class RayQueryBackend final : public Backend {
  public:
   RayQueryBackend()
-      : ctx_(vk::Context::get(kName, DeviceNeed::RayQuery)),
+      : ctx_(vk::Context::get(kRayQueryName, DeviceNeed::RayQuery)),
         layout_(*ctx_, descriptor_types(), sizeof(kernel::TraceParams)), batch_(*ctx_) {}
 
-  std::string name() const override { return kName; }
+  std::string name() const override { return kRayQueryName; }
   std::string device_name() const override { return ctx_->device_name(); }
 
   void set_scene(const PackedScene& scene) override {
@@ -43,7 +44,7 @@ class RayQueryBackend final : public Backend {
     if (!have_scene_) throw Error("rayquery: trace called before set_scene");
     driver_.widen_for(rays);
     VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
-    batch_.run(kName, layout_, p, vk::local_size(*ctx_), static_cast<std::int32_t>(driver_.part_count()), rays, hits,
+    batch_.run(kRayQueryName, layout_, p, vk::local_size(*ctx_), static_cast<std::int32_t>(driver_.part_count()), rays, hits,
                stats)
         .into(timing_);
   }
@@ -76,7 +77,7 @@ class RayQueryBackend final : public Backend {
   vk::PipelineVariants bound_{layout_, rayquery_comp_spv}; // after layout_: destroyed first
   vk::PipelineVariants addressed_{layout_, rayquery_comp_addr_spv};
   vk::RayBatch batch_;
-  vk::DriverScene driver_{*ctx_, layout_, kName};
+  vk::DriverScene driver_{*ctx_, layout_, kRayQueryName};
   KernelFeatures features_;
   bool have_scene_ = false;
   TraceTiming timing_;

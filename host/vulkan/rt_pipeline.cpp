@@ -1,3 +1,4 @@
+#include "host/vulkan/vk_clock.h"
 #include "host/vulkan/rt_pipeline.h"
 #include "bvh/prim_rows.h"
 #include "host/limit_knob.h"
@@ -35,7 +36,6 @@ RtModules rt_modules(bool addressed) {
           rtpipeline_rint_spv, rtpipeline_triangle_rahit_spv, rtpipeline_triangle_rchit_spv};
 }
 
-VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
 
 // Specialisation constants as VkSpecializationInfo points at them (value i -> id i).
 struct Specialization {

@@ -7,6 +7,7 @@
 // Each batch of rays is one command buffer: the counters zeroed (stats variant), then
 // one vkCmdTraceRaysKHR per TLAS part, each part looking only nearer than the hits of
 // the parts before it.
+#include "host/vulkan/vk_clock.h"
 #include "host/device_fill.h"
 #include "host/scene_variant.h"
 #include "host/vulkan/driver_scene.h"
@@ -24,10 +25,10 @@
 namespace masq {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using vk::Clock;
+using vk::seconds_since;
 
-const char* const kName = "rtpipeline";
+const char* const kRtPipelineName = "rtpipeline";
 
 // The push constants of kernels/rt_shared.h (RtParams).
 struct RtParams {
@@ -38,10 +39,10 @@ static_assert(sizeof(RtParams) == sizeof(kernel::TraceParams));
 class RtPipelineBackend final : public Backend {
  public:
   RtPipelineBackend()
-      : ctx_(vk::Context::get(kName, DeviceNeed::RayPipeline)),
+      : ctx_(vk::Context::get(kRtPipelineName, DeviceNeed::RayPipeline)),
         layout_(*ctx_, vk::kernel_descriptor_types(), sizeof(RtParams), vk::kRtShaderStages), batch_(*ctx_) {}
 
-  std::string name() const override { return kName; }
+  std::string name() const override { return kRtPipelineName; }
   std::string device_name() const override { return ctx_->device_name(); }
 
   void set_scene(const PackedScene& scene) override {
@@ -59,7 +60,7 @@ class RtPipelineBackend final : public Backend {
     driver_.widen_for(rays); // rebuilds keep the plan, so the binding tables stay valid
     const Prepared p = prepare(!stats.empty(), query == Query::Any);
     const bool counters = !stats.empty();
-    batch_.run_chunks(kName, layout_, max_launch(), rays, hits, stats,
+    batch_.run_chunks(kRtPipelineName, layout_, max_launch(), rays, hits, stats,
                       [&](std::uint32_t n) { return launch(p, n, counters); })
         .into(timing_);
   }
@@ -123,7 +124,7 @@ class RtPipelineBackend final : public Backend {
     if (it == pipelines_.end()) {
       auto t0 = Clock::now();
       Compiled c;
-      c.pipeline = std::make_unique<vk::RtPipeline>(*ctx_, layout_, v, addressed, kName);
+      c.pipeline = std::make_unique<vk::RtPipeline>(*ctx_, layout_, v, addressed, kRtPipelineName);
       batch_.bind_minimal(layout_);
       Prepared warm{c.pipeline.get(), &table(*c.pipeline)};
       launch(warm, 0, false); // ray_count 0: every invocation returns at once
@@ -137,7 +138,7 @@ class RtPipelineBackend final : public Backend {
   const vk::BindingTable& table(const vk::RtPipeline& p) {
     auto it = tables_.find(&p);
     if (it == tables_.end())
-      it = tables_.emplace(&p, std::make_unique<vk::BindingTable>(*ctx_, p, driver_.plan(), kName)).first;
+      it = tables_.emplace(&p, std::make_unique<vk::BindingTable>(*ctx_, p, driver_.plan(), kRtPipelineName)).first;
     return *it->second;
   }
 
@@ -149,7 +150,7 @@ class RtPipelineBackend final : public Backend {
   std::shared_ptr<vk::Context> ctx_;
   vk::KernelLayout layout_;
   vk::RayBatch batch_;
-  vk::DriverScene driver_{*ctx_, layout_, kName};
+  vk::DriverScene driver_{*ctx_, layout_, kRtPipelineName};
   std::map<std::vector<std::uint32_t>, Compiled> pipelines_;                          // by variant
   std::map<const vk::RtPipeline*, std::unique_ptr<vk::BindingTable>> tables_;          // for the current scene
   KernelFeatures features_;

@@ -9,7 +9,7 @@ namespace masq::vk {
 namespace {
 
 // Opcodes and enumerants of the SPIR-V specification (unified1).
-constexpr std::uint32_t kMagic = 0x07230203;
+constexpr std::uint32_t kSpirvMagic = 0x07230203;
 constexpr std::uint32_t kOpExtension = 10;
 constexpr std::uint32_t kOpCapability = 17;
 constexpr std::uint32_t kOpEntryPoint = 15;
@@ -39,7 +39,7 @@ std::vector<std::uint32_t> extension_instruction() {
 
 // Throws unless `spirv` starts with a SPIR-V header.
 void check_header(std::span<const std::uint32_t> spirv) {
-  if (spirv.size() < kHeaderWords || spirv[0] != kMagic)
+  if (spirv.size() < kHeaderWords || spirv[0] != kSpirvMagic)
     throw Error("spirv: not a SPIR-V module (" + std::to_string(spirv.size()) + " words, no magic number)");
 }
 

@@ -13,7 +13,7 @@
 namespace masq::vk {
 namespace {
 
-constexpr char kMagic[8] = {'M', 'A', 'S', 'Q', 'V', 'K', 'P', 'C'};
+constexpr char kCacheFileMagic[8] = {'M', 'A', 'S', 'Q', 'V', 'K', 'P', 'C'};
 constexpr std::uint32_t kFormat = 1;
 // magic, format, vendor, device, driver version, deviceUUID, pipelineCacheUUID, size, checksum
 constexpr std::size_t kHeaderBytes = 8 + 4 * 4 + 2 * VK_UUID_SIZE + 8 + 8;
@@ -59,7 +59,7 @@ std::vector<std::uint8_t> encode_pipeline_cache(const PipelineCacheKey& key,
                                                 const std::vector<std::uint8_t>& driver_data) {
   std::vector<std::uint8_t> out(kHeaderBytes + driver_data.size());
   Writer w{out.data()};
-  w.bytes(kMagic, sizeof kMagic);
+  w.bytes(kCacheFileMagic, sizeof kCacheFileMagic);
   w.value(kFormat);
   w.value(key.vendor_id);
   w.value(key.device_id);
@@ -81,8 +81,8 @@ std::vector<std::uint8_t> decode_pipeline_cache(const PipelineCacheKey& key, con
   };
   if (file.size() < kHeaderBytes) return reject("shorter than its header");
   const std::uint8_t* p = file.data();
-  if (std::memcmp(p, kMagic, sizeof kMagic) != 0) return reject("not a masq pipeline cache");
-  p += sizeof kMagic;
+  if (std::memcmp(p, kCacheFileMagic, sizeof kCacheFileMagic) != 0) return reject("not a masq pipeline cache");
+  p += sizeof kCacheFileMagic;
   if (get<std::uint32_t>(p) != kFormat) return reject("another format version");
   if (get<std::uint32_t>(p + 4) != key.vendor_id || get<std::uint32_t>(p + 8) != key.device_id)
     return reject("another device (vendor/device id)");

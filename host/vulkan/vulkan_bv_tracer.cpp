@@ -20,23 +20,23 @@ namespace masq {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-const char* const kName = "vulkan";
+const char* const kVulkanBvName = "vulkan";
 
 class VulkanBvTracer final : public BvTracer {
  public:
   VulkanBvTracer()
-      : ctx_(vk::Context::get(kName)),
+      : ctx_(vk::Context::get(kVulkanBvName)),
         layout_(*ctx_, vk::kernel_descriptor_types(), sizeof(kernel::TraceParams)),
         batch_(*ctx_) {}
 
-  std::string name() const override { return kName; }
+  std::string name() const override { return kVulkanBvName; }
 
   void set_scene(const BvScene& scene) override {
     auto t0 = Clock::now();
     if (scene.node_count() > std::size_t(INT32_MAX)) throw Error("vulkan bv: more than 2^31-1 nodes");
     scene_ = vk::SceneBuffers{};
-    vk::add_scene_arrays(scene_, *ctx_, kName, scene_array_data(scene), KernelFamily::Bv);
-    scene_.finish(*ctx_, kName);
+    vk::add_scene_arrays(scene_, *ctx_, kVulkanBvName, scene_array_data(scene), KernelFamily::Bv);
+    scene_.finish(*ctx_, kVulkanBvName);
     scene_.bind(layout_);
     type_ = scene.type;
     node_count_ = int(scene.node_count());
@@ -51,7 +51,7 @@ class VulkanBvTracer final : public BvTracer {
     if (!have_scene_) throw Error("vulkan bv: trace called before set_scene");
     VkPipeline p = pipeline(!stats.empty());
     const std::int32_t budget = step_budget(std::size_t(node_count_));
-    batch_.run(kName, layout_, p, vk::local_size(*ctx_), node_count_, rays, hits, stats, budget).into(timing_);
+    batch_.run(kVulkanBvName, layout_, p, vk::local_size(*ctx_), node_count_, rays, hits, stats, budget).into(timing_);
     check_trace_faults("vulkan bv", ctx_->device_name(), hits, budget);
   }
 

@@ -6,6 +6,7 @@
 // an array over one storage binding are refused. Each in two stack forms (MASQ_STACK_FORM,
 // kernels/variants.h): trace_comp*_spv with fixed stacks, trace_comp_sized*_spv sized by
 // the specialization constants.
+#include "host/vulkan/vk_clock.h"
 #include "host/device_fill.h"
 #include "host/limit_knob.h"
 #include "host/vulkan/trace_dispatch.h"
@@ -28,10 +29,10 @@
 namespace masq {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using vk::Clock;
+using vk::seconds_since;
 
-const char* const kName = "vulkan";
+const char* const kVulkanName = "vulkan";
 
 // How the kernel reads the scene arrays: "addressed" (buffer device address) whenever
 // the device supports it, or "bound" (storage-buffer descriptors) except for arrays over
@@ -43,19 +44,19 @@ bool prefer_addressed() { return choice_knob("vulkan", Knob::VkAddressing, "addr
 class VulkanComputeBackend final : public Backend {
  public:
   VulkanComputeBackend()
-      : ctx_(vk::Context::get(kName)),
+      : ctx_(vk::Context::get(kVulkanName)),
         layout_(*ctx_, vk::kernel_descriptor_types(), sizeof(kernel::TraceParams)),
         batch_(*ctx_) {}
 
 
-  std::string name() const override { return kName; }
+  std::string name() const override { return kVulkanName; }
   std::string device_name() const override { return ctx_->device_name(); }
 
   void set_scene(const PackedScene& scene) override {
     auto t0 = Clock::now();
     scene_ = vk::SceneBuffers{}; // release the old scene first (memory)
-    vk::add_scene_arrays(scene_, *ctx_, kName, scene_array_data(scene), KernelFamily::TwoLevel);
-    scene_.finish(*ctx_, kName, prefer_addressed());
+    vk::add_scene_arrays(scene_, *ctx_, kVulkanName, scene_array_data(scene), KernelFamily::TwoLevel);
+    scene_.finish(*ctx_, kVulkanName, prefer_addressed());
     scene_.bind(layout_);
     tlas_root_ = scene.tlas_root;
     budget_ = step_budget(scene.node_count());
@@ -68,8 +69,8 @@ class VulkanComputeBackend final : public Backend {
              Query query) override {
     if (!have_scene_) throw Error("vulkan: trace called before set_scene");
     VkPipeline p = pipeline(!stats.empty(), query == Query::Any);
-    batch_.run(kName, layout_, p, vk::local_size(*ctx_), tlas_root_, rays, hits, stats, budget_).into(timing_);
-    check_trace_faults(kName, ctx_->device_name(), hits, budget_);
+    batch_.run(kVulkanName, layout_, p, vk::local_size(*ctx_), tlas_root_, rays, hits, stats, budget_).into(timing_);
+    check_trace_faults(kVulkanName, ctx_->device_name(), hits, budget_);
   }
 
   TraceTiming timing() const override { return timing_; }

@@ -9,7 +9,6 @@
 namespace masq {
 namespace {
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
 
 class Tokens {
  public:
@@ -55,7 +54,7 @@ class Tokens {
 
  private:
   void skip_space(bool newlines) {
-    while (pos_ < text_.size() && is_space(text_[pos_])) {
+    while (pos_ < text_.size() && is_text_space(text_[pos_])) {
       if (text_[pos_] == '\n') {
         if (!newlines) return;
         ++line_;
@@ -66,7 +65,7 @@ class Tokens {
   bool take(std::string_view& tok) {
     if (pos_ >= text_.size()) return false;
     std::size_t b = pos_;
-    while (pos_ < text_.size() && !is_space(text_[pos_])) ++pos_;
+    while (pos_ < text_.size() && !is_text_space(text_[pos_])) ++pos_;
     tok = text_.substr(b, pos_ - b);
     tok_line_ = line_;
     return true;

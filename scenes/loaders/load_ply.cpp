@@ -50,15 +50,14 @@ struct Element {
   std::vector<Property> props;
 };
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
 
 std::vector<std::string_view> split_ws(std::string_view s) {
   std::vector<std::string_view> out;
   std::size_t i = 0;
   while (i < s.size()) {
-    while (i < s.size() && is_space(s[i])) ++i;
+    while (i < s.size() && is_text_space(s[i])) ++i;
     std::size_t b = i;
-    while (i < s.size() && !is_space(s[i])) ++i;
+    while (i < s.size() && !is_text_space(s[i])) ++i;
     if (i > b) out.push_back(s.substr(b, i - b));
   }
   return out;
@@ -144,13 +143,13 @@ class DataReader {
 
  private:
   bool next_token(std::string_view& tok) {
-    while (pos_ < text_.size() && is_space(text_[pos_])) {
+    while (pos_ < text_.size() && is_text_space(text_[pos_])) {
       if (text_[pos_] == '\n') ++line_;
       ++pos_;
     }
     if (pos_ >= text_.size()) return false;
     std::size_t b = pos_;
-    while (pos_ < text_.size() && !is_space(text_[pos_])) ++pos_;
+    while (pos_ < text_.size() && !is_text_space(text_[pos_])) ++pos_;
     tok = text_.substr(b, pos_ - b);
     tok_line_ = line_;
     return true;

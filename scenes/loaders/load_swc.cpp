@@ -19,7 +19,7 @@ struct Sample {
   std::size_t line;
 };
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+bool is_line_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
 [[noreturn]] void fail_line(const std::string& name, std::size_t line, const std::string& what) {
   throw Error(name + ":" + std::to_string(line) + ": " + what);
@@ -116,10 +116,10 @@ Scene load_swc(std::span<const std::byte> data, const std::string& name, const L
     std::string_view tok[7];
     std::size_t n = 0, i = 0;
     while (i < line.size() && n < 7) {
-      while (i < line.size() && is_space(line[i])) ++i;
+      while (i < line.size() && is_line_space(line[i])) ++i;
       if (i == line.size()) break;
       std::size_t s = i;
-      while (i < line.size() && !is_space(line[i])) ++i;
+      while (i < line.size() && !is_line_space(line[i])) ++i;
       tok[n++] = line.substr(s, i - s);
     }
     if (n == 0) continue; // blank or comment

@@ -57,6 +57,8 @@ class ByteReader {
 void require_strand_type(const LoadOptions& opt, const std::string& source);
 bool finite3(const glm::vec3& p);
 std::string format_number(double v); // 9 significant digits, for messages
+// The text formats' token separators: C's isspace in the "C" locale, whatever the user's locale.
+inline bool is_text_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
 
 // One scene holding `g` once, named after the source.
 Scene scene_of(Geometry g, const std::string& name);
