@@ -70,13 +70,6 @@ LinearRow time_row(const BenchRow& r) {
   return {{1.0, r.tlas_nodes + r.blas_nodes, r.transforms, r.isect_calls}, y, 1.0 / y};
 }
 
-double predict(const std::vector<double>& p, const BenchRow& r) {
-  LinearRow x = time_row(r);
-  double s = 0;
-  for (std::size_t k = 0; k < p.size(); ++k) s += p[k] * x.x[k];
-  return s;
-}
-
 double predict(const PriceFit& f, const BenchRow& r) {
   return f.ns_per_ray + f.ns_per_node * (r.tlas_nodes + r.blas_nodes + f.prices.transform * r.transforms +
                                          f.prices.isect * r.isect_calls);
@@ -84,33 +77,58 @@ double predict(const PriceFit& f, const BenchRow& r) {
 
 } // namespace
 
-std::optional<PriceFit> fit_prices(const std::vector<BenchRow>& rows, const std::string& backend) {
-  std::vector<const BenchRow*> used;
+std::optional<TimeFit> fit_time(const std::vector<BenchRow>& rows, const std::string& backend, TimeTerms terms) {
   std::vector<LinearRow> eq;
   for (const BenchRow& r : rows)
     if (usable(r, backend)) {
-      used.push_back(&r);
-      eq.push_back(time_row(r));
+      double y = ns_per_ray(r);
+      eq.push_back({terms(r), y, 1.0 / y}); // weighted by 1/time: relative error, fast and slow rows alike
     }
   std::optional<std::vector<double>> p = fit_linear(eq);
   if (!p) return std::nullopt;
-  // Relative prices need a positive node price to divide by.
-  double node = std::abs((*p)[1]) > 1e-9 ? (*p)[1] : 1e-9;
-  PriceFit f;
-  f.ns_per_ray = (*p)[0];
-  f.ns_per_node = node;
-  f.prices = {1.0, (*p)[2] / node, (*p)[3] / node};
-  f.rows = int(used.size());
+  auto predict_eq = [](const std::vector<double>& q, const LinearRow& e) {
+    double s = 0;
+    for (std::size_t k = 0; k < q.size(); ++k) s += q[k] * e.x[k];
+    return s;
+  };
+  TimeFit f;
+  f.ns = *p;
+  f.rows = int(eq.size());
   std::vector<double> err, loo;
-  for (std::size_t i = 0; i < used.size(); ++i) {
-    double y = ns_per_ray(*used[i]);
-    err.push_back((predict(f, *used[i]) - y) / y);
+  for (std::size_t i = 0; i < eq.size(); ++i) {
+    err.push_back(predict_eq(*p, eq[i]) / eq[i].y - 1);
     std::vector<LinearRow> rest = eq;
     rest.erase(rest.begin() + std::ptrdiff_t(i));
-    if (std::optional<std::vector<double>> q = fit_linear(rest)) loo.push_back((predict(*q, *used[i]) - y) / y);
+    if (std::optional<std::vector<double>> q = fit_linear(rest)) loo.push_back(predict_eq(*q, eq[i]) / eq[i].y - 1);
   }
   std::tie(f.median_rel_error, f.max_rel_error) = median_and_max_abs(err);
-  if (loo.size() == used.size()) std::tie(f.loo_median_rel_error, f.loo_max_rel_error) = median_and_max_abs(loo);
+  if (loo.size() == eq.size()) std::tie(f.loo_median_rel_error, f.loo_max_rel_error) = median_and_max_abs(loo);
+  return f;
+}
+
+std::vector<double> rt_form_terms(const BenchRow& r) {
+  return {1.0, r.tlas_nodes, r.blas_nodes, r.transforms, r.isect_calls};
+}
+
+namespace {
+std::vector<double> auto_terms(const BenchRow& r) { return time_row(r).x; }
+} // namespace
+
+std::optional<PriceFit> fit_prices(const std::vector<BenchRow>& rows, const std::string& backend) {
+  std::optional<TimeFit> t = fit_time(rows, backend, auto_terms);
+  if (!t) return std::nullopt;
+  const std::vector<double>& p = t->ns;
+  // Relative prices need a positive node price to divide by.
+  double node = std::abs(p[1]) > 1e-9 ? p[1] : 1e-9;
+  PriceFit f;
+  f.ns_per_ray = p[0];
+  f.ns_per_node = node;
+  f.prices = {1.0, p[2] / node, p[3] / node};
+  f.rows = t->rows;
+  f.median_rel_error = t->median_rel_error;
+  f.max_rel_error = t->max_rel_error;
+  f.loo_median_rel_error = t->loo_median_rel_error;
+  f.loo_max_rel_error = t->loo_max_rel_error;
   return f;
 }
 

@@ -29,6 +29,21 @@ struct LinearRow {
 // as long as the first); nullopt with fewer rows than terms or a singular system.
 std::optional<std::vector<double>> fit_linear(const std::vector<LinearRow>& rows);
 
+// Time per ray = sum_k ns[k] x term k of the row, least squares in relative error over
+// one backend's usable rows (rows with counters and a time), and each row's error when
+// predicted by the fit to the other rows (leave-one-out).
+struct TimeFit {
+  std::vector<double> ns; // per term, nanoseconds per unit of the term
+  int rows = 0;
+  double median_rel_error = 0, max_rel_error = 0;
+  double loo_median_rel_error = -1, loo_max_rel_error = -1; // < 0: too few rows
+};
+using TimeTerms = std::vector<double> (*)(const BenchRow&);
+std::optional<TimeFit> fit_time(const std::vector<BenchRow>& rows, const std::string& backend, TimeTerms terms);
+// The RT model's terms (bench/rt_cost_model.h: ray, TLAS nodes, BLAS nodes, transforms,
+// intersector calls; hits left out as there): the on-device form of the RT model.
+std::vector<double> rt_form_terms(const BenchRow& r);
+
 struct PriceFit {
   CostPrices prices;       // node == 1
   double ns_per_node = 0;  // the fitted node price in nanoseconds per ray

@@ -28,9 +28,9 @@ RtFitOptions rt_paper_fit_options();
 // fitted; nullopt when too few such cells ran.
 std::optional<RtFit> fit_rt_to_paper_fig3(const std::vector<Fig3Rows>& cells);
 
-// Traces the paper's 16 bundles on the cpu backend (side x side orthographic primary rays,
+// Traces the paper's 16 bundles on the cpu backend (side x side orthographic primary rays, as fig3 --quick;
 // ref and masq, counters only) and fits; nullopt when the cpu backend cannot run.
-std::optional<RtFit> measure_and_fit_rt_fig3(BackendPool& pool, int side = 64);
+std::optional<RtFit> measure_and_fit_rt_fig3(BackendPool& pool, int side = 96);
 
 // The fit for results.json: prices and their jackknife errors, free parameters against
 // cells, the per-cell predictions (all cells and left out) and the error summaries.

@@ -4,6 +4,7 @@
 #include "bench/bench_report.h"
 #include "bench/price_fit.h"
 #include "bench/ray_sets.h"
+#include "bench/report_fit.h"
 #include "bench/rt_cost_model.h"
 #include "bench/rt_fit.h"
 #include "bench/suite.h"
@@ -416,6 +417,37 @@ TEST(PriceFit, RecoversExactPricesAndTheConstant) {
   EXPECT_FALSE(fit_prices(rows, "opencl")); // no rows of that backend
   rows.resize(3);
   EXPECT_FALSE(fit_prices(rows, "cpu")); // four prices need four rows
+}
+
+TEST(PriceFit, RowsReadBackFromJsonFitAsMeasured) {
+  // A results.json's rows (bench_row_json) read back for `masq report --fit-prices`: the
+  // fields the fit uses survive, and the RT-form fit recovers the prices the rows carry.
+  std::vector<BenchRow> rows = {priced_row(Method::Ref, RaySet::Primary, 10, 1, 30),
+                                priced_row(Method::Masq, RaySet::Primary, 40, 35, 2),
+                                priced_row(Method::Cluster, RaySet::Primary, 8, 4, 5),
+                                priced_row(Method::Ref, RaySet::Diffuse, 20, 1, 12),
+                                priced_row(Method::Masq, RaySet::Diffuse, 25, 60, 1),
+                                priced_row(Method::Cluster, RaySet::Diffuse, 14, 9, 7)};
+  std::vector<BenchRow> back;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    BenchRow& r = rows[i];
+    r.tlas_nodes = 1.0 + 0.3 * double(i * i); // a TLAS part unlike the BLAS one, so the RT form's node terms differ
+    r.median_s += r.rays * 2.0 * r.tlas_nodes * 1e-9;
+    back.push_back(bench_row_from_json(bench_row_json(r)));
+    EXPECT_EQ(back.back().method, r.method);
+    EXPECT_EQ(back.back().ray_set, r.ray_set);
+    EXPECT_DOUBLE_EQ(back.back().median_s, r.median_s);
+    EXPECT_DOUBLE_EQ(back.back().isect_calls, r.isect_calls);
+  }
+  std::optional<TimeFit> f = fit_time(back, "cpu", rt_form_terms);
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->ns.size(), 5u);
+  EXPECT_NEAR(f->ns[0], 7.0, 1e-6);  // ray
+  EXPECT_NEAR(f->ns[1], 2.0, 1e-6);  // TLAS node
+  EXPECT_NEAR(f->ns[2], 3.0, 1e-6);  // BLAS node
+  EXPECT_NEAR(f->ns[3], 5.0, 1e-6);  // transform
+  EXPECT_NEAR(f->ns[4], 11.0, 1e-6); // intersector call
+  EXPECT_LT(f->loo_max_rel_error, 1e-9);
 }
 
 TEST(PriceFit, ChoicesCountWhereTheCheapestByPriceIsSlow) {
