@@ -38,10 +38,11 @@ std::string rt_model_note(const RtCostModel& model) {
   for (int k = 0; k < kRtTerms; ++k) prices += fmt::format("{}{} {:.3g}", k ? ", " : "", rt_term_name(k), model.price[k]);
   if (!model.fitted) return fmt::format("RT model speedup: cost(ref)/cost(masq) with prices per ray counter ({}); {} "
                                         "(bench/rt_cost_model.h)", prices, model.source);
-  return fmt::format("RT model speedup: cost(ref)/cost(masq) with prices per ray counter in intersector calls ({}), {}; "
-                     "cells left out of the fit were predicted within {:.1f}% (median), {:.1f}% (worst); "
-                     "+-: the median (bench/rt_cost_model.h)",
-                     prices, model.source, 100 * model.loo_median, 100 * model.loo_max);
+  return fmt::format("RT model speedup: cost(ref)/cost(masq) with prices per ray counter in intersector calls ({}), {} "
+                     "({} free prices for {} cells); cells left out of the fit were predicted within {:.1f}% (median), "
+                     "{:.1f}% (worst); +-: the median (bench/rt_cost_model.h)",
+                     prices, model.source, model.free_parameters, model.cells, 100 * model.loo_median,
+                     100 * model.loo_max);
 }
 
 } // namespace masq

@@ -34,6 +34,7 @@ struct RtCostModel {
   bool fitted = false;
   // The fit's leave-one-out relative error on its cells (median, largest); < 0: not fitted.
   double loo_median = -1, loo_max = -1;
+  int free_parameters = 0, cells = 0; // of the fit: prices fitted (isect = 1 is not) against cells
   std::string source = "not fitted: node visits and transforms priced at 1/16 of an intersector call";
 };
 

@@ -90,6 +90,8 @@ std::optional<RtFit> fit_rt_model(const std::vector<RtCell>& cells, const RtFitO
     loo_err.push_back(r.loo_error());
     f.per_cell.push_back(r);
   }
+  f.model.free_parameters = f.free_parameters;
+  f.model.cells = f.cells;
   std::tie(f.fit_median, f.fit_max) = median_and_max_abs(fit_err);
   std::tie(f.model.loo_median, f.model.loo_max) = median_and_max_abs(loo_err);
   // Jackknife: the spread of the leave-one-out prices, scaled by (n - 1) / n.

@@ -42,8 +42,7 @@ std::optional<RtFit> fit_rt_to_paper_fig3(const std::vector<Fig3Rows>& cells) {
     fit_cells.push_back({fmt::format("N={} r={:g} tilt {:g}", c.n, c.r, c.tilt), rt_counters(*ref), rt_counters(*masq), *paper});
   }
   return fit_rt_model(fit_cells, rt_paper_fit_options(),
-                      fmt::format("fitted to the masquerade paper's Fig. 3 ({} cells, RTX 8000) from masq's counters",
-                                  fit_cells.size()));
+                      "fitted to the masquerade paper's Fig. 3 (RTX 8000) from masq's counters");
 }
 
 std::optional<RtFit> measure_and_fit_rt_fig3(BackendPool& pool, int side) {
