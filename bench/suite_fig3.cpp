@@ -152,8 +152,8 @@ SuiteResult run_fig3(SuiteContext& ctx) {
              "paper RTX 8000: the masquerade paper's Fig. 3, measured with OptiX 7 on an RTX 8000; '-': a cell outside "
              "its grid",
              rt_model_note(ctx.rt_model),
-             "RT model left out: the cell predicted by prices fitted to the other 15 cells (leave-one-out); error: "
-             "against the paper's figure"};
+             fmt::format("RT model left out: the cell predicted by prices fitted to the other {} cells (leave-one-out); "
+                         "error: against the paper's figure", rt_fit ? rt_fit->cells - 1 : 0)};
   res.tables.push_back(t);
   res.tables.push_back(fig3_paper_grid(grid, opt.backends));
   // The issue-7 methods on the same rays: oriented clusters, and the automatic choice.
