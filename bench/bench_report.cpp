@@ -209,11 +209,9 @@ Table bench_ratios(const std::vector<BenchRow>& rows, const RtCostModel& model) 
            fmt::format("{:.2f}x ({:.2f} vs {:.2f})", r->isect_calls / m.isect_calls, r->isect_calls, m.isect_calls),
            fmt::format("{:.2f}x", double(m.accel_bytes) / double(r->accel_bytes)),
            m.build.aabb_area > 0 ? fmt::format("{:.3f}", m.build.obb_area / m.build.aabb_area) : "-",
-           has_counters(m) && has_counters(*r) ? fmt::format("{:.2f}x", rt_predicted_speedup(*r, m, model)) : "n/a"});
+           has_counters(m) && has_counters(*r) ? rt_speedup_label(rt_predicted_speedup(*r, m, model), model) : "n/a"});
   }
-  t.notes = {fmt::format("RT model speedup: what RT hardware would gain if node visits and transforms cost 1 each in "
-                         "fixed function and an intersector call costs {:g} in software (bench/rt_cost_model.h)",
-                         model.isect)};
+  t.notes = {rt_model_note(model)};
   return t;
 }
 

@@ -61,8 +61,10 @@ std::string price_fit_note(const std::vector<std::vector<BenchRow>>& groups, con
     std::optional<PriceFit> f = fit_prices(all, b);
     if (!f) continue;
     FitChoices c = fit_choices(groups, b, *f);
-    parts.push_back(fmt::format("{} {} of {} (prices 1 : {:.2g} : {:.2g}, fit error median {:.0f}%)", b, c.within,
-                                c.cells, f->prices.transform, f->prices.isect, 100.0 * f->median_rel_error));
+    parts.push_back(fmt::format("{} {} of {} (prices 1 : {:.2g} : {:.2g}, fit error median {:.0f}%, leave-one-out "
+                                "median {:.0f}% worst {:.0f}%)",
+                                b, c.within, c.cells, f->prices.transform, f->prices.isect, 100.0 * f->median_rel_error,
+                                100.0 * f->loo_median_rel_error, 100.0 * f->loo_max_rel_error));
     data[b] = {{"cells", c.cells},
                {"within_5_percent", c.within},
                {"ns_per_ray", f->ns_per_ray},
@@ -70,7 +72,10 @@ std::string price_fit_note(const std::vector<std::vector<BenchRow>>& groups, con
                {"transform", f->prices.transform},
                {"isect", f->prices.isect},
                {"median_rel_error", f->median_rel_error},
-               {"max_rel_error", f->max_rel_error}};
+               {"max_rel_error", f->max_rel_error},
+               {"rows", f->rows},
+               {"loo_median_rel_error", f->loo_median_rel_error},
+               {"loo_max_rel_error", f->loo_max_rel_error}};
   }
   if (parts.empty()) return "price fit: no backend had rows with counters to fit";
   return "a linear price model fitted per backend to all these rows (per ray + node + transform + intersector call; "

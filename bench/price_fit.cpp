@@ -5,9 +5,56 @@
 
 namespace masq {
 
-namespace {
+std::optional<std::vector<double>> fit_linear(const std::vector<LinearRow>& rows) {
+  if (rows.empty()) return std::nullopt;
+  const std::size_t n = rows[0].x.size();
+  if (n == 0 || rows.size() < n) return std::nullopt;
+  // Normal equations (a p = b), solved by Gaussian elimination with partial pivoting:
+  // the systems are a handful of terms, so conditioning, not speed, is what matters,
+  // and the caller scales its terms to comparable sizes.
+  std::vector<std::vector<double>> a(n, std::vector<double>(n, 0.0));
+  std::vector<double> b(n, 0.0), p(n, 0.0);
+  for (const LinearRow& r : rows) {
+    if (r.x.size() != n) return std::nullopt;
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = 0; j < n; ++j) a[i][j] += r.w * r.w * r.x[i] * r.x[j];
+      b[i] += r.w * r.w * r.x[i] * r.y;
+    }
+  }
+  double scale = 0;
+  for (std::size_t i = 0; i < n; ++i) scale = std::max(scale, std::abs(a[i][i]));
+  for (std::size_t c = 0; c < n; ++c) {
+    std::size_t piv = c;
+    for (std::size_t r = c + 1; r < n; ++r)
+      if (std::abs(a[r][c]) > std::abs(a[piv][c])) piv = r;
+    // Relative to the largest diagonal: a term no row varies makes the system singular.
+    if (!(std::abs(a[piv][c]) > 1e-13 * scale)) return std::nullopt;
+    std::swap(a[piv], a[c]);
+    std::swap(b[piv], b[c]);
+    for (std::size_t r = c + 1; r < n; ++r) {
+      double f = a[r][c] / a[c][c];
+      for (std::size_t k = c; k < n; ++k) a[r][k] -= f * a[c][k];
+      b[r] -= f * b[c];
+    }
+  }
+  for (std::size_t c = n; c-- > 0;) {
+    double s = b[c];
+    for (std::size_t k = c + 1; k < n; ++k) s -= a[c][k] * p[k];
+    p[c] = s / a[c][c];
+  }
+  if (!std::all_of(p.begin(), p.end(), [](double v) { return std::isfinite(v); })) return std::nullopt;
+  return p;
+}
 
-constexpr int kTerms = 4; // ray, node, transform, isect
+std::pair<double, double> median_and_max_abs(std::vector<double> v) {
+  if (v.empty()) return {0.0, 0.0};
+  for (double& e : v) e = std::abs(e);
+  std::sort(v.begin(), v.end());
+  double med = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  return {med, v.back()};
+}
+
+namespace {
 
 bool usable(const BenchRow& r, const std::string& backend) {
   return r.backend == backend && r.unavailable.empty() && r.median_s > 0 && r.rays > 0 && r.tlas_nodes >= 0 &&
@@ -16,69 +63,72 @@ bool usable(const BenchRow& r, const std::string& backend) {
 
 double ns_per_ray(const BenchRow& r) { return r.median_s / r.rays * 1e9; }
 
-std::array<double, kTerms> terms(const BenchRow& r) {
-  return {1.0, r.tlas_nodes + r.blas_nodes, r.transforms, r.isect_calls};
+// ray, node, transform, isect; weighted by 1/time so that the fit minimises relative
+// error and fast and slow rows count alike.
+LinearRow time_row(const BenchRow& r) {
+  double y = ns_per_ray(r);
+  return {{1.0, r.tlas_nodes + r.blas_nodes, r.transforms, r.isect_calls}, y, 1.0 / y};
 }
 
 double predict(const PriceFit& f, const BenchRow& r) {
-  std::array<double, kTerms> x = terms(r);
-  return f.ns_per_ray + f.ns_per_node * (x[1] + f.prices.transform * x[2] + f.prices.isect * x[3]);
-}
-
-// Solves a x = b (4x4) by Gaussian elimination with partial pivoting; false if singular.
-bool solve(double a[kTerms][kTerms], double b[kTerms], double x[kTerms]) {
-  for (int c = 0; c < kTerms; ++c) {
-    int p = c;
-    for (int r = c + 1; r < kTerms; ++r)
-      if (std::abs(a[r][c]) > std::abs(a[p][c])) p = r;
-    if (!(std::abs(a[p][c]) > 1e-300)) return false;
-    std::swap(a[p], a[c]);
-    std::swap(b[p], b[c]);
-    for (int r = c + 1; r < kTerms; ++r) {
-      double f = a[r][c] / a[c][c];
-      for (int k = c; k < kTerms; ++k) a[r][k] -= f * a[c][k];
-      b[r] -= f * b[c];
-    }
-  }
-  for (int c = kTerms - 1; c >= 0; --c) {
-    double s = b[c];
-    for (int k = c + 1; k < kTerms; ++k) s -= a[c][k] * x[k];
-    x[c] = s / a[c][c];
-  }
-  return std::all_of(x, x + kTerms, [](double v) { return std::isfinite(v); });
+  return f.ns_per_ray + f.ns_per_node * (r.tlas_nodes + r.blas_nodes + f.prices.transform * r.transforms +
+                                         f.prices.isect * r.isect_calls);
 }
 
 } // namespace
 
-std::optional<PriceFit> fit_prices(const std::vector<BenchRow>& rows, const std::string& backend) {
-  // Normal equations of the least squares in relative error (each row divided by its
-  // own time, so fast and slow rows count alike).
-  double a[kTerms][kTerms] = {}, b[kTerms] = {};
-  std::vector<const BenchRow*> used;
-  for (const BenchRow& r : rows) {
-    if (!usable(r, backend)) continue;
-    double y = ns_per_ray(r);
-    std::array<double, kTerms> x = terms(r);
-    for (int i = 0; i < kTerms; ++i) {
-      for (int j = 0; j < kTerms; ++j) a[i][j] += x[i] / y * x[j] / y;
-      b[i] += x[i] / y;
+std::optional<TimeFit> fit_time(const std::vector<BenchRow>& rows, const std::string& backend, TimeTerms terms) {
+  std::vector<LinearRow> eq;
+  for (const BenchRow& r : rows)
+    if (usable(r, backend)) {
+      double y = ns_per_ray(r);
+      eq.push_back({terms(r), y, 1.0 / y}); // weighted by 1/time: relative error, fast and slow rows alike
     }
-    used.push_back(&r);
+  std::optional<std::vector<double>> p = fit_linear(eq);
+  if (!p) return std::nullopt;
+  auto predict_eq = [](const std::vector<double>& q, const LinearRow& e) {
+    double s = 0;
+    for (std::size_t k = 0; k < q.size(); ++k) s += q[k] * e.x[k];
+    return s;
+  };
+  TimeFit f;
+  f.ns = *p;
+  f.rows = int(eq.size());
+  std::vector<double> err, loo;
+  for (std::size_t i = 0; i < eq.size(); ++i) {
+    err.push_back(predict_eq(*p, eq[i]) / eq[i].y - 1);
+    std::vector<LinearRow> rest = eq;
+    rest.erase(rest.begin() + std::ptrdiff_t(i));
+    if (std::optional<std::vector<double>> q = fit_linear(rest)) loo.push_back(predict_eq(*q, eq[i]) / eq[i].y - 1);
   }
-  double p[kTerms];
-  if (used.size() < std::size_t(kTerms) || !solve(a, b, p)) return std::nullopt;
+  std::tie(f.median_rel_error, f.max_rel_error) = median_and_max_abs(err);
+  if (loo.size() == eq.size()) std::tie(f.loo_median_rel_error, f.loo_max_rel_error) = median_and_max_abs(loo);
+  return f;
+}
+
+std::vector<double> rt_form_terms(const BenchRow& r) {
+  return {1.0, r.tlas_nodes, r.blas_nodes, r.transforms, r.isect_calls};
+}
+
+namespace {
+std::vector<double> auto_terms(const BenchRow& r) { return time_row(r).x; }
+} // namespace
+
+std::optional<PriceFit> fit_prices(const std::vector<BenchRow>& rows, const std::string& backend) {
+  std::optional<TimeFit> t = fit_time(rows, backend, auto_terms);
+  if (!t) return std::nullopt;
+  const std::vector<double>& p = t->ns;
   // Relative prices need a positive node price to divide by.
   double node = std::abs(p[1]) > 1e-9 ? p[1] : 1e-9;
   PriceFit f;
   f.ns_per_ray = p[0];
   f.ns_per_node = node;
   f.prices = {1.0, p[2] / node, p[3] / node};
-  f.rows = int(used.size());
-  std::vector<double> err;
-  for (const BenchRow* r : used) err.push_back(std::abs(predict(f, *r) - ns_per_ray(*r)) / ns_per_ray(*r));
-  std::sort(err.begin(), err.end());
-  f.median_rel_error = err[err.size() / 2];
-  f.max_rel_error = err.back();
+  f.rows = t->rows;
+  f.median_rel_error = t->median_rel_error;
+  f.max_rel_error = t->max_rel_error;
+  f.loo_median_rel_error = t->loo_median_rel_error;
+  f.loo_max_rel_error = t->loo_max_rel_error;
   return f;
 }
 

@@ -16,6 +16,8 @@ BenchOptions SuiteContext::bench_options(int width, int height) const {
   o.warmup = 1;
   o.repetitions = config.quick ? 3 : 5;
   o.accel.mode = config.mode;
+  o.accel.nodes = config.nodes;
+  o.node_formats = {config.nodes};
   o.auto_by = config.auto_by;
   return o;
 }

@@ -23,6 +23,9 @@ struct SuiteConfig {
   std::vector<std::string> backends = backend_names();
   Mode mode = Mode::Robust;
   AutoBy auto_by = AutoBy::Pilot;     // how the auto rows keep a candidate (bench/bench_runner.h)
+  // The node format every suite builds (`--nodes` with one value): w8 comes nearer the
+  // wide hardware BVH of the paper's RTX 8000 than the default w4 (docs/methods.md).
+  NodeFormat nodes = NodeFormat::W4;
   std::function<void(const std::string&)> progress; // may be empty
 };
 
@@ -53,14 +56,13 @@ struct HairCase {
   std::array<std::array<std::size_t, 3>, 3> total_bytes{};
 };
 
-// Shared by the suites of one run: backends opened once, the RT cost model (its
-// intersector price calibrated by fig3 when fig3 runs first), and the hair measurements
+// Shared by the suites of one run: backends opened once, the RT cost model (its prices
+// fitted to the paper's Fig. 3 when fig3 runs first), and the hair measurements
 // that table1, table2, fig9 and fig10 all read.
 struct SuiteContext {
   SuiteConfig config;
   BackendPool pool;
-  RtCostModel rt_model;
-  bool rt_model_calibrated = false;
+  RtCostModel rt_model; // fitted by fig3 when fig3 runs first (bench/rt_paper_fit.h)
   std::vector<HairCase> hair;       // filled by collect_hair_measurements
   bool hair_timed = false;          // hair holds timings (table1), not only counters
   void say(const std::string& line) const {

@@ -6,6 +6,7 @@
 #include "bench/heatmap.h"
 #include "bench/method_compare.h"
 #include "bench/paper_tables.h"
+#include "bench/rt_paper_fit.h"
 #include "bench/suite.h"
 #include "image/image_writer.h"
 #include "scenes/generators.h"
@@ -24,8 +25,8 @@ struct Cell {
   double tilt;
 };
 
-// The cell that calibrates the RT model: the paper's largest speedup (bench/paper_figures.h).
-constexpr Cell kCalibration = {1000, 0.002f, 15.0};
+// The cell of the call heat map: the paper's largest speedup (bench/paper_figures.h).
+constexpr Cell kHeatmapCell = {1000, 0.002f, 15.0};
 
 std::string paper_speedup(const Cell& c) {
   std::optional<double> p = paper_fig3_speedup(c.n, c.r, c.tilt);
@@ -97,22 +98,22 @@ SuiteResult run_fig3(SuiteContext& ctx) {
     Scene scene = fig3_scene(c);
     measured.push_back(run_bench(scene, opt, ctx.pool));
   }
-  // Calibrate the RT model's intersector price on the paper's largest speedup.
-  const double calibration_target = *paper_fig3_speedup(kCalibration.n, kCalibration.r, kCalibration.tilt);
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    if (cells[i].n != kCalibration.n || cells[i].r != kCalibration.r || cells[i].tilt != kCalibration.tilt) continue;
-    const BenchRow* ref = counter_row(measured[i], Method::Ref);
-    const BenchRow* masq = counter_row(measured[i], Method::Masq);
-    if (!ref || !masq) break;
-    double price = rt_calibrate_isect(*ref, *masq, calibration_target);
-    if (price > 0) {
-      ctx.rt_model.isect = price;
-      ctx.rt_model_calibrated = true;
-    }
-  }
+  // The RT model's prices, fitted to the paper's 16 cells from these rows' counters
+  // (bench/rt_paper_fit.h); every later suite of this run prints predictions with them.
+  std::vector<Fig3Rows> fit_cells;
+  for (std::size_t i = 0; i < cells.size(); ++i) fit_cells.push_back({cells[i].n, cells[i].r, cells[i].tilt, &measured[i]});
+  std::optional<RtFit> rt_fit = fit_rt_to_paper_fig3(fit_cells);
+  if (rt_fit) ctx.rt_model = rt_fit->model;
+  auto loo_of = [&](const Cell& c) -> const RtCellResult* {
+    if (!rt_fit) return nullptr;
+    std::string label = fmt::format("N={} r={:g} tilt {:g}", c.n, c.r, c.tilt);
+    for (const RtCellResult& r : rt_fit->per_cell)
+      if (r.label == label) return &r;
+    return nullptr;
+  };
   Table t;
   t.title = fmt::format("speedup masq/ref and intersector-call ratio ref/masq per backend ({}x{} orthographic primary rays)", side, side);
-  t.header = {"N", "r", "tilt", "paper RTX 8000", "RT model", "calls ref/masq"};
+  t.header = {"N", "r", "tilt", "paper RTX 8000", "RT model", "RT model left out", "error left out", "calls ref/masq"};
   for (const std::string& b : opt.backends) t.header.push_back(b);
   t.left_columns = 0;  // numbers, aligned right
   t.label_columns = 3; // N, r, tilt name a cell
@@ -126,6 +127,8 @@ SuiteResult run_fig3(SuiteContext& ctx) {
     std::vector<std::string> line = {std::to_string(c.n), fmt::format("{:g}", c.r), fmt::format("{:g}", c.tilt),
                                      paper_speedup(c),
                                      ref && masq ? fmt::format("{:.2f}x", rt_predicted_speedup(*ref, *masq, ctx.rt_model)) : "n/a",
+                                     loo_of(c) ? fmt::format("{:.2f}x", loo_of(c)->loo) : "-",
+                                     loo_of(c) ? fmt::format("{:+.1f}%", 100 * loo_of(c)->loo_error()) : "-",
                                      ref && masq ? fmt::format("{:.1f}x", ref->isect_calls / masq->isect_calls) : "n/a"};
     for (const std::string& b : opt.backends)
       line.push_back(ratio_cell(find_row(rows, b, Method::Ref, RaySet::Primary), find_row(rows, b, Method::Masq, RaySet::Primary)));
@@ -141,18 +144,16 @@ SuiteResult run_fig3(SuiteContext& ctx) {
     nlohmann::json cell = {{"n", c.n}, {"r", c.r}, {"tilt_deg", c.tilt},
                            {"paper_rtx_speedup", paper ? nlohmann::json(*paper) : nlohmann::json()},
                            {"rt_model_speedup", g.rt_model}};
+    if (const RtCellResult* l = loo_of(c)) cell["rt_model_left_out"] = {{"speedup", l->loo}, {"rel_error", l->loo_error()}};
     for (const BenchRow& r : rows) cell["results"].push_back(bench_row_json(r));
     res.data["cells"].push_back(cell);
   }
   t.notes = {"each backend: speedup / intersector-call ratio (rayquery and rtpipeline count the driver's calls)",
              "paper RTX 8000: the masquerade paper's Fig. 3, measured with OptiX 7 on an RTX 8000; '-': a cell outside "
              "its grid",
-             ctx.rt_model_calibrated
-                 ? fmt::format("RT model: predicted RT-hardware speedup with an intersector call priced at {:.1f} node visits, "
-                               "calibrated so that the N={}, r={:g}, tilt {:g} cell predicts the paper's {:.2f}x",
-                               ctx.rt_model.isect, kCalibration.n, kCalibration.r, kCalibration.tilt, calibration_target)
-                 : fmt::format("RT model: predicted RT-hardware speedup with an intersector call priced at {:g} node visits "
-                               "(not calibrated: the calibration cell did not run)", ctx.rt_model.isect)};
+             rt_model_note(ctx.rt_model),
+             fmt::format("RT model left out: the cell predicted by prices fitted to the other {} cells (leave-one-out); "
+                         "error: against the paper's figure", rt_fit ? rt_fit->cells - 1 : 0)};
   res.tables.push_back(t);
   res.tables.push_back(fig3_paper_grid(grid, opt.backends));
   // The issue-7 methods on the same rays: oriented clusters, and the automatic choice.
@@ -182,8 +183,7 @@ SuiteResult run_fig3(SuiteContext& ctx) {
   if (!dt.rows.empty()) res.tables.push_back(dt);
   res.data["auto_target"] = {{"cells", tally.cells}, {"within_5_percent", tally.auto_within}, {"worst", tally.worst},
                              {"kept_within_5_percent", tally.kept_within}, {"kept_worst", tally.kept_worst}};
-  res.data["rt_model"] = {{"node", ctx.rt_model.node}, {"transform", ctx.rt_model.transform},
-                          {"isect", ctx.rt_model.isect}, {"calibrated", ctx.rt_model_calibrated}};
+  res.data["rt_model"] = rt_fit_json(rt_fit);
   res.method = fmt::format(
       "Bundles of N parallel capsules (length 1, radius r, bundle radius 0.5) tilted in the x-y plane, {}x{} "
       "orthographic rays along +z, {} mode; per cell and backend the same rays through ref (one AABB BLAS), masq (one "
@@ -194,7 +194,7 @@ SuiteResult run_fig3(SuiteContext& ctx) {
   if (!ctx.config.out_dir.empty() && !image_output_built()) {
     ctx.say("fig3 heatmap skipped: this masq was built without image output (-DMASQ_WITH_IMAGES=OFF)");
   } else if (!ctx.config.out_dir.empty()) {
-    Scene scene = fig3_scene(kCalibration);
+    Scene scene = fig3_scene(kHeatmapCell);
     res.images.push_back(write_call_heatmaps(ctx, scene, "heatmap_bundle.png",
                                              "Intersector calls per pixel, ref (left) vs masq (right), bundle N=1000 r=0.002 tilt 15"));
   }

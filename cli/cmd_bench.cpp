@@ -1,6 +1,7 @@
 // masq bench: one scene through every backend x method with the same rays.
 #include "bench/bench_report.h"
 #include "bench/price_fit.h"
+#include "bench/rt_paper_fit.h"
 #include "bench/error_mode.h"
 #include "bench/results_doc.h"
 #include "bench/suite.h"
@@ -163,6 +164,7 @@ int bench_suites(BenchCli& c) {
   ctx.config.mode = parse_mode(c.scene.mode);
   ctx.config.auto_by = parse_auto_by(c.auto_by);
   if (!c.backends.empty()) ctx.config.backends = c.backends;
+  if (std::vector<NodeFormat> f = node_formats(c.scene); f.size() == 1) ctx.config.nodes = f[0];
   ctx.config.data_dir = !c.data_dir.empty() ? c.data_dir : knob_text(Knob::Data).value_or(MASQ_DATA_DIR);
   ctx.config.progress = progress_line(c.quiet);
   auto t0 = std::chrono::steady_clock::now();
@@ -217,7 +219,17 @@ int bench(BenchCli& c) {
   const Table headline = bench_headline(rows);
   if (!headline.rows.empty()) fmt::print("\n{}", headline.text());
   if (c.wide) {
-    Table ratios = bench_ratios(rows);
+    // The RT model's prices: fitted to the paper's Fig. 3 from the cpu backend's counters
+    // on its 16 bundles (bench/rt_paper_fit.h), measured now; without a cpu backend the
+    // model says it is unfitted.
+    RtCostModel rt_model;
+    try {
+      BackendPool pool;
+      if (std::optional<RtFit> fit = measure_and_fit_rt_fig3(pool)) rt_model = fit->model;
+    } catch (const std::exception& e) {
+      rt_model.source = std::string("not fitted: ") + e.what();
+    }
+    Table ratios = bench_ratios(rows, rt_model);
     Table builders = bench_builders(rows);
     fmt::print("\n{}\n{}", bench_table(rows).text(),
                ratios.rows.empty() ? std::string("(no ratios: ref and another method must run on a backend)\n")

@@ -1,10 +1,12 @@
 // masq report: several bench runs' results.json merged into one document, one column
 // per device (bench/report_merge.h; docs/bench.md, "Several machines and devices").
 #include "bench/report_doc.h"
+#include "bench/report_fit.h"
 #include "bench/report_read.h"
 #include "cli/commands.h"
 #include "masq/error.h"
 #include <fmt/format.h>
+#include <fstream>
 #include <map>
 #include <memory>
 
@@ -15,9 +17,22 @@ struct ReportCli {
   std::vector<std::string> files;
   std::string out_dir = "report";
   std::vector<std::string> labels; // FILE=NAME
+  bool fit_prices = false;
 };
 
+// --fit-prices: each run's on-device price fit with its leave-one-out error, printed.
+int fit_prices_of(const ReportCli& c) {
+  for (const std::string& f : c.files) {
+    std::ifstream in(f);
+    if (!in) throw Error("report: cannot read " + f);
+    nlohmann::json doc = nlohmann::json::parse(in);
+    fmt::print("{}\n", price_fit_table(doc, "price fit of " + f).text());
+  }
+  return 0;
+}
+
 int report(const ReportCli& c) {
+  if (c.fit_prices) return fit_prices_of(c);
   std::map<std::string, std::string> labels;
   for (const std::string& l : c.labels) {
     auto eq = l.rfind('=');
@@ -48,6 +63,9 @@ Action add_report(CLI::App& app) {
                   "FILE=NAME: name a run (default: its file's folder name); a column's label gets it where two "
                   "devices would be named alike")
       ->allow_extra_args(false);
+  cmd->add_flag("--fit-prices", c->fit_prices,
+                "Instead: per run and backend, the price fit of its fig3/table1 rows with leave-one-out errors "
+                "(bench/report_fit.h)");
   cmd->footer("Examples:\n"
               "  masq report runs/*/results.json --out report          one column per backend of each run\n"
               "  masq report a/results.json b/results.json --label a/results.json=laptop\n"

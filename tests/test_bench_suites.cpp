@@ -1,10 +1,12 @@
-// The bench harness's own logic: secondary ray sets, the RT cost model's calibration,
+// The bench harness's own logic: secondary ray sets, the RT cost model and its fit,
 // tables, and one real suite run (fig3 quick on cpu) whose figures must be consistent
 // with the counters it measured.
 #include "bench/bench_report.h"
 #include "bench/price_fit.h"
 #include "bench/ray_sets.h"
+#include "bench/report_fit.h"
 #include "bench/rt_cost_model.h"
+#include "bench/rt_fit.h"
 #include "bench/suite.h"
 #include "bench/table.h"
 #include "scenes/camera.h"
@@ -83,23 +85,108 @@ TEST(RaySets, DiffuseRaysLeaveOnTheSideTheRayCameFrom) {
   EXPECT_THROW(parse_ray_set("bounce"), Error);
 }
 
-TEST(RtCostModel, CalibrationReachesTheTargetBetweenItsLimits) {
+TEST(RtCostModel, SpeedupIsTheCostRatioAndTheLabelCarriesTheError) {
   BenchRow ref, masq;
-  ref.tlas_nodes = 1;
   ref.blas_nodes = 6;
-  ref.transforms = 1;
   ref.isect_calls = 20;
-  masq.tlas_nodes = 9;
-  masq.blas_nodes = 1;
-  masq.transforms = 1;
+  masq.tlas_nodes = 6;
+  masq.blas_nodes = 20;
+  masq.transforms = 20;
   masq.isect_calls = 0.5;
-  // isect -> 0: hardware-cost ratio 8/11; isect -> inf: call ratio 40.
-  double price = rt_calibrate_isect(ref, masq, 3.0);
-  ASSERT_GT(price, 0);
   RtCostModel m;
-  m.isect = price;
-  EXPECT_NEAR(rt_predicted_speedup(ref, masq, m), 3.0, 1e-6);
-  EXPECT_LT(rt_calibrate_isect(ref, masq, 50.0), 0); // beyond the call ratio: unreachable
+  m.price = {4.0, 0.5, 0.25, 0.25, 1.0, 0.0};
+  // (4 + 6*0.25 + 20) / (4 + 6*0.5 + 20*0.25 + 20*0.25 + 0.5)
+  EXPECT_NEAR(rt_predicted_speedup(ref, masq, m), 25.5 / 17.5, 1e-12);
+  EXPECT_EQ(rt_speedup_label(1.5, m), "1.50x"); // unfitted: no error to show
+  m.fitted = true;
+  m.loo_median = 0.07;
+  EXPECT_EQ(rt_speedup_label(1.5, m), "1.50x +-7%");
+}
+
+TEST(LinearFit, RecoversCoefficientsAndRefusesAnUndeterminedSystem) {
+  std::vector<LinearRow> rows;
+  for (int i = 0; i < 6; ++i) {
+    double a = 1 + i, b = (i * 7) % 5, c = i * i * 0.5;
+    rows.push_back({{a, b, c}, 2 * a - 3 * b + 0.5 * c, 1.0 / (1 + i)});
+  }
+  std::optional<std::vector<double>> p = fit_linear(rows);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR((*p)[0], 2.0, 1e-9);
+  EXPECT_NEAR((*p)[1], -3.0, 1e-9);
+  EXPECT_NEAR((*p)[2], 0.5, 1e-9);
+  for (LinearRow& r : rows) r.x[2] = 2 * r.x[0]; // two columns alike
+  EXPECT_FALSE(fit_linear(rows));
+  rows.resize(2);
+  EXPECT_FALSE(fit_linear(rows)); // three terms need three rows
+}
+
+namespace {
+
+// Synthetic fig3-like cells whose speedups the prices `p` produce exactly.
+std::vector<RtCell> synthetic_cells(const std::array<double, kRtTerms>& p) {
+  std::vector<RtCell> cells;
+  RtCostModel m;
+  m.price = p;
+  for (int i = 0; i < 12; ++i) {
+    double nodes = 1 + (i % 4) * 2.5, calls = 0.1 + (i * 37 % 11) * 3.0, left = 0.05 + (i % 3) * 0.1;
+    RtCell c;
+    c.label = "cell " + std::to_string(i);
+    c.ref = {1.0, 0.0, nodes, 0.0, calls, 0.2};
+    c.masq = {1.0, nodes * (1 + 0.1 * (i % 2)), calls, calls, left, 0.2};
+    c.measured = rt_predicted_speedup(c.ref, c.masq, m);
+    cells.push_back(c);
+  }
+  return cells;
+}
+
+} // namespace
+
+TEST(RtFit, RecoversKnownPricesFromSyntheticCells) {
+  const std::array<double, kRtTerms> truth = {6.0, 0.3, 0.1, 0.2, 1.0, 0.0};
+  std::vector<RtCell> cells = synthetic_cells(truth);
+  RtFitOptions opt;
+  std::optional<RtFit> f = fit_rt_model(cells, opt, "synthetic");
+  ASSERT_TRUE(f);
+  for (int k = 0; k < kRtTerms; ++k) EXPECT_NEAR(f->model.price[k], truth[k], 1e-6) << rt_term_name(k);
+  EXPECT_EQ(f->free_parameters, 4); // ray, tlas, blas, transform against isect = 1
+  EXPECT_EQ(f->cells, 12);
+  EXPECT_LT(f->model.loo_max, 1e-6); // exact data: every left-out cell is predicted exactly
+  EXPECT_LT(f->price_error[RtRay], 1e-6);
+  EXPECT_TRUE(f->model.fitted);
+}
+
+TEST(RtFit, LeaveOneOutPredictsEachCellWithoutIt) {
+  std::vector<RtCell> cells = synthetic_cells({6.0, 0.3, 0.1, 0.2, 1.0, 0.0});
+  // Disturb one cell: the fit to all cells moves, its own left-out prediction must not,
+  // because that prediction comes from the other cells alone.
+  RtFitOptions opt;
+  opt.nonnegative = false;
+  cells[5].measured *= 1.5;
+  std::optional<RtFit> f = fit_rt_model(cells, opt, "synthetic");
+  ASSERT_TRUE(f);
+  std::vector<RtCell> rest = cells;
+  rest.erase(rest.begin() + 5);
+  std::optional<std::array<double, kRtTerms>> p = fit_rt_prices(rest, opt);
+  ASSERT_TRUE(p);
+  RtCostModel m;
+  m.price = *p;
+  EXPECT_NEAR(f->per_cell[5].loo, rt_predicted_speedup(cells[5].ref, cells[5].masq, m), 1e-9);
+  EXPECT_NEAR(f->per_cell[5].loo, cells[5].measured / 1.5, 1e-6); // the undisturbed truth
+  EXPECT_NEAR(f->per_cell[5].loo_error(), 1 / 1.5 - 1, 1e-6);
+  EXPECT_GT(std::abs(f->per_cell[5].fitted - f->per_cell[5].loo), 1e-3); // the full fit saw the disturbance
+}
+
+TEST(RtFit, NonNegativeDropsATermThatWouldGoNegative) {
+  // Data made with a negative transform price: the non-negative fit prices it at 0.
+  std::vector<RtCell> cells = synthetic_cells({6.0, 0.3, 0.1, -0.05, 1.0, 0.0});
+  RtFitOptions opt;
+  std::optional<std::array<double, kRtTerms>> p = fit_rt_prices(cells, opt);
+  ASSERT_TRUE(p);
+  for (double v : *p) EXPECT_GE(v, 0.0);
+  opt.nonnegative = false;
+  p = fit_rt_prices(cells, opt);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR((*p)[RtTransform], -0.05, 1e-6);
 }
 
 TEST(Table, MarkdownEscapesPipesAndAlignsColumns) {
@@ -158,7 +245,11 @@ TEST(Suites, Fig3QuickOnCpuMeasuresEveryCell) {
       EXPECT_LT(ref_calls / masq_calls, 1.5) << c.dump();
     }
   }
-  EXPECT_TRUE(out.data["rt_model"]["calibrated"].get<bool>());
+  // The RT model fitted to the paper's 16 cells, each with its left-out prediction.
+  ASSERT_TRUE(out.data["rt_model"]["fitted"].get<bool>());
+  EXPECT_EQ(out.data["rt_model"]["cells"].get<int>(), 16);
+  EXPECT_EQ(out.data["rt_model"]["per_cell"].size(), 16u);
+  EXPECT_GT(out.data["rt_model"]["loo_median_rel_error"].get<double>(), 0.0);
   EXPECT_EQ(columns, (std::set<std::pair<int, float>>{{1, 0.1f}, {10, 0.01f}, {100, 0.002f}, {1000, 0.002f}}));
   EXPECT_EQ(out.data["auto_target"]["cells"].get<int>(), 16); // cluster and auto ran in every cell
   // The main table's paper column and the grid in the paper's layout: no cell without
@@ -173,7 +264,12 @@ TEST(Suites, Fig3QuickOnCpuMeasuresEveryCell) {
   ASSERT_EQ(grid.rows.size(), 4u * 3u); // per tilt: paper, RT model, cpu
   for (const auto& row : grid.rows)
     for (std::size_t i = 2; i < row.size(); ++i) EXPECT_NE(row[i], "-") << row[1];
-  EXPECT_EQ(grid.rows[4][5], "3.83x"); // the paper's tilt 15, N=1000 r=0.002
+  ASSERT_EQ(grid.rows[3][1], "paper (RTX 8000)");
+  EXPECT_EQ(grid.rows[3][5], "3.83x"); // the paper's tilt 15, N=1000 r=0.002
+  EXPECT_EQ(grid.rows[4][1], "RT model");
+  // The main table's left-out prediction and its error, beside the paper's figure.
+  ASSERT_EQ(main.header[5], "RT model left out");
+  for (const auto& row : main.rows) EXPECT_NE(row[6], "-") << row[0] << " " << row[1] << " " << row[2];
   EXPECT_NE(grid.notes[1].find("cpu: rank correlation with the paper over 16 cells"), std::string::npos) << grid.notes[1];
 }
 
@@ -316,9 +412,42 @@ TEST(PriceFit, RecoversExactPricesAndTheConstant) {
   EXPECT_NEAR(f->prices.transform, 5.0 / 3.0, 1e-6);
   EXPECT_NEAR(f->prices.isect, 11.0 / 3.0, 1e-6);
   EXPECT_LT(f->max_rel_error, 1e-9);
+  EXPECT_LT(f->loo_max_rel_error, 1e-9); // exact rows: each left out is still predicted exactly
+  EXPECT_GE(f->loo_max_rel_error, 0.0);
   EXPECT_FALSE(fit_prices(rows, "opencl")); // no rows of that backend
   rows.resize(3);
   EXPECT_FALSE(fit_prices(rows, "cpu")); // four prices need four rows
+}
+
+TEST(PriceFit, RowsReadBackFromJsonFitAsMeasured) {
+  // A results.json's rows (bench_row_json) read back for `masq report --fit-prices`: the
+  // fields the fit uses survive, and the RT-form fit recovers the prices the rows carry.
+  std::vector<BenchRow> rows = {priced_row(Method::Ref, RaySet::Primary, 10, 1, 30),
+                                priced_row(Method::Masq, RaySet::Primary, 40, 35, 2),
+                                priced_row(Method::Cluster, RaySet::Primary, 8, 4, 5),
+                                priced_row(Method::Ref, RaySet::Diffuse, 20, 1, 12),
+                                priced_row(Method::Masq, RaySet::Diffuse, 25, 60, 1),
+                                priced_row(Method::Cluster, RaySet::Diffuse, 14, 9, 7)};
+  std::vector<BenchRow> back;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    BenchRow& r = rows[i];
+    r.tlas_nodes = 1.0 + 0.3 * double(i * i); // a TLAS part unlike the BLAS one, so the RT form's node terms differ
+    r.median_s += r.rays * 2.0 * r.tlas_nodes * 1e-9;
+    back.push_back(bench_row_from_json(bench_row_json(r)));
+    EXPECT_EQ(back.back().method, r.method);
+    EXPECT_EQ(back.back().ray_set, r.ray_set);
+    EXPECT_DOUBLE_EQ(back.back().median_s, r.median_s);
+    EXPECT_DOUBLE_EQ(back.back().isect_calls, r.isect_calls);
+  }
+  std::optional<TimeFit> f = fit_time(back, "cpu", rt_form_terms);
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->ns.size(), 5u);
+  EXPECT_NEAR(f->ns[0], 7.0, 1e-6);  // ray
+  EXPECT_NEAR(f->ns[1], 2.0, 1e-6);  // TLAS node
+  EXPECT_NEAR(f->ns[2], 3.0, 1e-6);  // BLAS node
+  EXPECT_NEAR(f->ns[3], 5.0, 1e-6);  // transform
+  EXPECT_NEAR(f->ns[4], 11.0, 1e-6); // intersector call
+  EXPECT_LT(f->loo_max_rel_error, 1e-9);
 }
 
 TEST(PriceFit, ChoicesCountWhereTheCheapestByPriceIsSlow) {
