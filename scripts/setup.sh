@@ -49,7 +49,7 @@ packages=(
   clang libclang-rt-dev doxygen
   patchelf busybox-static # the GPU bundle's $ORIGIN paths and its sealed test's shell (scripts/gpu_bundle.sh)
   libglvnd0 libglx0 libegl1 libgl1 libopengl0 libgles2 libdrm2 libx11-6 libxext6 # the bundle carries them for NVIDIA's Vulkan ICD
-  valgrind                # the kernels' memcheck run (ctest kernels_memcheck)
+  valgrind                # the kernels' memcheck runs (ctest kernels_memcheck_*)
   fonts-dejavu-core       # the heatmaps' colour-bar labels (OpenImageIO's render_text)
 )
 
