@@ -213,6 +213,9 @@ int bench(BenchCli& c) {
              auto_by_name(c.bench.auto_by));
   fmt::print("  {}x{} camera rays; ray sets: {}\n", c.bench.width, c.bench.height,
              ray_sets_text(c.bench.ray_sets, c.bench.shadow_any_hit));
+  // auto's pilot times each candidate no more often than the rows are timed: --reps 3
+  // asks for a quicker run, and the pilot is a fifth of the default bench's traces.
+  c.bench.pilot.rounds = std::min(c.bench.pilot.rounds, c.bench.repetitions);
   fmt::print("  {} warm-up + {} timed traces each, median of device time\n", c.bench.warmup, c.bench.repetitions);
   std::vector<BenchRow> rows = run_bench(scene, c.bench);
   clear_progress(c.quiet);
@@ -289,7 +292,7 @@ Action add_bench(CLI::App& app) {
   c->width_opt = cmd->add_option("--width", c->bench.width, "Rays per row")->capture_default_str()->check(CLI::Range(1, 16384));
   c->height_opt = cmd->add_option("--height", c->bench.height, "Rows of rays")->capture_default_str()->check(CLI::Range(1, 16384));
   cmd->add_option("--warmup", c->bench.warmup, "Untimed traces first")->capture_default_str()->check(CLI::NonNegativeNumber);
-  cmd->add_option("--reps", c->bench.repetitions, "Timed traces")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--reps", c->bench.repetitions, "Timed traces (and at most as many pilot traces of each of auto's candidates)")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--rays", c->ray_sets, "Ray sets (default: all): " + ray_set_table.help())
       ->check(CLI::IsMember(ray_set_table.names()));
   cmd->add_option("--shadow-query", c->shadow_query, "What shadow rays ask for: " + query_table.help())
