@@ -44,7 +44,8 @@
   X(MasqOwner,    masq_owners,    16, TWO_LEVEL, SCENE)                             \
   X(BvNodeSphere, bv_sphere,      17, BV,        BV)                                \
   X(BvNodeObb,    bv_obb,         18, BV,        BV)                                \
-  X(BvNodeScb,    bv_scb,         19, BV,        BV)
+  X(BvNodeScb,    bv_scb,         19, BV,        BV)                                \
+  X(Ribbon,       ribbons,        22, BOTH,      PRIM)
 
 // Views: a second element type over a row's buffer (GLSL cannot reinterpret a buffer,
 // so it declares the block twice at one binding; C++ and OpenCL cast the pointer).

@@ -57,6 +57,7 @@
   X(MASQ_BLAS_STACK,     blas_stack,  int,  64,    13, 0, FEATURES(blas_stack)) /* entries */      \
   X(MASQ_CURVE_ISECT,    curve_isect, int,  0,     14, 0, FEATURES(curve_isect)) /* MASQ_CURVE_* */ \
   X(MASQ_STEP_CHECK,     step_check,  bool, true,  15, 0, KNOBS(step_check)) /* step budget, full stack */ \
-  X(MASQ_STACK_SIZED,    stack_sized, bool, false, 16, 1, KNOBS(stack_sized)) /* see MASQ_STACK_DIM */
+  X(MASQ_STACK_SIZED,    stack_sized, bool, false, 16, 1, KNOBS(stack_sized)) /* see MASQ_STACK_DIM */ \
+  X(MASQ_HAVE_RIBBONS,   ribbons,     bool, true,  17, 1, FEATURES(prims[MASQ_PRIM_RIBBON]))
 
 #endif

@@ -29,6 +29,7 @@ constexpr OraclePrimRow prim_rows[] = {
      [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_round_cone(g.round_cones[p], ray); }},
     {PrimType::Sphere, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_sphere(g.spheres[p], ray); }},
     {PrimType::Curve, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_curve(g.curves[p], ray); }},
+    {PrimType::Ribbon, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_ribbon(g.ribbons[p], ray); }},
 };
 static_assert(one_row_per_prim_type(prim_rows), "oracle prim rows: one row per PrimType, in enum order");
 

@@ -4,6 +4,7 @@
 #include "scenes/strand_generators.h"
 #include <algorithm>
 #include <iterator>
+#include <random>
 #include <cmath>
 #include <string>
 
@@ -73,6 +74,17 @@ void validate_curves(const Geometry& geo, std::size_t g) {
   }
 }
 
+void validate_ribbons(const Geometry& geo, std::size_t g) {
+  for (std::size_t i = 0; i < geo.ribbons.size(); ++i) {
+    const RibbonPrim& r = geo.ribbons[i];
+    check_point(r.p0, g, "ribbon", i);
+    check_point(r.p1, g, "ribbon", i);
+    if (!finite3(r.n)) throw Error("scene: " + where(g, "ribbon", i) + " has a non-finite normal");
+    check_radius(r.r0, g, "ribbon", i);
+    check_radius(r.r1, g, "ribbon", i);
+  }
+}
+
 int triangle_balls(const Geometry& g, std::size_t prim, PrimBalls& out) {
   const glm::uvec3& t = g.triangles.at(prim);
   for (int k = 0; k < 3; ++k) out[std::size_t(k)] = {g.vertices.at(t[k]), 0.0f};
@@ -99,6 +111,16 @@ int curve_balls(const Geometry& g, std::size_t prim, PrimBalls& out) { // the co
   const CurvePrim& c = g.curves.at(prim);
   for (std::size_t k = 0; k < 4; ++k) out[k] = {c.p[k], c.radius};
   return 4;
+}
+
+// A ribbon lies in the round cone of its end balls (its half-width at s is r(s), the
+// cone's radius there is at least that): the hull, clipping and OBBs are conservative
+// without a shape of their own, at the price of the ribbon's thickness direction.
+int ribbon_balls(const Geometry& g, std::size_t prim, PrimBalls& out) {
+  const RibbonPrim& r = g.ribbons.at(prim);
+  out[0] = {r.p0, r.r0};
+  out[1] = {r.p1, r.r1};
+  return 2;
 }
 
 // ---- strands
@@ -144,6 +166,25 @@ void curve_bundle_strand(Geometry& g, const glm::dvec3& a, const glm::dvec3& b, 
 }
 void sphere_bundle_strand(Geometry& g, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3&, float r) {
   for (int k = 0; k < 8; ++k) g.spheres.push_back({glm::vec3(a + (b - a) * ((k + 0.5) / 8.0)), 3.0f * r});
+}
+
+// A bundle strand as a ribbon: its normal along the bend (perpendicular to the axis)
+// or, for a straight bundle, any perpendicular, so the ribbons face across the bundle.
+void ribbon_bundle_strand(Geometry& g, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& bend, float r) {
+  glm::dvec3 axis = b - a;
+  glm::dvec3 n = glm::length(bend) > 0 ? bend : glm::cross(axis, std::abs(axis.x) < std::abs(axis.y) ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0));
+  g.ribbons.push_back({glm::vec3(a), r, glm::vec3(b), r, glm::vec3(n)});
+}
+
+Geometry random_ribbons(int count, float min_radius, float max_radius, double extent, std::uint64_t seed) {
+  Geometry g = make_random_cones(count, min_radius, max_radius, extent, seed); // the same axes and radii
+  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
+  std::normal_distribution<double> gauss;
+  g.type = PrimType::Ribbon;
+  for (const RoundConePrim& c : g.round_cones)
+    g.ribbons.push_back({c.a, c.ra, c.b, c.rb, glm::vec3(glm::dvec3(gauss(rng), gauss(rng), gauss(rng)))});
+  g.round_cones.clear();
+  return g;
 }
 
 Geometry random_mesh(int count, float, float, double extent, std::uint64_t seed) {
@@ -215,6 +256,24 @@ int pack_curves(const Geometry& g, KernelPrimArrays& ps) {
   return first;
 }
 
+// The normal goes to the kernels unit length (normalised in double), so their cross
+// products stay of the size of the ribbon whatever |n| the user gave; a zero n stays 0.
+int pack_ribbons(const Geometry& g, KernelPrimArrays& ps) {
+  const int first = int(ps.ribbons.size());
+  for (const RibbonPrim& r : g.ribbons) {
+    kernel::Ribbon kr{};
+    copy3(kr.p0, r.p0);
+    copy3(kr.p1, r.p1);
+    kr.r0 = r.r0;
+    kr.r1 = r.r1;
+    const glm::dvec3 n(r.n);
+    const double len = glm::length(n);
+    copy3(kr.n, len > 0 ? glm::vec3(n / len) : glm::vec3(0.0f));
+    ps.ribbons.push_back(kr);
+  }
+  return first;
+}
+
 int kernel_triangle_balls(const KernelPrimArrays& ps, std::size_t i, PrimBalls& out) {
   const kernel::Triangle& t = ps.triangles.at(i);
   out[0] = {v3(t.v0), 0.0f};
@@ -246,6 +305,13 @@ int kernel_curve_balls(const KernelPrimArrays& ps, std::size_t i, PrimBalls& out
   return 4;
 }
 
+int kernel_ribbon_balls(const KernelPrimArrays& ps, std::size_t i, PrimBalls& out) {
+  const kernel::Ribbon& r = ps.ribbons.at(i);
+  out[0] = {v3(r.p0), r.r0};
+  out[1] = {v3(r.p1), r.r1};
+  return 2;
+}
+
 template <auto Array>
 std::size_t bytes_of(const KernelPrimArrays& ps) {
   return (ps.*Array).size() * sizeof((ps.*Array)[0]);
@@ -253,6 +319,7 @@ std::size_t bytes_of(const KernelPrimArrays& ps) {
 
 // isect_factor: measured on the cpu backend with the bear fur (docs/methods.md): the robust
 // phantom curve costs about six capsule calls; round cones a little more than capsules.
+// The ribbon (a plane crossing and two range tests) is priced as a triangle (not measured).
 //  type, mesh, oriented, shape, strand_file_type, singular, the functions, then the kernels' columns
 constexpr ScenePrimRow rows[] = {
     {PrimType::Triangle, true, false, PrimShape::Triangle, PrimType::Capsule, "triangle", count_of<&Geometry::triangles>,
@@ -276,6 +343,10 @@ constexpr ScenePrimRow rows[] = {
      holds<&Geometry::curves>, validate_curves, curve_balls, nullptr, reserve_more<&Geometry::curves>, curve_piece,
      curve_bundle_strand, make_random_curves,
      MASQ_PRIM_CURVE, 6.0, pack_curves, kernel_curve_balls, bytes_of<&KernelPrimArrays::curves>},
+    {PrimType::Ribbon, false, true, PrimShape::Segment, PrimType::Capsule, "ribbon", count_of<&Geometry::ribbons>,
+     holds<&Geometry::ribbons>, validate_ribbons, ribbon_balls, nullptr, reserve_more<&Geometry::ribbons>, nullptr,
+     ribbon_bundle_strand, random_ribbons,
+     MASQ_PRIM_RIBBON, 0.7, pack_ribbons, kernel_ribbon_balls, bytes_of<&KernelPrimArrays::ribbons>},
 };
 static_assert(one_row_per_prim_type(rows), "scene_prim_rows: one row per PrimType, in enum order");
 static_assert(std::size(rows) == MASQ_PRIM_TYPE_COUNT, "scene_prim_rows: one row per MASQ_PRIM_* id");
