@@ -254,7 +254,7 @@ RTCGeometry make_triangles(RTCDevice device, const Geometry& g) {
 
 // Embree 3's flat linear curves face the ray, not a normal, and its normal-oriented
 // curves have no linear basis; a linear ribbon is a planar trapezoid, so its peer is one
-// Embree quad per ribbon (corners p0 -/+ r0 w, p1 +/- r1 w, w the unit width direction,
+// Embree quad per ribbon (corners p0 +/- r0 w, p1 -/+ r1 w, w the unit width direction,
 // in double, rounded to fp32): the same surface, primID the ribbon's index. Its (u, v)
 // are the quad's, not the ribbon's, so the peer reports none.
 RTCGeometry make_ribbons(RTCDevice device, const Geometry& g) {
@@ -271,8 +271,10 @@ RTCGeometry make_ribbons(RTCDevice device, const Geometry& g) {
     // masq's rule (kernels/intersect_ribbon.h): a normal within 2^-12 rad of the axis has
     // no width direction; then a quad without area, never hit.
     w = wl > 0x1p-12 * nl ? w / wl : glm::dvec3(0.0);
-    const glm::dvec3 corner[4] = {p0 - double(r.r0) * w, p0 + double(r.r0) * w, p1 + double(r.r1) * w,
-                                  p1 - double(r.r1) * w};
+    // Wound so that Embree's Ng (its triangles (v0, v1, v3) and (v2, v3, v1): (v1 - v0) x
+    // (v3 - v0), a multiple of (p1 - p0) x w) faces n, as masq's ribbon normal does.
+    const glm::dvec3 corner[4] = {p0 + double(r.r0) * w, p0 - double(r.r0) * w, p1 - double(r.r1) * w,
+                                  p1 + double(r.r1) * w};
     for (std::size_t k = 0; k < 4; ++k) {
       for (int c = 0; c < 3; ++c) v[3 * (4 * i + k) + std::size_t(c)] = float(corner[k][c]);
       idx[4 * i + k] = unsigned(4 * i + k);
