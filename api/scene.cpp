@@ -39,6 +39,7 @@ GeometryData geometry_data(const masq::Geometry& g) {
   for (const SpherePrim& c : g.spheres) d.spheres.push_back({to_api(c.center), c.radius});
   for (const CurvePrim& c : g.curves)
     d.curves.push_back({{to_api(c.p[0]), to_api(c.p[1]), to_api(c.p[2]), to_api(c.p[3])}, c.radius});
+  for (const RibbonPrim& r : g.ribbons) d.ribbons.push_back({to_api(r.p0), r.r0, to_api(r.p1), r.r1, to_api(r.n)});
   d.strands = strand_ids(g);
   return d;
 }
@@ -129,6 +130,13 @@ std::uint32_t Scene::add_curves(std::span<const Curve> curves) {
   g.type = PrimType::Curve;
   for (const Curve& c : curves)
     g.curves.push_back({{{to_glm(c.p[0]), to_glm(c.p[1]), to_glm(c.p[2]), to_glm(c.p[3])}}, c.radius});
+  return push(impl_->scene, std::move(g));
+}
+
+std::uint32_t Scene::add_ribbons(std::span<const Ribbon> ribbons) {
+  masq::Geometry g;
+  g.type = PrimType::Ribbon;
+  for (const Ribbon& r : ribbons) g.ribbons.push_back({to_glm(r.p0), r.r0, to_glm(r.p1), r.r1, to_glm(r.n)});
   return push(impl_->scene, std::move(g));
 }
 

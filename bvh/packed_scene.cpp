@@ -1,5 +1,5 @@
 #include "bvh/packed_scene.h"
-#include "bvh/prim_rows.h"
+#include "scenes/prim_table.h"
 #include "masq/error.h"
 #include <algorithm>
 
@@ -62,7 +62,7 @@ std::size_t PackedScene::tlas_entry(std::int32_t ref) const {
 
 std::size_t PackedScene::primitive_bytes() const {
   std::size_t bytes = geoms.size() * sizeof(kernel::Geometry);
-  for (std::size_t i = 0; i < prim_type_count; ++i) bytes += bvh_prim_row(static_cast<PrimType>(i)).packed_bytes(*this);
+  for (std::size_t i = 0; i < prim_type_count; ++i) bytes += scene_prim_row(static_cast<PrimType>(i)).kernel_bytes(*this);
   return bytes;
 }
 

@@ -6,6 +6,7 @@
 #include "bvh/options.h"
 #include "kernels/layout.h"
 #include "kernels/variant_table.h"
+#include "scenes/kernel_prims.h"
 #include <array>
 #include <cstdint>
 #include <string>
@@ -33,11 +34,9 @@ struct StackNeed {
 // traversal stacks' sizes. Every backend maps this onto its variant mechanism (spec
 // constants, -D, C++ TUs).
 struct KernelFeatures {
-  bool triangles = false;
-  bool capsules = false;
-  bool round_cones = false;
-  bool spheres = false;
-  bool curves = false;
+  // Per MASQ_PRIM_* id: the scene holds that type (its MASQ_HAVE_* switch; the variant
+  // table's rows read prims[MASQ_PRIM_*], so a new type adds no member here).
+  std::array<bool, MASQ_PRIM_TYPE_COUNT> prims{};
   Mode mode = Mode::Robust;
   int curve_iters = 24;
   CurveIsect curve_isect = CurveIsect::Phantom;
@@ -82,7 +81,9 @@ struct BuildStats {
   double build_seconds = 0;
 };
 
-struct PackedScene {
+// The primitive arrays (triangles, capsules, ...: one per PRIM row of the scene array
+// table) are the KernelPrimArrays base, filled by the scenes layer's rows (pack).
+struct PackedScene : KernelPrimArrays {
   Method method = Method::Ref;
   Builder builder = Builder::Sah;
   // TLAS and all BLAS nodes: one of the four arrays, by features.nodes (the others empty).
@@ -98,11 +99,6 @@ struct PackedScene {
   std::vector<kernel::MasqOwner> masq_owners;       // their (geometry, scene instance) pairs
   std::vector<kernel::Frame> frames;     // one per scene instance
   std::vector<kernel::Geometry> geoms;
-  std::vector<kernel::Triangle> triangles;
-  std::vector<kernel::Capsule> capsules;
-  std::vector<kernel::RoundCone> round_cones;
-  std::vector<kernel::Sphere> spheres;
-  std::vector<kernel::Curve> curves;
   std::int32_t tlas_root = -1;
   KernelFeatures features;
 

@@ -30,6 +30,7 @@ ArrayBytes bytes_of(const std::vector<T>& v) {
 SceneArrayData scene_array_data(const PackedScene& scene) {
   SceneArrayData d;
 #define MASQ_SOURCE_SCENE(name) d[SceneArray::name] = bytes_of(scene.name);
+#define MASQ_SOURCE_PRIM(name) MASQ_SOURCE_SCENE(name) // PackedScene inherits KernelPrimArrays
 #define MASQ_SOURCE_NODES(name) d[SceneArray::name] = {scene.node_data(), scene.node_bytes()};
 #define MASQ_SOURCE_BV(name)
 #define MASQ_PACKED_ROW(T, name, b, kernels, source) MASQ_SOURCE_##source(name)
@@ -37,6 +38,7 @@ SceneArrayData scene_array_data(const PackedScene& scene) {
 #undef MASQ_PACKED_ROW
 #undef MASQ_SOURCE_BV
 #undef MASQ_SOURCE_NODES
+#undef MASQ_SOURCE_PRIM
 #undef MASQ_SOURCE_SCENE
   return d;
 }
@@ -44,6 +46,7 @@ SceneArrayData scene_array_data(const PackedScene& scene) {
 SceneArrayData scene_array_data(const BvScene& scene) {
   SceneArrayData d = scene_array_data(scene.prims);
 #define MASQ_SOURCE_SCENE(name)
+#define MASQ_SOURCE_PRIM(name)
 #define MASQ_SOURCE_NODES(name)
 #define MASQ_SOURCE_BV(name) d[SceneArray::name] = bytes_of(scene.name);
 #define MASQ_BV_ROW(T, name, b, kernels, source) MASQ_SOURCE_##source(name)
@@ -51,6 +54,7 @@ SceneArrayData scene_array_data(const BvScene& scene) {
 #undef MASQ_BV_ROW
 #undef MASQ_SOURCE_BV
 #undef MASQ_SOURCE_NODES
+#undef MASQ_SOURCE_PRIM
 #undef MASQ_SOURCE_SCENE
   return d;
 }

@@ -8,6 +8,7 @@
 #include "intersect_capsule.h"
 #include "intersect_capsule_fast.h"
 #include "intersect_curve.h"
+#include "intersect_ribbon.h"
 #include "intersect_round_cone.h"
 #include "intersect_sphere.h"
 #include "intersect_triangle.h"
@@ -26,6 +27,9 @@ FN PrimHit intersect_primitive(KD_PARAM Geometry g, int prim, vec3 o, vec3 d, fl
   if (MASQ_HAVE_SPHERES && g.type == MASQ_PRIM_SPHERE)
     return MASQ_ROBUST ? intersect_sphere(KD(spheres)[i], o, d, tmin, tmax)
                        : intersect_sphere_fast(KD(spheres)[i], o, d, tmin, tmax);
+  if (MASQ_HAVE_RIBBONS && g.type == MASQ_PRIM_RIBBON)
+    return MASQ_ROBUST ? intersect_ribbon(KD(ribbons)[i], o, d, tmin, tmax)
+                       : intersect_ribbon_fast(KD(ribbons)[i], o, d, tmin, tmax);
   if (MASQ_HAVE_TRIANGLES && g.type == MASQ_PRIM_TRIANGLE)
     return MASQ_ROBUST ? intersect_triangle(KD(triangles)[i], o, d, tmin, tmax)
                        : intersect_triangle_fast(KD(triangles)[i], o, d, tmin, tmax);

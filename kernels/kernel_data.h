@@ -22,8 +22,8 @@
 // so one array is limited by maxMemoryAllocationSize instead of maxStorageBufferRange
 // (128 MiB on lavapipe). The host picks this mode only for scenes with an array over
 // the binding limit (host/vulkan/trace_dispatch.h, docs/kernels.md). Every binding
-// below MASQ_ADDRESS_SLOTS may be addressed; the table itself comes after them. 22 and
-// 23 are free: room for two more scene arrays before the table moves.
+// below MASQ_ADDRESS_SLOTS may be addressed; the table itself comes after them. 22 holds
+// ribbons; 23 is free: room for one more scene array before the table moves.
 #define MASQ_ADDRESS_SLOTS 24
 #define MASQ_BINDING_ADDRESSES MASQ_ADDRESS_SLOTS
 

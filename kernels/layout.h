@@ -30,7 +30,8 @@ LAYOUT_NS_BEGIN
 #define MASQ_PRIM_ROUND_CONE 2
 #define MASQ_PRIM_SPHERE 3
 #define MASQ_PRIM_CURVE 4
-#define MASQ_PRIM_TYPE_COUNT 5
+#define MASQ_PRIM_RIBBON 5
+#define MASQ_PRIM_TYPE_COUNT 6
 
 // A 4-wide BVH node with structure-of-arrays child boxes (one slab test per axis for
 // all children). Child slot i: count[i] > 0 is a leaf of count[i] references starting
@@ -238,6 +239,20 @@ STRUCT_BEGIN(Curve)
   float pad3;
 STRUCT_END(Curve)
 
+// Flat linear ribbon, normal oriented (Embree's and OptiX's ribbons, linear basis): the
+// planar strip through the axis p0 -> p1 whose half-width runs linearly from r0 to r1
+// along the width direction normalize(cross(n, p1 - p0)), so its surface normal is n's
+// part perpendicular to the axis. Flat ends, no thickness, two-sided. n is stored unit
+// length (the host normalises it in double), so the kernels' products stay in range.
+STRUCT_BEGIN(Ribbon)
+  float p0[3];
+  float r0;
+  float p1[3];
+  float r1;
+  float n[3];
+  float pad;
+STRUCT_END(Ribbon)
+
 // dir need not be unit length; t is in units of dir.
 STRUCT_BEGIN(Ray)
   float org[3];
@@ -249,7 +264,8 @@ STRUCT_END(Ray)
 // prim < 0: miss. normal: unit geometric normal in world space, facing the side the
 // surface was hit from is NOT enforced (outward for capsules, winding for triangles).
 // u, v: triangle barycentrics; capsule/round cone: (axial parameter in [0,1], 0);
-// curve: (curve parameter in [0,1], 0); sphere: (0, 0).
+// curve: (curve parameter in [0,1], 0); sphere: (0, 0); ribbon: (axial parameter in
+// [0,1], signed width coordinate over the half-width there, in [-1,1]).
 // fault != 0: the traversal stopped this ray instead of finishing it (a push onto a full
 // stack, or a walk past its step budget: a cycle in the structure or data read wrong);
 // the host turns any such ray into an error (host/trace_faults.h), so a user never sees
@@ -305,6 +321,7 @@ STATIC_ASSERT(sizeof(Capsule) == 32, capsule_size);
 STATIC_ASSERT(sizeof(RoundCone) == 32, round_cone_size);
 STATIC_ASSERT(sizeof(Sphere) == 16, sphere_size);
 STATIC_ASSERT(sizeof(Curve) == 64, curve_size);
+STATIC_ASSERT(sizeof(Ribbon) == 48, ribbon_size);
 STATIC_ASSERT(sizeof(Ray) == 32, ray_size);
 STATIC_ASSERT(sizeof(Hit) == 48, hit_size);
 STATIC_ASSERT(sizeof(RayStats) == 16, ray_stats_size);

@@ -16,7 +16,10 @@
 //     BV (the binary-hierarchy kernels, kernels/bv_traverse.h) or BOTH. Every kernel
 //     declares every row; a backend uploads the rows its kernel reads and binds an empty
 //     buffer (or nothing, on Vulkan) for the others.
-//   source: SCENE = the PackedScene member of the same name (bvh/packed_scene.h);
+//   source: SCENE = the PackedScene member of the same name (bvh/packed_scene.h); PRIM =
+//     a primitive type's array: the member of the same name that this row generates in
+//     KernelPrimArrays (scenes/kernel_prims.h, which PackedScene inherits), filled by the
+//     type's row of scenes/prim_table.cpp;
 //     NODES = PackedScene::node_data(), the node array of the scene's format (w8, q8 and o4
 //     nodes are read as words through the node_words view below); BV = the BvScene
 //     member of the same name (bvh/bv/bv_scene.h).
@@ -30,18 +33,19 @@
   X(Instance,     instances,      2,  TWO_LEVEL, SCENE) /* TLAS entries */          \
   X(Frame,        frames,         3,  BOTH,      SCENE) /* scene instances */       \
   X(Geometry,     geoms,          4,  BOTH,      SCENE)                             \
-  X(Triangle,     triangles,      5,  BOTH,      SCENE)                             \
-  X(Capsule,      capsules,       6,  BOTH,      SCENE)                             \
-  X(RoundCone,    round_cones,          10, BOTH,      SCENE)                             \
-  X(Sphere,       spheres,        11, BOTH,      SCENE)                             \
-  X(Curve,        curves,         12, BOTH,      SCENE)                             \
+  X(Triangle,     triangles,      5,  BOTH,      PRIM)                             \
+  X(Capsule,      capsules,       6,  BOTH,      PRIM)                             \
+  X(RoundCone,    round_cones,    10, BOTH,      PRIM)                             \
+  X(Sphere,       spheres,        11, BOTH,      PRIM)                             \
+  X(Curve,        curves,         12, BOTH,      PRIM)                             \
   X(BvNodeAabb,   bv_aabb,        13, BV,        BV) /* one of the four node arrays */ \
   X(BvPrimRef,    bv_prims,       14, BV,        BV) /* bv leaf entries */          \
   X(MasqInstance, masq_instances, 15, TWO_LEVEL, SCENE) /* compact masquerade */    \
   X(MasqOwner,    masq_owners,    16, TWO_LEVEL, SCENE)                             \
   X(BvNodeSphere, bv_sphere,      17, BV,        BV)                                \
   X(BvNodeObb,    bv_obb,         18, BV,        BV)                                \
-  X(BvNodeScb,    bv_scb,         19, BV,        BV)
+  X(BvNodeScb,    bv_scb,         19, BV,        BV)                                \
+  X(Ribbon,       ribbons,        22, BOTH,      PRIM)
 
 // Views: a second element type over a row's buffer (GLSL cannot reinterpret a buffer,
 // so it declares the block twice at one binding; C++ and OpenCL cast the pointer).

@@ -21,7 +21,8 @@
 //     unit, set per dispatch); 1 = fixed at the default (the cpu kernels carry every
 //     primitive type); n >= 2 = one generated translation unit per value 0..n-1, so that
 //     the timed cpu kernels carry no branch on it.
-//   host source: FEATURES(member) = KernelFeatures::member of the scene
+//   host source: FEATURES(member) = KernelFeatures::member of the scene (a MASQ_HAVE_*
+//     row: prims[MASQ_PRIM_*], the flag the builder sets for a type the scene holds)
 //     (bvh/packed_scene.h), TRACE(member) = TraceSwitches::member of the trace call,
 //     KNOBS(member) = KernelKnobs::member, set by an environment knob (host/scene_variant.h);
 //     converted to the kernel's value by switch_value().
@@ -42,11 +43,11 @@
 
 #define MASQ_VARIANTS(X)                                                                             \
   X(MASQ_STATS,          stats,       bool, false, 0,  2, TRACE(stats))       /* per-ray counters */ \
-  X(MASQ_HAVE_TRIANGLES, triangles,   bool, true,  1,  1, FEATURES(triangles))                       \
-  X(MASQ_HAVE_CAPSULES,  capsules,    bool, true,  2,  1, FEATURES(capsules))                        \
-  X(MASQ_HAVE_ROUND_CONES,     round_cones,       bool, true,  4,  1, FEATURES(round_cones))                           \
-  X(MASQ_HAVE_SPHERES,   spheres,     bool, true,  5,  1, FEATURES(spheres))                         \
-  X(MASQ_HAVE_CURVES,    curves,      bool, true,  6,  1, FEATURES(curves))                          \
+  X(MASQ_HAVE_TRIANGLES, triangles,   bool, true,  1,  1, FEATURES(prims[MASQ_PRIM_TRIANGLE]))                       \
+  X(MASQ_HAVE_CAPSULES,  capsules,    bool, true,  2,  1, FEATURES(prims[MASQ_PRIM_CAPSULE]))                        \
+  X(MASQ_HAVE_ROUND_CONES,     round_cones,       bool, true,  4,  1, FEATURES(prims[MASQ_PRIM_ROUND_CONE]))                           \
+  X(MASQ_HAVE_SPHERES,   spheres,     bool, true,  5,  1, FEATURES(prims[MASQ_PRIM_SPHERE]))                         \
+  X(MASQ_HAVE_CURVES,    curves,      bool, true,  6,  1, FEATURES(prims[MASQ_PRIM_CURVE]))                          \
   X(MASQ_ROBUST,         robust,      bool, true,  7,  2, FEATURES(mode))     /* robust or fast */   \
   X(MASQ_CURVE_ITERS,    curve_iters, int,  24,    8,  0, FEATURES(curve_iters)) /* phantom limit */ \
   X(MASQ_ANY_HIT,        any_hit,     bool, false, 9,  0, TRACE(any_hit))     /* occlusion query */  \
@@ -56,6 +57,7 @@
   X(MASQ_BLAS_STACK,     blas_stack,  int,  64,    13, 0, FEATURES(blas_stack)) /* entries */      \
   X(MASQ_CURVE_ISECT,    curve_isect, int,  0,     14, 0, FEATURES(curve_isect)) /* MASQ_CURVE_* */ \
   X(MASQ_STEP_CHECK,     step_check,  bool, true,  15, 0, KNOBS(step_check)) /* step budget, full stack */ \
-  X(MASQ_STACK_SIZED,    stack_sized, bool, false, 16, 1, KNOBS(stack_sized)) /* see MASQ_STACK_DIM */
+  X(MASQ_STACK_SIZED,    stack_sized, bool, false, 16, 1, KNOBS(stack_sized)) /* see MASQ_STACK_DIM */ \
+  X(MASQ_HAVE_RIBBONS,   ribbons,     bool, true,  17, 1, FEATURES(prims[MASQ_PRIM_RIBBON]))
 
 #endif

@@ -73,6 +73,8 @@ constexpr OraclePrimRow prim_rows[] = {
        for (const glm::vec3& q : c.p) hull = std::max(hull, detail::len(detail::from(q) - centre));
        return Reach{centre, hull + (1 + cutoff) * detail::nonneg(c.radius)};
      }},
+    {PrimType::Ribbon, [](const Geometry& g, std::size_t p, const PrimRay& ray) { return oracle_ribbon(g.ribbons[p], ray); },
+     [](const Geometry&, std::size_t, ld) { return Reach{}; }}, // clearance from the strip's edges, as triangles'
 };
 static_assert(one_row_per_prim_type(prim_rows), "oracle prim rows: one row per PrimType, in enum order");
 

@@ -14,6 +14,10 @@
 //    the other = the bigger sphere.
 //  - Invalid rays (NaN/Inf in o or d, d = 0, NaN limits, tmin > tmax): miss.
 //  - Normals: outward, unit (triangles: the winding normal (v1-v0) x (v2-v0)).
+//  - Ribbons are flat like triangles (no inside; centre the midpoint of p0 p1, r = 0 in
+//    the window, span |p1 - p0|; the triangles' plane rule); normal: n's side of the
+//    plane; u: axial parameter, v: width coordinate over the half-width, in [-1, 1]. A
+//    normal within 2^-12 rad of the axis, a zero axis or zero widths: no surface.
 #pragma once
 #include "scenes/scene.h"
 #include <limits>
@@ -49,6 +53,7 @@ PrimResult oracle_capsule(const CapsulePrim& p, const PrimRay& ray);
 PrimResult oracle_round_cone(const RoundConePrim& p, const PrimRay& ray);
 PrimResult oracle_sphere(const SpherePrim& p, const PrimRay& ray);
 PrimResult oracle_curve(const CurvePrim& p, const PrimRay& ray);
+PrimResult oracle_ribbon(const RibbonPrim& p, const PrimRay& ray);
 PrimResult oracle_triangle(const glm::vec3& v0, const glm::vec3& v1, const glm::vec3& v2, const PrimRay& ray);
 
 // The self-intersection window every intersector applies:

@@ -252,6 +252,37 @@ RTCGeometry make_triangles(RTCDevice device, const Geometry& g) {
   return geo;
 }
 
+// Embree 3's flat linear curves face the ray, not a normal, and its normal-oriented
+// curves have no linear basis; a linear ribbon is a planar trapezoid, so its peer is one
+// Embree quad per ribbon (corners p0 +/- r0 w, p1 -/+ r1 w, w the unit width direction,
+// in double, rounded to fp32): the same surface, primID the ribbon's index. Its (u, v)
+// are the quad's, not the ribbon's, so the peer reports none.
+RTCGeometry make_ribbons(RTCDevice device, const Geometry& g) {
+  RTCGeometry geo = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
+  const std::size_t n = g.ribbons.size();
+  float* v = new_buffer<float>(geo, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, 4 * n, 3);
+  unsigned* idx = new_buffer<unsigned>(geo, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT4, n, 4);
+  if (v == nullptr || idx == nullptr) return geo;
+  for (std::size_t i = 0; i < n; ++i) {
+    const RibbonPrim& r = g.ribbons[i];
+    const glm::dvec3 p0(r.p0), p1(r.p1);
+    glm::dvec3 w = glm::cross(glm::dvec3(r.n), p1 - p0);
+    const double wl = glm::length(w), nl = glm::length(glm::dvec3(r.n)) * glm::length(p1 - p0);
+    // masq's rule (kernels/intersect_ribbon.h): a normal within 2^-12 rad of the axis has
+    // no width direction; then a quad without area, never hit.
+    w = wl > 0x1p-12 * nl ? w / wl : glm::dvec3(0.0);
+    // Wound so that Embree's Ng (its triangles (v0, v1, v3) and (v2, v3, v1): (v1 - v0) x
+    // (v3 - v0), a multiple of (p1 - p0) x w) faces n, as masq's ribbon normal does.
+    const glm::dvec3 corner[4] = {p0 + double(r.r0) * w, p0 - double(r.r0) * w, p1 - double(r.r1) * w,
+                                  p1 + double(r.r1) * w};
+    for (std::size_t k = 0; k < 4; ++k) {
+      for (int c = 0; c < 3; ++c) v[3 * (4 * i + k) + std::size_t(c)] = float(corner[k][c]);
+      idx[4 * i + k] = unsigned(4 * i + k);
+    }
+  }
+  return geo;
+}
+
 // Embree's geometry kinds, in the order description() lists them.
 enum class EmbreeKind { Linear, Bezier, Spheres, Triangles };
 // What a hit's (u, v) holds: the barycentrics, nothing, or the curve parameter (an end
@@ -271,6 +302,7 @@ constexpr EmbreePrimRow embree_prim_rows[] = {
     {PrimType::RoundCone, EmbreeKind::Linear, HitUv::CurveParameter, make_round_cones},
     {PrimType::Sphere, EmbreeKind::Spheres, HitUv::None, make_spheres},
     {PrimType::Curve, EmbreeKind::Bezier, HitUv::CurveParameter, make_curves},
+    {PrimType::Ribbon, EmbreeKind::Triangles, HitUv::None, make_ribbons}, // a quad: Embree's triangle family
 };
 static_assert(one_row_per_prim_type(embree_prim_rows), "embree prim rows: one row per PrimType, in enum order");
 

@@ -3,6 +3,7 @@
 // calls through the row (scene_prim_row) or reads one of its columns instead, so a new
 // type is one new row here (docs/architecture.md, "Add a primitive intersector").
 #pragma once
+#include "scenes/kernel_prims.h"
 #include "scenes/scene.h"
 #include <array>
 #include <cstddef>
@@ -67,10 +68,28 @@ struct ScenePrimRow {
   void (*add_bundle_strand)(Geometry&, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& bend, float r);
   // A random geometry of this type (scenes/generators.h, make_random_geometry).
   Geometry (*random)(int count, float min_radius, float max_radius, double extent, std::uint64_t seed);
+
+  // The kernels: how the type becomes its array of kernels/layout.h structs. These were a
+  // separate bvh-layer row (bvh/prim_rows.cpp); they live here, beside the balls they
+  // mirror, because they need nothing of the bvh layer (the array is a KernelPrimArrays
+  // member, generated from the scene array table), so a new type has one row less.
+  int kernel_type;     // its MASQ_PRIM_* id (row i has id i; prim_table.cpp checks it)
+  // The intersector's cost relative to a capsule's: the structure cost model and the SAH
+  // price of builders that price intersections (bvh/twolevel/structure_cost.h).
+  double isect_factor;
+  // Appends g's primitives (fp32) to its array in `out`; returns the index of the first.
+  int (*pack)(const Geometry& g, KernelPrimArrays& out);
+  // The hull balls of element `index` of its array in `packed` (a triangle: its vertices),
+  // as balls() gives them for the primitive it was packed from.
+  int (*kernel_balls)(const KernelPrimArrays& packed, std::size_t index, PrimBalls& out);
+  std::size_t (*kernel_bytes)(const KernelPrimArrays& packed); // its array's bytes
 };
 
 // The row of type t (rows are in enum order: scenes/prim_table.cpp static_asserts it).
 const ScenePrimRow& scene_prim_row(PrimType t);
+
+// The row of a MASQ_PRIM_* id (a kernel::Geometry's type); throws masq::Error for none.
+const ScenePrimRow& scene_prim_row_of_kernel_type(int kernel_type);
 
 // The names of the types that strands can be loaded as (rows with add_segment), plural,
 // joined by " or ": "capsules or round cones", for messages.

@@ -13,7 +13,7 @@
 
 namespace masq {
 
-enum class PrimType { Triangle, Capsule, RoundCone, Sphere, Curve };
+enum class PrimType { Triangle, Capsule, RoundCone, Sphere, Curve, Ribbon };
 
 // A primitive type's row: its one name (options, files, output and messages), help, and
 // the older name users may still type (the JSON scene format's and the CLI's "cone").
@@ -29,6 +29,7 @@ inline constexpr PrimTypeRow prim_type_rows[] = {
     {PrimType::RoundCone, "round_cone", "the hull of two balls, Han et al.'s link", "cone"},
     {PrimType::Sphere, "sphere", "a ball", nullptr},
     {PrimType::Curve, "curve", "cubic Bezier swept by a ball", nullptr},
+    {PrimType::Ribbon, "ribbon", "a flat strip along a segment, facing its normal", nullptr},
 };
 inline constexpr NameTable prim_type_table{"primitive type", prim_type_rows};
 inline constexpr std::size_t prim_type_count = std::size(prim_type_rows);
@@ -78,6 +79,17 @@ struct CurvePrim {
   float radius;
 };
 
+// Flat linear ribbon, normal oriented: the planar strip through the segment p0-p1 of
+// half-width r0 at p0 and r1 at p1 along normalize(cross(n, p1 - p0)) (kernels/layout.h,
+// Ribbon). n need not be unit length; a zero n or one along the axis gives no surface.
+struct RibbonPrim {
+  glm::vec3 p0;
+  float r0;
+  glm::vec3 p1;
+  float r1;
+  glm::vec3 n;
+};
+
 struct Geometry {
   PrimType type = PrimType::Triangle;
   std::vector<glm::vec3> vertices;      // triangles: vertex positions
@@ -86,6 +98,7 @@ struct Geometry {
   std::vector<RoundConePrim> round_cones;     // round cones
   std::vector<SpherePrim> spheres;      // spheres
   std::vector<CurvePrim> curves;        // cubic curves
+  std::vector<RibbonPrim> ribbons;      // flat ribbons
   std::size_t primitive_count() const; // the size of its type's array (scenes/prim_table.h)
 };
 

@@ -24,8 +24,7 @@ EXEMPT_FOLDERS = {
 # The tables themselves: each holds one row per primitive type and static_asserts it.
 TABLE_FILES = {
     "scenes/scene.h": "prim_type_rows: names, help and aliases (the NameTable)",
-    "scenes/prim_table.cpp": "the scenes layer's rows: count, validation, hull balls, shape",
-    "bvh/prim_rows.cpp": "the bvh layer's rows: MASQ_PRIM_* id, packing, features, costs",
+    "scenes/prim_table.cpp": "the scenes layer's rows: count, validation, hull balls, shape, MASQ_PRIM_* id, packing, cost",
     "oracle/oracle.cpp": "the oracle's rows: its intersector per type",
     "host/vulkan/rt_pipeline.h": "kHitGroups: rtpipeline's hit group per type",
     "stress/stress_prim_rows.cpp": "the stress suite's rows: placement, degenerate cells, aims",

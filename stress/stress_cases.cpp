@@ -25,9 +25,9 @@ std::string pow10_label(const char* what, double v) {
 // Which primitive types a sweep point applies to (bit per PrimType).
 constexpr unsigned kCapsuleBit = 1u << unsigned(PrimType::Capsule), kConeBit = 1u << unsigned(PrimType::RoundCone),
                    kCurveBit = 1u << unsigned(PrimType::Curve), kSphereBit = 1u << unsigned(PrimType::Sphere),
-                   kTriangleBit = 1u << unsigned(PrimType::Triangle);
+                   kTriangleBit = 1u << unsigned(PrimType::Triangle), kRibbonBit = 1u << unsigned(PrimType::Ribbon);
 constexpr unsigned kTubes = kCapsuleBit | kConeBit | kCurveBit;
-constexpr unsigned kAll = kTubes | kSphereBit | kTriangleBit;
+constexpr unsigned kAll = kTubes | kSphereBit | kTriangleBit | kRibbonBit;
 
 // One sweep point: the parameters that differ from CellSpec's defaults (r = 1e-3,
 // L/r = 100, D/r = 1e3, no offset). 0 keeps the default.

@@ -74,7 +74,7 @@ struct SweepOptions {
   int rays_per_cell = 16384;
   bool quick = false; // fewer sweep points (the ctest subset)
   std::vector<PrimType> types = {PrimType::Capsule, PrimType::RoundCone, PrimType::Curve, PrimType::Sphere,
-                                 PrimType::Triangle};
+                                 PrimType::Triangle, PrimType::Ribbon};
   std::uint64_t seed = 7;
   std::vector<std::string> sweeps; // only these sweeps (distance, length, ...); empty: all
   std::vector<CurveIsect> curve_isects = {CurveIsect::Phantom, CurveIsect::Roving}; // curve cells: one per

@@ -53,6 +53,17 @@ void add_sphere(const CellSpec&, const PrimPlace& at, Geometry& g, Probe& pr) {
   pr.ra = pr.rb = at.rf;
 }
 
+// A ribbon along the cell's axis, narrowing to half its width, facing m; its probe keeps
+// the normal in p[2] (the aims need the plane).
+void add_ribbon(const CellSpec& c, const PrimPlace& at, Geometry& g, Probe& pr) {
+  float rb = 0.5f * at.rf;
+  glm::dvec3 n = c.degenerate == "normal-along-axis" ? at.w : at.m;
+  g.ribbons.push_back({glm::vec3(at.a), at.rf, glm::vec3(at.e), rb, glm::vec3(n)});
+  pr.p = {glm::dvec3(glm::vec3(at.a)), glm::dvec3(glm::vec3(at.e)), glm::dvec3(glm::vec3(n))};
+  pr.ra = at.rf;
+  pr.rb = rb;
+}
+
 void add_triangle(const CellSpec& c, const PrimPlace& at, Geometry& g, Probe& pr) {
   glm::dvec3 v0 = at.a, v1 = at.e, v2 = at.centre + 0.8 * at.L * at.m;
   if (c.degenerate == "collinear") v2 = v1; // two coincident vertices: no area
@@ -176,11 +187,52 @@ Aim aim_round(const Probe& pr, RayKind kind, const AimFrom& from, Rng& rng) {
   }
 }
 
+// A flat strip: rays cross its plane near the long edges (|v| = r(s) (1 + eps)), graze
+// the plane, or come from anywhere about the core.
+Aim aim_ribbon(const Probe& pr, RayKind kind, const AimFrom& from, Rng& rng) {
+  const glm::dvec3* eye = from.eye;
+  const glm::dvec3 axis = pr.p[1] - pr.p[0];
+  glm::dvec3 w = glm::cross(pr.p[2], axis);
+  // No width direction (zero length, normal along the axis): any perpendicular will do.
+  w = glm::length(w) > 1e-6 * glm::length(axis) && glm::length(w) > 0 ? glm::normalize(w) : perpendicular_to(pr.tangent(0), rng);
+  const glm::dvec3 nrm = glm::normalize(glm::cross(pr.tangent(0), w) + 1e-300);
+  double s = uniform(rng, -0.05, 1.05);
+  double sc = std::clamp(s, 0.0, 1.0);
+  glm::dvec3 q = pr.point(sc);
+  double r = pr.radius(sc);
+  double eps = std::pow(10.0, uniform(rng, -6, -1)) * (uniform(rng, 0, 1) < 0.5 ? -1 : 1);
+  double side = uniform(rng, 0, 1) < 0.5 ? -1 : 1;
+  switch (kind) {
+    case RayKind::Silhouette: {
+      glm::dvec3 at = q + side * r * (1 + eps) * w;
+      glm::dvec3 d = glm::normalize(side * nrm + 0.5 * random_unit(rng));
+      return {at, eye ? glm::normalize(at - *eye) : d};
+    }
+    case RayKind::Grazing: {
+      double ang = std::pow(10.0, uniform(rng, -4, -0.5));
+      double phi = uniform(rng, 0, 6.283185307179586);
+      glm::dvec3 in_plane = std::cos(phi) * pr.tangent(sc) + std::sin(phi) * w;
+      glm::dvec3 d = glm::normalize(std::cos(ang) * in_plane + side * std::sin(ang) * nrm);
+      return {q + uniform(rng, -1, 1) * r * w, d};
+    }
+    case RayKind::AxisParallel: {
+      glm::dvec3 d(0.0);
+      d[int(uniform(rng, 0, 3)) % 3] = uniform(rng, 0, 1) < 0.5 ? -1 : 1;
+      return {q + 0.6 * from.spread * r * random_unit(rng) * uniform(rng, 0, 1), d};
+    }
+    default: {
+      glm::dvec3 at = q + from.spread * r * random_unit(rng) * uniform(rng, 0, 1);
+      return {at, eye ? glm::normalize(at - *eye) : random_unit(rng)};
+    }
+  }
+}
+
 constexpr const char* kCapsuleDegenerates[] = {"zero-length", "zero-radius"};
 constexpr const char* kRoundConeDegenerates[] = {"contained", "zero-length", "zero-radius"};
 constexpr const char* kCurveDegenerates[] = {"coincident", "flat-tangent", "zero-radius"};
 constexpr const char* kSphereDegenerates[] = {"zero-radius"};
 constexpr const char* kTriangleDegenerates[] = {"collinear"};
+constexpr const char* kRibbonDegenerates[] = {"normal-along-axis", "zero-length", "zero-radius"};
 // Curves whose solid is not a tube about a smooth axis: a hairpin bent with a radius of
 // curvature near r (its legs' balls overlap), a cusp (zero speed, the tangent turning by
 // 180 degrees), and a control polygon folded back on itself.
@@ -198,6 +250,8 @@ constexpr StressPrimRow rows[] = {
      middle, no_chord, aim_round},
     {PrimType::Curve, kCurveDegenerates, kCurveShapes, false, true, add_curve, bezier_point, bezier_axis,
      constant_radius, bezier_middle, bezier_chord, aim_round},
+    {PrimType::Ribbon, kRibbonDegenerates, {}, false, false, add_ribbon, linear_point, linear_axis, linear_radius,
+     middle, linear_chord, aim_ribbon},
 };
 static_assert(one_row_per_prim_type(rows), "stress_prim_rows: one row per PrimType, in enum order");
 

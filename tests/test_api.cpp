@@ -389,3 +389,48 @@ TEST(Api, ContextOnANamedDevice) {
   Context again("vulkan");
   EXPECT_EQ(again.device(), plain->device());
 }
+
+// A ribbon through the public API: added with a normal that is not unit length, read
+// back as it was added, and hit on every backend and method where the strip is (the
+// trapezoid |y - 0.5| <= 0.2 - 0.1 s, s = x + 0.5 in [0, 1], facing -z, the rays' side),
+// with its normal, the axial parameter in u and the width coordinate over the
+// half-width in v. No pixel centre lies within 1/320 of the strip's edges.
+TEST(Api, RibbonsReadBackAndHitWhereTheStripIs) {
+  Scene s;
+  Ribbon rb{{-0.5f, 0.5f, 0}, 0.2f, {0.5f, 0.5f, 0}, 0.1f, {0, 0, -3}};
+  const std::uint32_t g = s.add_ribbons({&rb, 1});
+  GeometryData d = s.geometry(g);
+  EXPECT_EQ(d.type, "ribbon");
+  ASSERT_EQ(d.ribbons.size(), 1u);
+  EXPECT_EQ(d.ribbons[0].n.z, -3.0f);
+  EXPECT_EQ(d.ribbons[0].r1, 0.1f);
+  EXPECT_EQ(d.strands, (std::vector<std::uint32_t>{0}));
+  EXPECT_TRUE(d.capsules.empty() && d.curves.empty());
+
+  std::vector<Ray> rays = grid_rays();
+  for (Method m : {Method::Ref, Method::Masq, Method::Cluster}) {
+    Accel accel = Accel::build(s, {m, Mode::Robust});
+    for (const std::string& b : Context::backends()) {
+      auto ctx = open(b);
+      if (!ctx) continue;
+      SCOPED_TRACE(b + " method " + std::to_string(int(m)));
+      std::vector<Hit> hits = ctx->trace(accel, rays);
+      int expected = 0, got = 0;
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        const double x = rays[i].org.x, y = rays[i].org.y, sx = x + 0.5, r = 0.2 - 0.1 * sx;
+        const bool in = sx >= 0 && sx <= 1 && std::abs(y - 0.5) <= r;
+        expected += in;
+        got += hits[i].hit();
+        ASSERT_EQ(hits[i].hit(), in) << "ray " << i << " at (" << x << ", " << y << ")";
+        if (!in) continue;
+        EXPECT_NEAR(hits[i].t, 5.0f, 1e-5f);
+        EXPECT_EQ(hits[i].geometry, int(g));
+        EXPECT_NEAR(hits[i].normal.z, -1.0f, 1e-6f);
+        EXPECT_NEAR(hits[i].u, sx, 1e-5);
+        EXPECT_NEAR(hits[i].v, (0.5 - y) / r, 1e-4);
+      }
+      EXPECT_EQ(got, expected);
+      EXPECT_GT(expected, 30);
+    }
+  }
+}

@@ -22,7 +22,8 @@ using masq::test::random_rays;
 
 namespace {
 
-const PrimType kAllTypes[] = {PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve, PrimType::Triangle};
+const PrimType kAllTypes[] = {PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve, PrimType::Triangle,
+                              PrimType::Ribbon};
 
 Geometry random_geometry(PrimType t, int count, std::uint64_t seed) {
   return t == PrimType::Triangle ? make_random_mesh(count, 1.0, seed)
@@ -60,6 +61,15 @@ glm::dvec3 sample_point(const Geometry& g, std::size_t p, std::mt19937_64& rng) 
       glm::dvec3 b = s * s * s * glm::dvec3(c.p[0]) + 3 * s * s * t * glm::dvec3(c.p[1]) +
                      3 * s * t * t * glm::dvec3(c.p[2]) + t * t * t * glm::dvec3(c.p[3]);
       return b + depth * double(c.radius) * random_unit(rng);
+    }
+    case PrimType::Ribbon: {
+      // On the strip: p0 + t (p1 - p0) + v r(t) w, w the unit width direction (a ribbon
+      // whose normal runs along its axis has no surface: its axis point).
+      const RibbonPrim& r = g.ribbons[p];
+      glm::dvec3 a = glm::dvec3(r.p1) - glm::dvec3(r.p0), w = glm::cross(glm::dvec3(r.n), a);
+      double wl = glm::length(w), v = 2 * u(rng) - 1;
+      if (wl > 0) w /= wl;
+      return glm::dvec3(r.p0) + t * a + v * ((1 - t) * r.r0 + t * r.r1) * w;
     }
     case PrimType::Triangle: {
       const glm::uvec3& tri = g.triangles[p];

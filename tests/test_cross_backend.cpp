@@ -228,7 +228,8 @@ TEST_P(EveryPrimitive, BundleCamera) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Types, EveryPrimitive,
-                         ::testing::Values(PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve),
+                         ::testing::Values(PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve,
+                                           PrimType::Ribbon),
                          [](const ::testing::TestParamInfo<PrimType>& i) { return std::string(prim_type_key(i.param)); });
 
 TEST(CrossBackend, SubdividedCurvesWithPaperObbs) {

@@ -67,6 +67,9 @@ std::vector<kernel::Ray> rays_at_primitives(const Scene& s, int n, std::uint64_t
         p = glm::mix(glm::dvec3(g.round_cones[k].a), glm::dvec3(g.round_cones[k].b), w), r = g.round_cones[k].ra;
         break;
       case PrimType::Sphere: p = glm::dvec3(g.spheres[k].center), r = g.spheres[k].radius; break;
+      case PrimType::Ribbon:
+        p = glm::mix(glm::dvec3(g.ribbons[k].p0), glm::dvec3(g.ribbons[k].p1), w), r = g.ribbons[k].r0;
+        break;
       case PrimType::Curve: {
         const auto& c = g.curves[k].p;
         const double v = 1.0 - w; // Bernstein weights of the cubic at w
@@ -272,7 +275,7 @@ TEST(CrossBackendBitsRoving, EachBackendRunsTheChosenCurveIntersector) {
 
 INSTANTIATE_TEST_SUITE_P(Types, CrossBackendBits,
                          ::testing::Values(PrimType::Triangle, PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere,
-                                           PrimType::Curve),
+                                           PrimType::Curve, PrimType::Ribbon),
                          [](const ::testing::TestParamInfo<PrimType>& i) { return std::string(prim_type_key(i.param)); });
 
 } // namespace

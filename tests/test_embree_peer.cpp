@@ -42,6 +42,7 @@ double scale_of(const Scene& s, int geom, int prim, double t) {
     case PrimType::RoundCone: return std::max(g.round_cones[p].ra, g.round_cones[p].rb);
     case PrimType::Sphere: return g.spheres[p].radius;
     case PrimType::Curve: return g.curves[p].radius;
+    case PrimType::Ribbon: return std::max(g.ribbons[p].r0, g.ribbons[p].r1);
     case PrimType::Triangle: return t;
   }
   return t;
@@ -251,7 +252,7 @@ TEST_P(EmbreeEveryPrimitive, AgreesWithTheOracle) {
 
 INSTANTIATE_TEST_SUITE_P(Types, EmbreeEveryPrimitive,
                          ::testing::Values(PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve,
-                                           PrimType::Triangle),
+                                           PrimType::Triangle, PrimType::Ribbon),
                          [](const ::testing::TestParamInfo<PrimType>& p) { return std::string(prim_type_key(p.param)); });
 
 TEST(EmbreePeer, InstancedScenesAgreeWithTheOracle) {
@@ -261,7 +262,7 @@ TEST(EmbreePeer, InstancedScenesAgreeWithTheOracle) {
   std::mt19937_64 rng(77);
   Scene s;
   s.name = "instanced";
-  for (PrimType type : {PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve})
+  for (PrimType type : {PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve, PrimType::Ribbon})
     s.geometries.push_back(make_random_geometry(type, 60, 0.004f, 0.05f, 1.0, 70 + int(type)));
   s.geometries.push_back(make_random_mesh(100, 1.0, 79));
   for (std::uint32_t g = 0; g < s.geometries.size(); ++g)

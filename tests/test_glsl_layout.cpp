@@ -31,23 +31,23 @@ struct Section {
   const char* name;
   std::size_t bytes; // sizeof the struct
 };
-// In binding order (0..16 in, 19..35 out) and flat-section order of the kernel.
+// In binding order (0..17 in, 20..37 out) and flat-section order of the kernel.
 const Section kSections[] = {
     {"WideNode", sizeof(WideNode)},   {"Instance", sizeof(Instance)}, {"Frame", sizeof(Frame)},
     {"Geometry", sizeof(Geometry)},   {"Triangle", sizeof(Triangle)}, {"Capsule", sizeof(Capsule)},
     {"RoundCone", sizeof(RoundCone)}, {"Sphere", sizeof(Sphere)},     {"Curve", sizeof(Curve)},
     {"Ray", sizeof(Ray)},             {"Hit", sizeof(Hit)},           {"RayStats", sizeof(RayStats)},
     {"TraceParams", sizeof(TraceParams)}, {"WideNode8", sizeof(WideNode8)},   {"QuantNode8", sizeof(QuantNode8)},
-    {"MasqInstance", sizeof(MasqInstance)}, {"MasqOwner", sizeof(MasqOwner)},
+    {"MasqInstance", sizeof(MasqInstance)}, {"MasqOwner", sizeof(MasqOwner)}, {"Ribbon", sizeof(Ribbon)},
 };
 constexpr std::size_t kTypes = std::size(kSections);
-static_assert(kTypes == 17);
-// Bindings of layout_roundtrip.comp: In0..In16, FlatOut, FlatIn, Out0..Out16.
+static_assert(kTypes == 18);
+// Bindings of layout_roundtrip.comp: In0..In17, FlatOut, FlatIn, Out0..Out17.
 constexpr std::uint32_t kFlatOutBinding = kTypes;
 constexpr std::uint32_t kFlatInBinding = kTypes + 1;
 constexpr std::uint32_t kOutBinding0 = kTypes + 2;
 constexpr std::uint32_t kBindings = 2 * kTypes + 2;
-static_assert(kBindings == 36);
+static_assert(kBindings == 38);
 
 // Distinct words that survive a float round trip (normal floats) and an int one.
 std::uint32_t word(std::uint32_t k, bool negative) {

@@ -35,7 +35,8 @@ Scene every_primitive_scene(std::uint64_t seed) {
   Scene s;
   s.name = "every primitive ";
   s.name += std::to_string(seed); // not "..." + string: a GCC 12 -Warray-bounds false positive
-  for (PrimType t : {PrimType::Triangle, PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve})
+  for (PrimType t : {PrimType::Triangle, PrimType::Capsule, PrimType::RoundCone, PrimType::Sphere, PrimType::Curve,
+                     PrimType::Ribbon})
     s.geometries.push_back(t == PrimType::Triangle ? make_random_mesh(96, 1.0, seed + 7)
                                                    : make_random_geometry(t, 150, 0.004f, 0.05f, 1.0, seed + int(t)));
   for (std::uint32_t g = 0; g < s.geometries.size(); ++g)

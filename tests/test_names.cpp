@@ -74,7 +74,7 @@ TEST(Names, UnknownNameNamesTheChoices) {
   EXPECT_EQ(message_of([] { parse_mode("exact"); }), "unknown mode 'exact' (expected robust or fast)");
   EXPECT_EQ(message_of([] { parse_node_format("w16"); }), "unknown node format 'w16' (expected w4, w8, q8 or o4)");
   EXPECT_EQ(message_of([] { parse_prim_type("cylinder"); }),
-            "unknown primitive type 'cylinder' (expected triangle, capsule, round_cone, sphere or curve)");
+            "unknown primitive type 'cylinder' (expected triangle, capsule, round_cone, sphere, curve or ribbon)");
 }
 
 TEST(Names, ListsAndHelpComeFromTheRows) {
@@ -85,7 +85,7 @@ TEST(Names, ListsAndHelpComeFromTheRows) {
   EXPECT_EQ(mode_table.help(),
             std::string("robust (") + api::mode_rows[0].help + ") or fast (" + api::mode_rows[1].help + ")");
   auto strands = [](const PrimTypeRow& r) { return r.value != PrimType::Triangle; };
-  EXPECT_EQ(prim_type_table.choices(strands), "capsule, round_cone, sphere or curve");
+  EXPECT_EQ(prim_type_table.choices(strands), "capsule, round_cone, sphere, curve or ribbon");
   EXPECT_EQ(all_builders(), builder_table.values());
   // The names messages and files used before the tables.
   EXPECT_STREQ(prim_type_name(PrimType::RoundCone), "round_cone");

@@ -86,7 +86,7 @@ PackedScene hand_built_scene() {
   s.capsules = {kernel::Capsule{{-1.0f, 0.0f, 0.0f}, 0.1f, {1.0f, 0.0f, 0.0f}, 0.0f},
                 kernel::Capsule{{-1.0f, 0.5f, 1.0f}, 0.2f, {1.0f, 0.5f, 1.0f}, 0.0f}};
   s.tlas_root = 0;
-  s.features.capsules = true;
+  s.features.prims[MASQ_PRIM_CAPSULE] = true;
   return s;
 }
 

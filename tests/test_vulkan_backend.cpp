@@ -117,7 +117,7 @@ PackedScene tiny_scene() {
                 kernel::Capsule{{0.5f, -1.0f, 0.2f}, 0.3f, {0.6f, 1.0f, 0.0f}, 0.0f},
                 kernel::Capsule{{-1.0f, 0.0f, 1.0f}, 0.25f, {1.0f, 0.1f, 1.0f}, 0.0f}};
   s.tlas_root = 0;
-  s.features.capsules = true;
+  s.features.prims[MASQ_PRIM_CAPSULE] = true;
   s.frame_object_to_world = {Mat3x4f{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}};
   s.tlas_leaf_order = {0};
   s.geometry_leaf_order = {{2, 0, 1}}; // not the identity: exercises the id map

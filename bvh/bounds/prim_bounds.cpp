@@ -1,6 +1,6 @@
 #include "bvh/bounds/prim_bounds.h"
 #include "bvh/packed_scene.h"
-#include "bvh/prim_rows.h"
+#include "scenes/prim_table.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <cmath>
@@ -46,7 +46,7 @@ BallHull ball_hull(const PackedScene& s, int geom, int prim) {
 BallHull prim_hull(const PackedScene& s, int geom, int prim) {
   const kernel::Geometry& g = s.geoms.at(std::size_t(geom));
   PrimBalls balls;
-  const int count = bvh_prim_row(g.type).packed_balls(s, std::size_t(g.first + prim), balls);
+  const int count = scene_prim_row_of_kernel_type(g.type).kernel_balls(s, std::size_t(g.first + prim), balls);
   return hull_of(balls, count);
 }
 

@@ -9,7 +9,7 @@
 #include "bvh/bounds/prim_bounds.h"
 #include "bvh/twolevel/structure_cost.h"
 #include "bvh/nodes/wide_bvh.h"
-#include "bvh/prim_rows.h"
+#include "scenes/prim_table.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <chrono>
@@ -48,7 +48,7 @@ kernel::Instance make_instance(const Mat3x4f& world_to_object, int blas_root, in
 
 void pack_primitives(const Scene& scene, PackedScene& ps) {
   for (const Geometry& g : scene.geometries) {
-    const BvhPrimRow& row = bvh_prim_row(g.type);
+    const ScenePrimRow& row = scene_prim_row(g.type);
     kernel::Geometry kg{};
     kg.type = row.kernel_type;
     kg.count = int(g.primitive_count());
@@ -74,7 +74,7 @@ void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids
     return clip_primitive(g, std::size_t(ids[std::size_t(item)]), axis, lo, hi);
   };
   SahOptions blas_sah = opt.sah;
-  if (builder_prices_isect(opt.builder.kind)) blas_sah.intersection_cost *= blas_isect_price(bvh_prim_row(g.type).kernel_type);
+  if (builder_prices_isect(opt.builder.kind)) blas_sah.intersection_cost *= blas_isect_price(scene_prim_row(g.type).kernel_type);
   bvh = build_blas_binary(boxes, clip, blas_sah, opt.builder, &references);
 }
 
@@ -94,7 +94,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   ps.stats.cluster_size = opt.cluster.max_size;
   ps.stats.cluster_leaf_price = opt.cluster.leaf_price;
   for (const Instance& inst : scene.instances) {
-    ps.features.*bvh_prim_row(scene.geometries[inst.geometry].type).feature = true;
+    ps.features.prims[std::size_t(scene_prim_row(scene.geometries[inst.geometry].type).kernel_type)] = true;
     Affine3 w2o = inverse(inst.object_to_world);
     kernel::Frame f{};
     Mat3x4f m = to_mat3x4f(w2o);

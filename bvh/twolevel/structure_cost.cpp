@@ -3,7 +3,7 @@
 #include "bvh/bounds/obb.h"
 #include "bvh/nodes/wide_bvh.h"
 #include "bvh/binary/parallel.h"
-#include "bvh/prim_rows.h"
+#include "scenes/prim_table.h"
 #include <cmath>
 #include <glm/glm.hpp>
 #include <vector>
@@ -12,7 +12,7 @@ namespace masq {
 
 double isect_type_factor(int kernel_prim_type) {
   if (kernel_prim_type < 0 || kernel_prim_type >= MASQ_PRIM_TYPE_COUNT) return 1.0;
-  return bvh_prim_row(kernel_prim_type).isect_factor;
+  return scene_prim_row_of_kernel_type(kernel_prim_type).isect_factor;
 }
 
 double blas_isect_price(int kernel_prim_type) {

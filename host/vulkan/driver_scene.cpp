@@ -2,7 +2,7 @@
 #include "bvh/bounds/obb.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "bvh/nodes/compact_instance.h"
-#include "bvh/prim_rows.h"
+#include "scenes/prim_table.h"
 #include "bvh/twolevel/cluster_blas.h"
 #include "host/limit_knob.h"
 #include "host/vulkan/vulkan_backends.h"

@@ -1,6 +1,6 @@
 #include "host/vulkan/vk_clock.h"
 #include "host/vulkan/rt_pipeline.h"
-#include "bvh/prim_rows.h"
+#include "scenes/prim_table.h"
 #include "host/limit_knob.h"
 #include "host/vulkan/trace_dispatch.h"
 #include "host/vulkan/vk_devices.h"

@@ -30,6 +30,7 @@ inline constexpr HitGroupRow kHitGroups[] = {
     {MASQ_PRIM_ROUND_CONE, &KernelVariant::round_cones, "round cone"},
     {MASQ_PRIM_SPHERE, &KernelVariant::spheres, "sphere"},
     {MASQ_PRIM_CURVE, &KernelVariant::curves, "curve"},
+    {MASQ_PRIM_RIBBON, &KernelVariant::ribbons, "ribbon"},
 };
 static_assert(std::size(kHitGroups) == MASQ_PRIM_TYPE_COUNT, "one hit group per primitive type");
 

@@ -55,14 +55,15 @@ struct Box {
 /// One geometry read back (Scene::geometry): its primitive type's name and that type's
 /// array; the arrays of the other types are empty.
 struct GeometryData {
-  std::string type; ///< "triangle", "capsule", "round_cone", "sphere" or "curve"
+  std::string type; ///< "triangle", "capsule", "round_cone", "sphere", "curve" or "ribbon"
   std::vector<Vec3> vertices;          ///< triangles
   std::vector<std::uint32_t> indices;  ///< triangles: 3 vertex indices each
   std::vector<Capsule> capsules;
   std::vector<RoundCone> round_cones;
   std::vector<Sphere> spheres;
   std::vector<Curve> curves;
-  /// Types with an axis (capsules, round cones, curves): the strand of each primitive,
+  std::vector<Ribbon> ribbons; ///< n as it was added (the kernels get it unit length)
+  /// Types with an axis (capsules, round cones, curves, ribbons): the strand of each primitive,
   /// numbered from 0 in order. Primitive i + 1 is in primitive i's strand when it starts
   /// where i ends, as the strand loaders write a strand's segments. Other types: empty.
   std::vector<std::uint32_t> strands;
@@ -100,6 +101,7 @@ class Scene {
   std::uint32_t add_round_cones(std::span<const RoundCone> round_cones);
   std::uint32_t add_spheres(std::span<const Sphere> spheres);
   std::uint32_t add_curves(std::span<const Curve> curves);
+  std::uint32_t add_ribbons(std::span<const Ribbon> ribbons);
   /// Places geometry `geometry` with `object_to_world`. Returns the instance id.
   /// Throws masq::Error for an unknown geometry id.
   std::uint32_t add_instance(std::uint32_t geometry, const Transform& object_to_world = Transform::identity());

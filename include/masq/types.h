@@ -156,6 +156,19 @@ struct Curve {
   float radius = 0;
 };
 
+/// Flat linear ribbon, normal oriented: the planar strip through the segment p0-p1 whose
+/// half-width runs from r0 at p0 to r1 at p1 along normalize(cross(n, p1 - p0)), so that
+/// its surface faces n (Embree's and OptiX's normal-oriented ribbons, linear basis). Flat
+/// ends, no thickness. n need not be unit length; a zero n, or one within 2^-12 rad of
+/// the axis, gives no surface (never hit).
+struct Ribbon {
+  Vec3 p0;
+  float r0 = 0;
+  Vec3 p1;
+  float r1 = 0;
+  Vec3 n{0, 0, 1};
+};
+
 /// Affine object-to-world transform, row-major 3x4: world = m[.][0..2] * p + m[.][3].
 struct Transform {
   double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};

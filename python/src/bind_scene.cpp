@@ -75,6 +75,20 @@ std::uint32_t add_curves(api::Scene& scene, const ArrayLike& points, const Array
   return scene.add_curves(curves);
 }
 
+std::uint32_t add_ribbons(api::Scene& scene, const ArrayLike& p0, const ArrayLike& r0, const ArrayLike& p1,
+                          const ArrayLike& r1, const ArrayLike& normal) {
+  auto a = float_rows(p0, {"Scene.add_ribbons", "p0"}, 3);
+  const std::size_t n = row_count(a);
+  auto b = float_rows(p1, {"Scene.add_ribbons", "p1"}, 3, static_cast<long>(n));
+  auto nr = float_rows(normal, {"Scene.add_ribbons", "normal"}, 3, static_cast<long>(n));
+  PerRowFloat w0 = per_row_float(r0, {"Scene.add_ribbons", "r0"}, n);
+  PerRowFloat w1 = per_row_float(r1, {"Scene.add_ribbons", "r1"}, n);
+  std::vector<api::Ribbon> ribbons(n);
+  for (std::size_t i = 0; i < n; ++i)
+    ribbons[i] = {vec3_at(a.data() + 3 * i), w0[i], vec3_at(b.data() + 3 * i), w1[i], vec3_at(nr.data() + 3 * i)};
+  return scene.add_ribbons(ribbons);
+}
+
 // ---- read back: a geometry as a dict of numpy arrays, by one row per primitive type
 
 // An (n, 3) float32 array of get(item) for each item.
@@ -154,6 +168,16 @@ void curve_arrays(pyb::dict& d, const api::GeometryData& g) {
   add_strands(d, g);
 }
 
+void ribbon_arrays(pyb::dict& d, const api::GeometryData& g) {
+  d["p0"] = points(g.ribbons, [](const api::Ribbon& r) { return r.p0; });
+  d["r0"] = values(g.ribbons, [](const api::Ribbon& r) { return r.r0; });
+  d["p1"] = points(g.ribbons, [](const api::Ribbon& r) { return r.p1; });
+  d["r1"] = values(g.ribbons, [](const api::Ribbon& r) { return r.r1; });
+  d["normal"] = points(g.ribbons, [](const api::Ribbon& r) { return r.n; });
+  d["tangents"] = points(g.ribbons, [](const api::Ribbon& r) { return unit_from(r.p0, r.p1); });
+  add_strands(d, g);
+}
+
 // One row per primitive type (GeometryData::type names it): the arrays its dict holds,
 // the names add_* takes, so that scene.add_capsules(**{k: d[k] for k in ("a", "b",
 // "radius")}) rebuilds it.
@@ -163,7 +187,7 @@ struct GeometryRow {
 };
 constexpr GeometryRow geometry_rows[] = {
     {"triangle", triangle_arrays}, {"capsule", capsule_arrays}, {"round_cone", round_cone_arrays},
-    {"sphere", sphere_arrays},     {"curve", curve_arrays},
+    {"sphere", sphere_arrays},     {"curve", curve_arrays},         {"ribbon", ribbon_arrays},
 };
 
 pyb::dict geometry(const api::Scene& scene, long id) {
@@ -337,6 +361,10 @@ checked when added (arrays) and when an Accel is built (topology, degenerate tra
            "centers: (n, 3); radius: a number or (n,). Returns the geometry id.")
       .def("add_curves", &add_curves, pyb::arg("points"), pyb::arg("radius"),
            "points: (n, 4, 3) cubic Bezier control points; radius: a number or (n,). Returns the geometry id.")
+      .def("add_ribbons", &add_ribbons, pyb::arg("p0"), pyb::arg("r0"), pyb::arg("p1"), pyb::arg("r1"),
+           pyb::arg("normal"),
+           "Flat ribbons facing `normal`: p0, p1, normal: (n, 3); r0, r1: half-widths at p0 and p1 (numbers or "
+           "(n,)). The strip runs along normalize(cross(normal, p1 - p0)). Returns the geometry id.")
       .def("add_instance", &add_instance, pyb::arg("geometry"), pyb::arg("transform") = pyb::none(),
            "Places geometry with a 3x4 object-to-world transform (None: identity). Returns the instance id.")
       .def_property_readonly("geometry_count", &api::Scene::geometry_count)
@@ -345,8 +373,9 @@ checked when added (arrays) and when an Accel is built (topology, degenerate tra
       .def("validate", &api::Scene::validate, "Raises masq.Error naming the first bad element.")
       .def("geometry", &geometry, pyb::arg("id"),
            "Geometry `id` read back (object space) as a dict of numpy arrays: 'type' (triangle, capsule, round_cone, "
-           "sphere, curve) and its type's arrays under add_*'s names (triangle: vertices, indices; capsule: a, b, "
-           "radius; round_cone: a, ra, b, rb; sphere: centers, radius; curve: points (n, 4, 3), radius). Types "
+           "sphere, curve, ribbon) and its type's arrays under add_*'s names (triangle: vertices, indices; capsule: a, "
+           "b, radius; round_cone: a, ra, b, rb; sphere: centers, radius; curve: points (n, 4, 3), radius; ribbon: "
+           "p0, r0, p1, r1, normal). Types "
            "with an axis add 'tangents' (n, 3) (unit b - a; a curve's at its middle) and 'strands' (n,) int32: "
            "the strand of each primitive, numbered in order, primitive i + 1 continuing i's strand when it starts "
            "where i ends (as the strand loaders write them).")

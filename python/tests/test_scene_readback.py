@@ -25,12 +25,15 @@ def mixed_scene(rng):
     s.add_round_cones(a, ra, b, rb)
     s.add_spheres(centers, r[:3])
     s.add_curves(points, r[:2])
+    normal = rng.normal(size=(6, 3)).astype(np.float32)
+    s.add_ribbons(a, ra, b, rb, normal)
     given = [
         {"type": "triangle", "vertices": tri_v, "indices": tri_i},
         {"type": "capsule", "a": a, "b": b, "radius": r},
         {"type": "round_cone", "a": a, "ra": ra, "b": b, "rb": rb},
         {"type": "sphere", "centers": centers, "radius": r[:3]},
         {"type": "curve", "points": points, "radius": r[:2]},
+        {"type": "ribbon", "p0": a, "r0": ra, "p1": b, "r1": rb, "normal": normal},
     ]
     return s, given
 
@@ -47,14 +50,16 @@ def test_every_type_reads_back_as_it_was_added():
         for key, value in want.items():
             if key != "type":
                 np.testing.assert_array_equal(got[key], value, err_msg=f"{want['type']} {key}")
-        oriented = want["type"] in ("capsule", "round_cone", "curve")
+        oriented = want["type"] in ("capsule", "round_cone", "curve", "ribbon")
         assert ("strands" in got) == oriented and ("tangents" in got) == oriented
     # Tangents: unit b - a; a curve's derivative at its middle, B'(1/2) = 3/4 (p3 + p2 - p1 - p0).
     np.testing.assert_allclose(s.geometry(1)["tangents"], unit(given[1]["b"] - given[1]["a"]), rtol=1e-6)
     p = given[4]["points"].astype(np.float64)
     np.testing.assert_allclose(s.geometry(4)["tangents"], unit(p[:, 3] + p[:, 2] - p[:, 1] - p[:, 0]), rtol=1e-5)
-    with pytest.raises(IndexError, match="Scene.geometry: id: geometry 5 does not exist"):
-        s.geometry(5)
+    # A ribbon's normal comes back as it was added (not unit length), its tangent unit p1 - p0.
+    np.testing.assert_allclose(s.geometry(5)["tangents"], unit(given[5]["p1"] - given[5]["p0"]), rtol=1e-6)
+    with pytest.raises(IndexError, match="Scene.geometry: id: geometry 6 does not exist"):
+        s.geometry(6)
     with pytest.raises(IndexError):
         s.geometry(-1)
 
@@ -66,7 +71,8 @@ def test_a_read_back_geometry_rebuilds_the_same_scene():
               "capsule": (copy.add_capsules, ("a", "b", "radius")),
               "round_cone": (copy.add_round_cones, ("a", "ra", "b", "rb")),
               "sphere": (copy.add_spheres, ("centers", "radius")),
-              "curve": (copy.add_curves, ("points", "radius"))}
+              "curve": (copy.add_curves, ("points", "radius")),
+              "ribbon": (copy.add_ribbons, ("p0", "r0", "p1", "r1", "normal"))}
     for i in range(s.geometry_count):
         g = s.geometry(i)
         add, keys = adders[g["type"]]

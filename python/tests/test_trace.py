@@ -176,3 +176,67 @@ def test_threads_trace_at_once_as_they_would_one_after_the_other(backends):
     assert not errors, errors
     for (b, _), hits in results.items():
         assert np.array_equal(hits["prim"], alone[b]["prim"]) and np.array_equal(hits["t"], alone[b]["t"]), b
+
+
+def ribbon_oracle(o, d, p0, r0, p1, r1, n):
+    """Nearest t >= 0 of each ray against every ribbon (inf: none), its index, and the
+    crossing's clearance (distance to the strip's nearest edge over the half-width there):
+    float64, by the plane through the axis that holds the width direction."""
+    o = o.astype(np.float64)[:, None, :]
+    d = d.astype(np.float64)[:, None, :]
+    a = p1 - p0
+    w = np.cross(n, a)
+    w /= np.linalg.norm(w, axis=1, keepdims=True)
+    m = np.cross(a, w)
+    m /= np.linalg.norm(m, axis=1, keepdims=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.sum((p0[None] - o) * m[None], axis=2) / np.sum(d * m[None], axis=2)
+        q = o + t[..., None] * d - p0[None]
+        s = np.sum(q * a[None], axis=2) / np.sum(a * a, axis=1)[None]
+        v = np.sum(q * w[None], axis=2)
+        r = r0[None] + s * (r1 - r0)[None]
+        on = (t >= 0) & (s >= 0) & (s <= 1) & (np.abs(v) <= r)
+        clear = np.minimum(np.abs(r - np.abs(v)) / np.maximum(r, 1e-30), np.minimum(np.abs(s), np.abs(1 - s)))
+    t = np.where(on, t, np.inf)
+    k = t.argmin(axis=1)
+    rows = np.arange(len(k))
+    return t[rows, k], k, clear[rows, k], s[rows, k], v[rows, k] / r[rows, k]
+
+
+def test_ribbons_match_the_oracle_on_every_backend(backends):
+    rng = np.random.default_rng(13)
+    k = 150
+    p0 = rng.uniform(-1, 1, size=(k, 3))
+    p1 = p0 + rng.normal(scale=0.3, size=(k, 3))
+    r0 = rng.uniform(0.02, 0.08, size=k)
+    r1 = rng.uniform(0.0, 0.08, size=k)
+    n = rng.normal(size=(k, 3))
+    s = masq.Scene()
+    s.add_ribbons(p0, r0, p1, r1, n)
+    # The oracle on the fp32 values masq holds (the scene stores float32).
+    p0, r0, p1, r1, n = (x.astype(np.float32).astype(np.float64) for x in (p0, r0, p1, r1, n))
+    o, d = random_rays(rng, 4000)
+    t_ref, prim_ref, clear, u_ref, v_ref = ribbon_oracle(o, d, p0, r0, p1, r1, n)
+    miss_ref = ~np.isfinite(t_ref)
+    for method in ("ref", "masq", "cluster"):
+        accel = masq.Accel.build(s, method=method)
+        for backend in backends:
+            hits = masq.Context(backend).trace(accel, o, d)
+            hit = hits["prim"] >= 0
+            same = (hit == ~miss_ref) & (~hit | (hits["prim"] == prim_ref))
+            # Only rays within fp32 of an edge (or of a ribbon hiding another) may differ.
+            assert np.sum(~same) <= 4, f"{backend} {method}: {np.sum(~same)} rays differ from the oracle"
+            both = same & hit & (clear > 1e-3)
+            assert both.sum() > 300, f"{backend} {method}: too few hits to check ({both.sum()})"
+            np.testing.assert_allclose(hits["t"][both], t_ref[both], rtol=1e-4, atol=1e-5,
+                                       err_msg=f"{backend} {method}: t differs from the oracle")
+            np.testing.assert_allclose(hits["u"][both], u_ref[both], atol=1e-4, err_msg=f"{backend} {method}: u")
+            np.testing.assert_allclose(hits["v"][both], v_ref[both], atol=1e-3, err_msg=f"{backend} {method}: v")
+            # The normal: unit, on n's side of the plane (not turned towards the ray).
+            i = hits["prim"][both]
+            nrm = hits["normal"][both].astype(np.float64)
+            np.testing.assert_allclose(np.linalg.norm(nrm, axis=1), 1, atol=1e-4)
+            axis = (p1 - p0)[i] / np.linalg.norm((p1 - p0)[i], axis=1, keepdims=True)
+            perp = n[i] - np.sum(n[i] * axis, axis=1, keepdims=True) * axis
+            np.testing.assert_allclose(nrm, perp / np.linalg.norm(perp, axis=1, keepdims=True), atol=1e-4,
+                                       err_msg=f"{backend} {method}: normal")

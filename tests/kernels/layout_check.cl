@@ -11,7 +11,7 @@
 #include "../../kernels/layout.h"
 
 #define MASQ_LAYOUT_STRUCTS(S) \
-  S(WideNode) S(Instance) S(MasqInstance) S(MasqOwner) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(RoundCone) S(Sphere) S(Curve) S(Ray) \
+  S(WideNode) S(Instance) S(MasqInstance) S(MasqOwner) S(Frame) S(Geometry) S(Triangle) S(Capsule) S(RoundCone) S(Sphere) S(Curve) S(Ribbon) S(Ray) \
   S(Hit) S(RayStats) S(TraceParams) S(WideNode8) S(QuantNode8) S(BvNodeAabb) S(BvNodeSphere) S(BvNodeObb) S(BvNodeScb) S(BvPrimRef)
 
 #define MASQ_LAYOUT_WideNode(F, A) \
@@ -41,6 +41,7 @@
 #define MASQ_LAYOUT_Curve(F, A) \
   A(Curve, p0, 3) F(Curve, radius) A(Curve, p1, 3) F(Curve, pad1) A(Curve, p2, 3) F(Curve, pad2) A(Curve, p3, 3) \
   F(Curve, pad3)
+#define MASQ_LAYOUT_Ribbon(F, A) A(Ribbon, p0, 3) F(Ribbon, r0) A(Ribbon, p1, 3) F(Ribbon, r1) A(Ribbon, n, 3) F(Ribbon, pad)
 #define MASQ_LAYOUT_Ray(F, A) A(Ray, org, 3) F(Ray, tmin) A(Ray, dir, 3) F(Ray, tmax)
 #define MASQ_LAYOUT_Hit(F, A) \
   F(Hit, t) F(Hit, prim) F(Hit, geom) F(Hit, inst) A(Hit, normal, 3) F(Hit, u) F(Hit, v) F(Hit, fault) F(Hit, fault_node) F(Hit, fault_depth)

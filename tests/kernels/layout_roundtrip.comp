@@ -32,25 +32,27 @@ layout(std430, binding = 13) readonly buffer In13 { WideNode8 in_nodes8[]; };
 layout(std430, binding = 14) readonly buffer In14 { QuantNode8 in_qnodes[]; };
 layout(std430, binding = 15) readonly buffer In15 { MasqInstance in_masq[]; };
 layout(std430, binding = 16) readonly buffer In16 { MasqOwner in_owners[]; };
-layout(std430, binding = 17) writeonly buffer FlatOut { uint flat_out[]; };
-layout(std430, binding = 18) readonly buffer FlatIn { uint flat_in[]; };
-layout(std430, binding = 19) writeonly buffer Out0 { WideNode out_nodes[]; };
-layout(std430, binding = 20) writeonly buffer Out1 { Instance out_instances[]; };
-layout(std430, binding = 21) writeonly buffer Out2 { Frame out_frames[]; };
-layout(std430, binding = 22) writeonly buffer Out3 { Geometry out_geoms[]; };
-layout(std430, binding = 23) writeonly buffer Out4 { Triangle out_triangles[]; };
-layout(std430, binding = 24) writeonly buffer Out5 { Capsule out_capsules[]; };
-layout(std430, binding = 25) writeonly buffer Out6 { RoundCone out_round_cones[]; };
-layout(std430, binding = 26) writeonly buffer Out7 { Sphere out_spheres[]; };
-layout(std430, binding = 27) writeonly buffer Out8 { Curve out_curves[]; };
-layout(std430, binding = 28) writeonly buffer Out9 { Ray out_rays[]; };
-layout(std430, binding = 29) writeonly buffer Out10 { Hit out_hits[]; };
-layout(std430, binding = 30) writeonly buffer Out11 { RayStats out_stats[]; };
-layout(std430, binding = 31) writeonly buffer Out12 { TraceParams out_params[]; };
-layout(std430, binding = 32) writeonly buffer Out13 { WideNode8 out_nodes8[]; };
-layout(std430, binding = 33) writeonly buffer Out14 { QuantNode8 out_qnodes[]; };
-layout(std430, binding = 34) writeonly buffer Out15 { MasqInstance out_masq[]; };
-layout(std430, binding = 35) writeonly buffer Out16 { MasqOwner out_owners[]; };
+layout(std430, binding = 17) readonly buffer In17 { Ribbon in_ribbons[]; };
+layout(std430, binding = 18) writeonly buffer FlatOut { uint flat_out[]; };
+layout(std430, binding = 19) readonly buffer FlatIn { uint flat_in[]; };
+layout(std430, binding = 20) writeonly buffer Out0 { WideNode out_nodes[]; };
+layout(std430, binding = 21) writeonly buffer Out1 { Instance out_instances[]; };
+layout(std430, binding = 22) writeonly buffer Out2 { Frame out_frames[]; };
+layout(std430, binding = 23) writeonly buffer Out3 { Geometry out_geoms[]; };
+layout(std430, binding = 24) writeonly buffer Out4 { Triangle out_triangles[]; };
+layout(std430, binding = 25) writeonly buffer Out5 { Capsule out_capsules[]; };
+layout(std430, binding = 26) writeonly buffer Out6 { RoundCone out_round_cones[]; };
+layout(std430, binding = 27) writeonly buffer Out7 { Sphere out_spheres[]; };
+layout(std430, binding = 28) writeonly buffer Out8 { Curve out_curves[]; };
+layout(std430, binding = 29) writeonly buffer Out9 { Ray out_rays[]; };
+layout(std430, binding = 30) writeonly buffer Out10 { Hit out_hits[]; };
+layout(std430, binding = 31) writeonly buffer Out11 { RayStats out_stats[]; };
+layout(std430, binding = 32) writeonly buffer Out12 { TraceParams out_params[]; };
+layout(std430, binding = 33) writeonly buffer Out13 { WideNode8 out_nodes8[]; };
+layout(std430, binding = 34) writeonly buffer Out14 { QuantNode8 out_qnodes[]; };
+layout(std430, binding = 35) writeonly buffer Out15 { MasqInstance out_masq[]; };
+layout(std430, binding = 36) writeonly buffer Out16 { MasqOwner out_owners[]; };
+layout(std430, binding = 37) writeonly buffer Out17 { Ribbon out_ribbons[]; };
 layout(push_constant) uniform Params { uint n; } pc;
 
 // Words per struct, and the running start of each section (in units of n).
@@ -71,6 +73,7 @@ layout(push_constant) uniform Params { uint n; } pc;
 #define W_QNODE 20u
 #define W_MASQ 8u
 #define W_OWNER 4u
+#define W_RIBBON 12u
 
 uint w; // next flat word
 #define PUTF(x) flat_out[w++] = floatBitsToUint(x)
@@ -400,4 +403,24 @@ void main() {
   ob.scene_inst = GETI;
   for (j = 0; j < 2; ++j) ob.pad[j] = GETI;
   out_owners[i] = ob;
+  base += pc.n * W_OWNER;
+
+  // Ribbon
+  w = base + i * W_RIBBON;
+  Ribbon rba = in_ribbons[i];
+  for (j = 0; j < 3; ++j) PUTF(rba.p0[j]);
+  PUTF(rba.r0);
+  for (j = 0; j < 3; ++j) PUTF(rba.p1[j]);
+  PUTF(rba.r1);
+  for (j = 0; j < 3; ++j) PUTF(rba.n[j]);
+  PUTF(rba.pad);
+  w = base + i * W_RIBBON;
+  Ribbon rbb;
+  for (j = 0; j < 3; ++j) rbb.p0[j] = GETF;
+  rbb.r0 = GETF;
+  for (j = 0; j < 3; ++j) rbb.p1[j] = GETF;
+  rbb.r1 = GETF;
+  for (j = 0; j < 3; ++j) rbb.n[j] = GETF;
+  rbb.pad = GETF;
+  out_ribbons[i] = rbb;
 }
