@@ -150,7 +150,7 @@ TEST(OpenClBackend, HandBuiltSceneMatchesCpuAndGeometry) {
   EXPECT_LT(o.hits[n - 1].prim, 0);
   EXPECT_EQ(ocl->device_bytes(), 2 * sizeof(kernel::WideNode) + 16 + sizeof(kernel::Instance) +
                                      sizeof(kernel::Frame) + sizeof(kernel::Geometry) + 16 +
-                                     2 * sizeof(kernel::Capsule) + 3 * 16 + // empty cone/sphere/curve dummies
+                                     2 * sizeof(kernel::Capsule) + 4 * 16 + // empty cone/sphere/curve/ribbon dummies
                                      2 * 16); // and compact masquerade entries and owners
   auto cpu = make_cpu_backend();
   const Traced c = run(*cpu, scene, rays, false);
