@@ -4,7 +4,7 @@
 // one allocation and one submit-and-wait per structure cannot hold a cluster scene's
 // thousands of BLAS; compaction also gives the bytes the structures really need (the
 // build sizes are the driver's worst case).
-#include "host/vulkan/vk_clock.h"
+#include "host/vulkan/vk_buffer.h"
 #include "host/vulkan/acceleration_structures.h"
 #include "host/vulkan/vk_barriers.h"
 #include <fmt/format.h>

@@ -1,4 +1,4 @@
-#include "host/vulkan/vk_clock.h"
+#include "host/vulkan/vk_buffer.h"
 #include "host/vulkan/rt_pipeline.h"
 #include "scenes/prim_table.h"
 #include "host/limit_knob.h"

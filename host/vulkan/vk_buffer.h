@@ -10,6 +10,9 @@
 
 namespace masq::vk {
 
+// v rounded up to a multiple of a (a > 0): buffer offsets and shader-binding-table strides.
+inline VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+
 class Buffer {
  public:
   Buffer() = default;

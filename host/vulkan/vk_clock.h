@@ -8,7 +8,4 @@ namespace masq::vk {
 using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// v rounded up to a multiple of a (a > 0): buffer offsets and shader-binding-table strides.
-inline unsigned long long align_up(unsigned long long v, unsigned long long a) { return (v + a - 1) / a * a; }
-
 } // namespace masq::vk
