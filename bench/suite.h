@@ -83,7 +83,7 @@ inline constexpr SuiteRow suite_rows[] = {
     {"fig9", "its Fig. 9: AABB vs OBB surface area"},
     {"fig10", "its Fig. 10: intersector calls"},
     {"error", "run time against error of the curve intersectors"},
-    {"peers", "against Embree 3 and the driver's ray query"},
+    {"peers", "masq's best CPU-side tracer against Embree 3, round by round"},
     {"bv", "every bounding volume: Kallberg & Larsson's slab-cut-ball, ball, OBB and AABB trees beside masq's wide AABB and oriented (o4) nodes, masq's and cluster's OBBs"},
 };
 inline constexpr NameTable suite_table{"suite", suite_rows};

@@ -1,7 +1,10 @@
 // peers: masq against Embree 3 (the Debian package; round linear curves for capsules
-// and links, round Bezier curves closed by sphere points for cubics, triangles) and the
-// driver's ray query, on the same rays, as ratios measured in the same run.
+// and links, round Bezier curves closed by sphere points for cubics, triangles) on the
+// same rays, as ratios of CPU time (and wall time) measured round by round in one run.
+// masq's tracer is chosen on pilot rays of their own (a camera of another resolution),
+// never on the timed ones.
 #include "bench/bench_report.h"
+#include "bench/peer_rounds.h"
 #include "bench/suite.h"
 #include "oracle/oracle.h"
 #include "peers/embree_peer.h"
@@ -90,17 +93,6 @@ Arbitration arbitrate(const oracle::Oracle& orc, const std::vector<kernel::Ray>&
   return r;
 }
 
-struct PeerTimes {
-  double median = 0, min = 0, max = 0;
-};
-
-// masq's fastest row and Embree are each timed on their own: the row's structure is
-// uploaded again into a slot of its own and traced warm-up + repetitions times in a
-// row, before Embree traces anything in the scene; Embree then the same way. In the
-// lanes every masq trace follows another method's, whose structure has pushed its own
-// out of the caches, while Embree's traces follow each other. masq goes first because
-// Embree's worker threads keep a core busy for a while after its traces return (timed
-// right after Embree, masq's cpu rows lost up to half their rate).
 // The structure a row traced: auto by pilot's kept candidate, else the method's own.
 const PackedScene& row_structure(const BuiltMethods& built, const BenchRow& row) {
   if (row.method == Method::Auto)
@@ -109,78 +101,13 @@ const PackedScene& row_structure(const BuiltMethods& built, const BenchRow& row)
   return built.scenes.at(row.method);
 }
 
-PeerTimes times_of(std::vector<double> t) {
-  std::sort(t.begin(), t.end());
-  return {t[t.size() / 2], t.front(), t.back()};
-}
-
 constexpr int kSoloSlot = 3000; // bench/backend_pool.h: past the lanes' and pilots'
 
-PeerTimes time_masq_alone(BackendPool& pool, const BuiltMethods& built, const BenchRow& best,
-                          const std::vector<kernel::Ray>& rays, const BenchOptions& opt) {
-  Backend* be = pool.get(best.backend, kSoloSlot);
-  if (!be) throw Error("peers: backend " + best.backend + " could not open a slot to time masq's fastest tracer");
-  std::vector<double> t;
-  std::vector<kernel::Hit> hits(rays.size());
-  try {
-    be->set_scene(row_structure(built, best));
-    if (be->device_bytes() != best.device_bytes)
-      throw Error(fmt::format("peers: {} {} uploaded again holds {} bytes on the device, its lane {}", best.backend,
-                              method_name(best.method), be->device_bytes(), best.device_bytes));
-    for (int i = 0; i < opt.warmup + opt.repetitions; ++i) {
-      be->trace(rays, hits, {}, best.query);
-      if (i >= opt.warmup) t.push_back(be->timing().trace_seconds);
-    }
-  } catch (...) {
-    pool.close(best.backend, kSoloSlot);
-    throw;
-  }
-  pool.close(best.backend, kSoloSlot);
-  // Every method finds the same hits, so this only catches gross errors; the bytes
-  // above tell the structures apart.
-  std::size_t differ = 0;
-  for (std::size_t i = 0; i < best.hits.size() && i < hits.size(); ++i) {
-    const kernel::Hit &a = best.hits[i], &b = hits[i];
-    differ += a.prim != b.prim || (a.prim >= 0 && (a.geom != b.geom || a.inst != b.inst || a.t != b.t));
-  }
-  if (differ)
-    throw Error(fmt::format("peers: {} {} traced alone disagrees with its lane on {} of {} rays", best.backend,
-                            method_name(best.method), differ, rays.size()));
-  return times_of(t);
-}
-
-// Embree on the batch: rtcIntersect1 for closest-hit sets, rtcOccluded1 for occlusion
-// sets (whose hits then only say occluded, prim 0, or not, prim -1). Several scenes
-// take turns round by round, so that the machine's drift reaches each alike.
-std::vector<PeerTimes> time_embree(const std::vector<EmbreePeer*>& peers, const std::vector<kernel::Ray>& rays,
-                                   std::vector<std::vector<kernel::Hit>>& hits, Query query, int warmup, int rounds) {
-  std::vector<std::vector<double>> t(peers.size());
-  std::vector<std::uint8_t> occluded(rays.size());
-  hits.assign(peers.size(), std::vector<kernel::Hit>(rays.size()));
-  for (int i = 0; i < warmup + rounds; ++i)
-    for (std::size_t k = 0; k < peers.size(); ++k) {
-      if (query == Query::Any) {
-        peers[k]->occluded(rays, occluded);
-        for (std::size_t r = 0; r < rays.size(); ++r) {
-          hits[k][r] = kernel::Hit{};
-          hits[k][r].prim = occluded[r] ? 0 : -1;
-        }
-      } else {
-        peers[k]->trace(rays, hits[k]);
-      }
-      if (i >= warmup) t[k].push_back(peers[k]->timing().trace_seconds);
-    }
-  std::vector<PeerTimes> out;
-  for (std::vector<double>& tk : t) out.push_back(times_of(tk));
-  return out;
-}
-
-// The fastest available row of a ray set among masq's tracers, or among the driver's
-// (rayquery, rtpipeline: the driver's BVH calling masq's intersectors).
-const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set, bool driver) {
+// The fastest available pilot row of a ray set among masq's own tracers.
+const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set) {
   const BenchRow* best = nullptr;
   for (const BenchRow& r : rows) {
-    if (r.ray_set != set || !r.unavailable.empty() || driver_traversal(r.backend) != driver) continue;
+    if (r.ray_set != set || !r.unavailable.empty()) continue;
     if (!best || r.mrays_per_s() > best->mrays_per_s()) best = &r;
   }
   return best;
@@ -190,59 +117,144 @@ struct PeerScene {
   std::string label;
   std::string file;    // under data_dir; empty: the embedded default bundle
   bool curves = false; // the strands as table1's cubic curves instead of as loaded
+  bool thick = false;  // every radius set to kThickRadius x the mean segment length
 };
+
+// The thicker variant's radius, in mean segment lengths: hair files' own radii are a few
+// percent of a segment or less, so this shows what a thicker strand does to both tracers.
+constexpr double kThickRadius = 0.05;
+
+// The scenes: bear fur (TressFX 3, 144,339 segments) and Ratboy's mohawk (TressFX 4,
+// 69,068), each as capsules and as cubic curves, at the file's radius and thick, and the
+// default bundle. Quick: the bear at its own radius and the bundle.
+std::vector<PeerScene> peer_scenes(bool quick) {
+  std::vector<PeerScene> out;
+  const std::pair<const char*, const char*> hair[] = {{"bear fur (TressFX 3)", "hair/tressfx3_bear.tfx"},
+                                                      {"Ratboy mohawk (TressFX 4)", "hair/tressfx4_Ratboy_mohawk.tfx"}};
+  for (const auto& [name, file] : hair) {
+    if (quick && out.size() >= 2) break;
+    for (bool curves : {false, true})
+      for (bool thick : {false, true}) {
+        if (quick && thick) continue;
+        out.push_back({fmt::format("{}, {}{}", name, curves ? "curves" : "capsules",
+                                   thick ? fmt::format(", r = {} x mean segment", kThickRadius) : ""),
+                       file, curves, thick});
+      }
+  }
+  out.push_back({"default bundle (N=1000 r=0.002 tilt 45 + ground)", ""});
+  return out;
+}
+
+// Every capsule's and round cone's radius set to kThickRadius x the scene's mean segment
+// length.
+void thicken(Scene& scene) {
+  double length = 0;
+  std::size_t n = 0;
+  for (const Geometry& g : scene.geometries) {
+    for (const CapsulePrim& c : g.capsules) length += glm::length(glm::dvec3(c.b) - glm::dvec3(c.a)), ++n;
+    for (const RoundConePrim& c : g.round_cones) length += glm::length(glm::dvec3(c.b) - glm::dvec3(c.a)), ++n;
+  }
+  if (n == 0) throw Error("peers: a scene to thicken has no segments");
+  const float r = float(kThickRadius * length / double(n));
+  for (Geometry& g : scene.geometries) {
+    for (CapsulePrim& c : g.capsules) c.radius = r;
+    for (RoundConePrim& c : g.round_cones) c.ra = c.rb = r;
+  }
+}
+
+// The mean radius of the scene's round primitives (capsules, round cones, curves).
+double mean_radius(const Scene& scene) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (const Geometry& g : scene.geometries) {
+    for (const CapsulePrim& c : g.capsules) sum += c.radius, ++n;
+    for (const RoundConePrim& c : g.round_cones) sum += 0.5 * (double(c.ra) + double(c.rb)), ++n;
+    for (const CurvePrim& c : g.curves) sum += c.radius, ++n;
+  }
+  return n ? sum / double(n) : 0.0;
+}
 
 Scene load_peer_scene(const SuiteConfig& cfg, const PeerScene& ps) {
   if (ps.file.empty()) return make_default_scene();
   std::string path = (std::filesystem::path(cfg.data_dir) / ps.file).string();
-  if (!ps.curves) return load_scene_file(path);
   // The cubics of table1's phantom x1 (bench/suite_hair.cpp make_case): the strands as
   // round cones, chained into Catmull-Rom curves through their points, one Bezier piece
   // per segment. Embree gets these very fp32 control points (embree_peer.cpp).
   LoadOptions lo;
-  lo.strand_type = PrimType::RoundCone;
-  return segments_to_curves(load_scene_file(path, lo));
+  if (ps.curves) lo.strand_type = PrimType::RoundCone;
+  Scene scene = load_scene_file(path, lo);
+  if (ps.thick) thicken(scene);
+  return ps.curves ? segments_to_curves(scene) : scene;
 }
 
-// One Embree scene on one ray set: its time alone, its agreement with masq's best and
-// the oracle's word on where they differ.
-struct EmbreeRun {
-  PeerTimes times;
-  double mrays = 0;
-  Agreement agreement;
-  Arbitration oracle;
-  nlohmann::json json() const {
-    return {{"mrays_per_s", mrays},
-            {"trace_seconds", {{"median", times.median}, {"min", times.min}, {"max", times.max}}},
-            {"hit_miss_disagree", agreement.hit_miss},
-            {"common_hits", agreement.common},
-            {"other_primitive", agreement.other_prim},
-            {"oracle", {{"traced", oracle.traced}, {"masq_right", oracle.a_right}, {"embree_right", oracle.b_right}}}};
+// masq's candidate tracers: its CPU-side backends of the run (cpu, and OpenCL: PoCL here;
+// lavapipe's Vulkan has never been the fastest on a CPU and its compiles take minutes)
+// x method x builder x node format (x curve intersector), traced on the pilot's rays.
+// Quick: ref and masq, w4 and o4, roving curves.
+BenchOptions pilot_options(const SuiteContext& ctx, bool curves) {
+  const bool quick = ctx.config.quick;
+  BenchOptions o = ctx.bench_options(quick ? 128 : 192, quick ? 96 : 192);
+  o.backends.clear();
+  for (const std::string& b : ctx.config.backends)
+    if (b == "cpu" || b == "opencl") o.backends.push_back(b);
+  o.methods = quick ? std::vector<Method>{Method::Ref, Method::Masq}
+                    : std::vector<Method>{Method::Ref, Method::Masq, Method::Cluster};
+  o.builders = {Builder::Sah, Builder::Sah4};
+  o.node_formats = quick ? std::vector<NodeFormat>{NodeFormat::W4, NodeFormat::O4}
+                         : std::vector<NodeFormat>{NodeFormat::W4, NodeFormat::O4, NodeFormat::Q8};
+  if (curves)
+    o.curve_isects = quick ? std::vector<CurveIsect>{CurveIsect::Roving}
+                           : std::vector<CurveIsect>{CurveIsect::Phantom, CurveIsect::Roving};
+  o.warmup = 1;
+  o.repetitions = 3;
+  return o;
+}
+
+// Camera rays of the timed sets: 512 x 512 (262,144) in the full suite; quick: 256 x 256,
+// indicative only.
+int timed_side(bool quick) { return quick ? 256 : 512; }
+int timed_rounds(bool quick) { return quick ? 5 : 7; }
+
+std::string config_label(const BenchRow& r) {
+  std::string s = fmt::format("{} {}", r.backend, method_label(r));
+  if (r.nodes != NodeFormat::W4) s += std::string(" ") + node_format_name(r.nodes);
+  return s;
+}
+
+std::string ratio_text(const Spread& s) { return fmt::format("{:.2f}x ({:.2f}-{:.2f})", s.median, s.min, s.max); }
+
+double cpu_ratio(const TraceClock& embree, const TraceClock& masq) { return embree.cpu / masq.cpu; }
+double wall_ratio(const TraceClock& embree, const TraceClock& masq) { return embree.wall / masq.wall; }
+
+// Embree on one ray set with one API: the closest hits, or occluded flags as hits (prim
+// 0: occluded) after the timing.
+struct EmbreeTracer {
+  EmbreePeer* peer;
+  EmbreeTrace how;
+  Query query;
+  const std::vector<kernel::Ray>* rays;
+  std::vector<kernel::Hit> hits;
+  std::vector<std::uint8_t> occluded;
+  void trace() {
+    if (query == Query::Any) {
+      occluded.resize(rays->size());
+      peer->occluded(*rays, occluded, how);
+    } else {
+      hits.resize(rays->size());
+      peer->trace(*rays, hits, how);
+    }
+  }
+  const std::vector<kernel::Hit>& answers() {
+    if (query == Query::Any) {
+      hits.assign(rays->size(), kernel::Hit{});
+      for (std::size_t r = 0; r < rays->size(); ++r) hits[r].prim = occluded[r] ? 0 : -1;
+    }
+    return hits;
   }
 };
 
-// Each of `peers` on one ray set (round by round: time_embree), against masq's best;
-// the oracle traces at most oracle_cap of the differing rays of each.
-std::vector<EmbreeRun> run_embree(const std::vector<EmbreePeer*>& peers, const oracle::Oracle& orc,
-                                  const RayBatch& batch, const BenchRow& best, int warmup, int rounds,
-                                  std::size_t oracle_cap = 300) {
-  std::vector<std::vector<kernel::Hit>> hits;
-  std::vector<PeerTimes> times = time_embree(peers, batch.rays, hits, best.query, warmup, rounds);
-  std::vector<EmbreeRun> out(peers.size());
-  for (std::size_t k = 0; k < peers.size(); ++k) {
-    EmbreeRun& r = out[k];
-    r.times = times[k];
-    r.mrays = batch.rays.size() / r.times.median * 1e-6;
-    r.agreement = agree(best.hits, hits[k], best.query);
-    r.oracle = arbitrate(orc, batch.rays, best.hits, hits[k], r.agreement.differing, best.query, oracle_cap);
-  }
-  return out;
-}
-
 // The curve scenes' Embree shapes, the main table's (strand ends) among them: how much
-// the end spheres change the answers and cost Embree. Timed in turn round by round, for
-// kEndRounds x the repetitions (an Embree trace of the quick batch takes milliseconds,
-// where one burst of the shared machine's load swung a median of three by 2x).
+// the end spheres change the answers and cost Embree (full suite only).
 struct EndVariant {
   CurveEnds ends;
   const char* name;
@@ -250,40 +262,33 @@ struct EndVariant {
 constexpr EndVariant kEndVariants[] = {{CurveEnds::Open, "open (no spheres)"},
                                        {CurveEnds::StrandEnds, "strand ends (main table)"},
                                        {CurveEnds::EveryEnd, "every curve end"}};
-constexpr int kEndRounds = 5;
-// The oracle takes about 0.2 s a ray on the bear's 144k curves, and open ends differ on
-// hundreds of rays per set: quick runs arbitrate fewer of them.
-constexpr std::size_t kEndOracleCapQuick = 50;
 
 } // namespace
 
 SuiteResult run_peers(SuiteContext& ctx) {
   auto t0 = std::chrono::steady_clock::now();
   const bool quick = ctx.config.quick;
+  const bool robust = ctx.config.mode == Mode::Robust;
+  const int side = timed_side(quick), rounds = timed_rounds(quick), warmup = 1;
+  const std::size_t oracle_cap = quick ? 30 : 100; // the oracle takes up to 0.2 s a ray on the bear's curves
   SuiteResult res;
   res.name = "peers";
-  res.title = "Peers: masq vs Embree 3 and the driver's traversal";
+  res.title = "Peers: masq vs Embree 3 on the CPU";
   const std::string embree_why = EmbreePeer::unavailable_reason();
-  BenchOptions opt = ctx.bench_options(quick ? 128 : 320, quick ? 96 : 240);
-  opt.keep_per_ray = true;
-  // masq's tracers: every backend x method on the default builder's structures and on
-  // sah4's, whose full four-primitive leaves suit the cpu's four-lane capsule test (as
-  // Embree prices its leaves per block of its SIMD width); the fastest is masq's best.
-  opt.builders = {Builder::Sah, Builder::Sah4};
-  // ... and on AABB and oriented wide nodes (o4: Embree's hair BVH also rotates nodes).
-  opt.node_formats = {NodeFormat::W4, NodeFormat::O4};
   Table t;
-  t.title = "Mrays/s on the same rays; agreement with masq's best = rays hit by one and missed by the other / common "
-            "hits on another primitive (not a tie in t)";
-  t.header = {"scene", "rays", "masq best", "Mrays/s (lanes)", "Mrays/s (alone)", "Embree 3 (alone)",
-              "masq/Embree", "Embree agreement",
-              "oracle: masq / Embree right", "driver best", "driver/masq", "driver agreement"};
+  t.title = fmt::format("masq's tracer (chosen on pilot rays) against Embree 3 (its faster API), {} x {} camera rays "
+                        "and the rays from their hits{}; masq/Embree: Embree's time over masq's, median of {} rounds "
+                        "(min-max); agreement = rays hit by one and missed by the other / common hits on another "
+                        "primitive (not a tie in t)",
+                        side, side, quick ? " (quick: indicative only)" : "", rounds);
+  t.header = {"scene", "rays", "masq (pilot's choice)", "masq Mrays/s", "Embree Mrays/s", "masq/Embree CPU time",
+              "masq/Embree wall", "Embree agreement", "oracle: masq / Embree right"};
   t.left_columns = 3;
   Table ends;
   ends.title = "curve ends: Embree's round Bezier curves open, and closed by sphere points of the curve's radius at "
                "the strand ends (the shape of masq's curves; the table above) or at every curve end";
   ends.header = {"scene", "rays", "Embree curve ends", "end spheres", "Embree build ms", "Embree MiB",
-                 "Embree Mrays/s (alone)", "vs open", "Embree agreement", "oracle: masq / Embree right"};
+                 "Embree Mrays/s", "vs open", "Embree agreement", "oracle: masq / Embree right"};
   ends.left_columns = 3;
   Table build;
   build.title = "build time and memory";
@@ -291,9 +296,10 @@ SuiteResult run_peers(SuiteContext& ctx) {
                   "Embree MiB"};
   build.left_columns = 1;
   res.data["scenes"] = nlohmann::json::array();
-  for (const PeerScene& ps : {PeerScene{"bear fur (TressFX 3), capsules", "hair/tressfx3_bear.tfx"},
-                              PeerScene{"bear fur (TressFX 3), curves", "hair/tressfx3_bear.tfx", true},
-                              PeerScene{"default bundle (N=1000 r=0.002 tilt 45 + ground)", ""}}) {
+  res.data["indicative"] = quick;
+  int decided = 0, at_least_even = 0;
+  std::string embree_description;
+  for (const PeerScene& ps : peer_scenes(quick)) {
     Scene scene;
     try {
       scene = load_peer_scene(ctx.config, ps);
@@ -301,136 +307,179 @@ SuiteResult run_peers(SuiteContext& ctx) {
       t.add({ps.label, "-", "unavailable: " + std::string(e.what())});
       continue;
     }
-    opt.progress = [&](const std::string& line) { ctx.say("peers " + ps.label + ": " + line); };
-    // Cubic curves: both curve intersectors take turns in the lanes, so masq's best is
-    // the faster of them (the row names roving when it wins); the quick variant runs
-    // roving alone (both doubled its curve scene's time: 556 s against 249 s in all).
-    BenchOptions scene_opt = opt;
-    if (ps.curves)
-      scene_opt.curve_isects = quick ? std::vector<CurveIsect>{CurveIsect::Roving}
-                                     : std::vector<CurveIsect>{CurveIsect::Phantom, CurveIsect::Roving};
-    BenchRun run = run_bench_kept(scene, scene_opt, ctx.pool);
-    const std::vector<RayBatch>& batches = run.batches;
-    const std::vector<BenchRow>& rows = run.rows;
-    std::vector<PeerTimes> masq_alone(batches.size());
-    std::vector<std::string> alone_error(batches.size());
-    for (std::size_t b = 0; b < batches.size(); ++b)
-      if (const BenchRow* best = fastest_row(rows, batches[b].set, false)) {
-        ctx.say("peers " + ps.label + ": masq's fastest alone, " + ray_set_name(batches[b].set));
-        try {
-          masq_alone[b] = time_masq_alone(ctx.pool, run.built_for(*best), *best, batches[b].rays, opt);
-        } catch (const std::exception& e) {
-          alone_error[b] = e.what();
-        }
-      }
+    BenchOptions pilot = pilot_options(ctx, ps.curves);
+    pilot.progress = [&](const std::string& line) { ctx.say("peers " + ps.label + ": pilot: " + line); };
+    BenchRun run = run_bench_kept(scene, pilot, ctx.pool);
+    BenchOptions timed = pilot;
+    timed.width = timed.height = side;
+    ctx.say("peers " + ps.label + ": the timed rays");
+    const std::vector<RayBatch> batches = make_ray_batches(scene, run.built.front(), timed, ctx.pool);
     std::unique_ptr<EmbreePeer> embree;
     std::string embree_error = embree_why;
     if (embree_error.empty()) {
       try {
         ctx.say("peers " + ps.label + ": Embree build");
         embree = std::make_unique<EmbreePeer>(2);
-        embree->set_scene(scene, ctx.config.mode == Mode::Robust);
+        embree->set_scene(scene, robust);
+        embree_description = embree->description();
       } catch (const std::exception& e) {
         embree_error = e.what();
         embree.reset();
       }
     }
-    // Curve scenes: Embree's other curve ends (kEndVariants), each a scene of its own.
-    std::vector<std::unique_ptr<EmbreePeer>> variants; // null: the main peer
-    bool has_curves = std::any_of(scene.geometries.begin(), scene.geometries.end(),
-                                  [](const Geometry& g) { return scene_prim_row(g.type).shape == PrimShape::Bezier; });
-    if (embree && has_curves) {
-      try {
-        for (const EndVariant& v : kEndVariants) {
-          if (v.ends == CurveEnds::StrandEnds) {
-            variants.emplace_back(); // the main peer
-            continue;
-          }
-          ctx.say(std::string("peers ") + ps.label + ": Embree build, curve ends " + v.name);
-          variants.push_back(std::make_unique<EmbreePeer>(2));
-          variants.back()->set_scene(scene, ctx.config.mode == Mode::Robust, v.ends);
-        }
-      } catch (const std::exception& e) {
-        ends.add({ps.label, "-", "unavailable: " + std::string(e.what())});
-        variants.clear();
-      }
-    }
-    nlohmann::json sj = {{"scene", ps.label}, {"primitives", scene.primitive_count()}};
+    nlohmann::json sj = {{"scene", ps.label},
+                         {"primitives", scene.primitive_count()},
+                         {"mean_radius", mean_radius(scene)},
+                         {"pilot", {{"width", pilot.width}, {"height", pilot.height}}},
+                         {"timed", {{"width", side}, {"height", side}, {"rounds", rounds}, {"warmup", warmup}}}};
     if (embree) sj["embree_end_spheres"] = embree->end_spheres();
-    const oracle::Oracle orc(scene); // arbitrates where masq and a peer disagree
-    for (const BenchRow& r : rows) sj["results"].push_back(bench_row_json(r));
-    for (std::size_t b = 0; b < batches.size(); ++b) {
-      const RayBatch& batch = batches[b];
-      const BenchRow* best = fastest_row(rows, batch.set, false);
-      const BenchRow* best_rq = fastest_row(rows, batch.set, true);
-      std::vector<std::string> line = {ps.label, std::string(ray_set_name(batch.set)) +
-                                                     (batch.set == RaySet::Shadow && opt.shadow_any_hit ? " (any)" : "")};
+    for (const BenchRow& r : run.rows) sj["pilot"]["rows"].push_back(bench_row_json(r));
+    const oracle::Oracle orc(scene); // arbitrates where masq and Embree disagree
+    for (const RayBatch& batch : batches) {
+      const std::string set_label = std::string(ray_set_name(batch.set)) +
+                                    (batch.set == RaySet::Shadow && pilot.shadow_any_hit ? " (any)" : "");
+      std::vector<std::string> line = {ps.label, set_label};
+      const BenchRow* best = fastest_row(run.rows, batch.set);
       if (!best) {
         line.push_back("no masq backend ran");
         t.add(line);
         continue;
       }
-      line.push_back(fmt::format("{} {}{}", best->backend, method_label(*best),
-                                 best->nodes == NodeFormat::W4 ? "" : std::string(" ") + node_format_name(best->nodes)));
-      line.push_back(fmt::format("{:.3f}", best->mrays_per_s()));
-      nlohmann::json pj = {{"rays", ray_set_name(batch.set)}, {"masq_best", bench_row_json(*best)}};
-      if (!alone_error[b].empty()) {
-        line.insert(line.end(), {"unavailable: " + alone_error[b], "-", "-", "-", "-"});
-      } else if (embree) {
-        ctx.say("peers " + ps.label + ": Embree " + ray_set_name(batch.set) + ", then the oracle on the differing rays");
-        EmbreeRun er = run_embree({embree.get()}, orc, batch, *best, opt.warmup, opt.repetitions).front();
-        const PeerTimes& mt = masq_alone[b];
-        double masq_mrays = batch.rays.size() / mt.median * 1e-6;
-        line.push_back(fmt::format("{:.3f}", masq_mrays));
-        line.push_back(fmt::format("{:.3f}", er.mrays));
-        line.push_back(fmt::format("{:.2f}x", masq_mrays / er.mrays));
-        line.push_back(er.agreement.text());
-        line.push_back(er.oracle.text());
-        pj["masq_alone"] = {{"mrays_per_s", masq_mrays},
-                            {"trace_seconds", {{"median", mt.median}, {"min", mt.min}, {"max", mt.max}}}};
-        pj["embree"] = er.json();
-        // The same rays through each of Embree's curve ends, in turn.
-        std::vector<EmbreePeer*> peers;
-        for (const std::unique_ptr<EmbreePeer>& v : variants) peers.push_back(v ? v.get() : embree.get());
-        if (!peers.empty())
-          ctx.say(std::string("peers ") + ps.label + ": Embree " + ray_set_name(batch.set) + ", curve ends in turn");
-        std::vector<EmbreeRun> vr =
-            run_embree(peers, orc, batch, *best, opt.warmup, kEndRounds * opt.repetitions,
-                       quick ? kEndOracleCapQuick : std::size_t(300));
-        for (std::size_t k = 0; k < vr.size(); ++k) {
-          const EmbreePeer& peer = *peers[k];
-          ends.add({ps.label, line[1], kEndVariants[k].name, std::to_string(peer.end_spheres()),
-                    fmt::format("{:.1f}", peer.timing().build_seconds * 1e3),
-                    fmt::format("{:.2f}", peer.bytes() / 1048576.0), fmt::format("{:.3f}", vr[k].mrays), fmt::format("{:.2f}x", vr[k].mrays / vr[0].mrays),
-                    vr[k].agreement.text(), vr[k].oracle.text()});
-          nlohmann::json vj = vr[k].json();
-          vj["ends"] = kEndVariants[k].name;
-          vj["end_spheres"] = peer.end_spheres();
-          vj["build_seconds"] = peer.timing().build_seconds;
-          vj["bytes"] = peer.bytes();
-          pj["embree_curve_ends"].push_back(vj);
-        }
-      } else {
-        line.push_back(fmt::format("{:.3f}", batch.rays.size() / masq_alone[b].median * 1e-6));
-        line.insert(line.end(), {"unavailable", "-", "-", "-"});
+      line.push_back(config_label(*best));
+      nlohmann::json pj = {{"rays", ray_set_name(batch.set)}, {"ray_count", batch.rays.size()},
+                           {"masq_choice", bench_row_json(*best)}};
+      Backend* be = ctx.pool.get(best->backend, kSoloSlot);
+      if (!be) {
+        line.push_back("unavailable: " + ctx.pool.why(best->backend));
+        t.add(line);
+        continue;
+      }
+      std::vector<kernel::Hit> masq_hits(batch.rays.size());
+      std::vector<std::function<void()>> tracers = {
+          [&] { be->trace(batch.rays, masq_hits, {}, best->query); }};
+      std::vector<EmbreeTracer> embree_tracers;
+      if (embree)
+        for (EmbreeApi api : {EmbreeApi::PerRay, EmbreeApi::Stream})
+          embree_tracers.push_back({embree.get(), {api, batch.set == RaySet::Primary}, best->query, &batch.rays, {}, {}});
+      for (EmbreeTracer& et : embree_tracers) tracers.push_back([&et] { et.trace(); });
+      std::vector<std::vector<TraceClock>> times;
+      try {
+        ctx.say(fmt::format("peers {}: {} rays, masq's {} and Embree, {} rounds", ps.label, set_label,
+                            config_label(*best), rounds));
+        be->set_scene(row_structure(run.built_for(*best), *best));
+        times = time_round_by_round(tracers, warmup, rounds);
+      } catch (const std::exception& e) {
+        ctx.pool.close(best->backend, kSoloSlot);
+        line.push_back(std::string("unavailable: ") + e.what());
+        t.add(line);
+        continue;
+      }
+      ctx.pool.close(best->backend, kSoloSlot);
+      auto rate = [&](const std::vector<TraceClock>& tc) {
+        std::vector<double> w;
+        for (const TraceClock& c : tc) w.push_back(c.wall);
+        return double(batch.rays.size()) / spread_of(w).median * 1e-6;
+      };
+      auto clock_json = [](const std::vector<TraceClock>& tc) {
+        std::vector<double> w, c;
+        for (const TraceClock& x : tc) w.push_back(x.wall), c.push_back(x.cpu);
+        return nlohmann::json{{"wall_seconds", spread_of(w).json()}, {"cpu_seconds", spread_of(c).json()}};
+      };
+      const double masq_rate = rate(times[0]);
+      line.push_back(fmt::format("{:.3f}", masq_rate));
+      pj["masq"] = clock_json(times[0]);
+      pj["masq"]["mrays_per_s"] = masq_rate;
+      if (!embree) {
+        line.insert(line.end(), {"unavailable", "-", "-", "-", "-"});
         pj["embree"] = {{"unavailable", embree_error}};
+        t.add(line);
+        sj["peers"].push_back(pj);
+        continue;
       }
-      if (best_rq) {
-        Agreement g = agree(best->hits, best_rq->hits, best->query);
-        line.push_back(fmt::format("{} {} {:.3f}", best_rq->backend, method_name(best_rq->method),
-                                   best_rq->mrays_per_s()));
-        line.push_back(fmt::format("{:.2f}x", best_rq->mrays_per_s() / best->mrays_per_s()));
-        line.push_back(g.text());
-        pj["driver_best"] = bench_row_json(*best_rq);
-        pj["driver_hit_miss_disagree"] = g.hit_miss;
-      } else {
-        line.insert(line.end(), {"unavailable", "-", "-"});
+      // Embree's faster API by median CPU time is the one masq is measured against.
+      std::size_t fast = 0;
+      std::vector<Spread> cpu_of;
+      for (std::size_t k = 0; k < embree_tracers.size(); ++k) {
+        std::vector<double> c;
+        for (const TraceClock& x : times[k + 1]) c.push_back(x.cpu);
+        cpu_of.push_back(spread_of(c));
+        if (cpu_of[k].median < cpu_of[fast].median) fast = k;
+        nlohmann::json ej = clock_json(times[k + 1]);
+        ej["api"] = embree_api_name(embree_tracers[k].how.api);
+        ej["coherent_hint"] = embree_tracers[k].how.coherent;
+        ej["mrays_per_s"] = rate(times[k + 1]);
+        pj["embree_apis"].push_back(ej);
       }
+      const Spread by_cpu = spread_of(per_round(times[fast + 1], times[0], cpu_ratio));
+      const Spread by_wall = spread_of(per_round(times[fast + 1], times[0], wall_ratio));
+      line.push_back(fmt::format("{:.3f} ({})", rate(times[fast + 1]), embree_api_name(embree_tracers[fast].how.api)));
+      line.push_back(ratio_text(by_cpu));
+      line.push_back(ratio_text(by_wall));
+      ctx.say("peers " + ps.label + ": the oracle on the rays where masq and Embree differ");
+      Agreement g = agree(masq_hits, embree_tracers[fast].answers(), best->query);
+      Arbitration arb = arbitrate(orc, batch.rays, masq_hits, embree_tracers[fast].answers(), g.differing, best->query,
+                                  oracle_cap);
+      line.push_back(g.text());
+      line.push_back(arb.text());
+      ++decided;
+      at_least_even += by_cpu.median >= 1.0;
+      pj["embree"] = {{"api", embree_api_name(embree_tracers[fast].how.api)},
+                      {"mrays_per_s", rate(times[fast + 1])},
+                      {"hit_miss_disagree", g.hit_miss},
+                      {"common_hits", g.common},
+                      {"other_primitive", g.other_prim},
+                      {"oracle", {{"traced", arb.traced}, {"masq_right", arb.a_right}, {"embree_right", arb.b_right}}}};
+      pj["masq_over_embree_cpu"] = by_cpu.json();
+      pj["masq_over_embree_wall"] = by_wall.json();
       t.add(line);
+      // Full suite, curves at the file's radius: Embree's other curve ends, in turn.
+      const bool has_curves = std::any_of(scene.geometries.begin(), scene.geometries.end(), [](const Geometry& geo) {
+        return scene_prim_row(geo.type).shape == PrimShape::Bezier;
+      });
+      if (!quick && has_curves && !ps.thick) {
+        try {
+          std::vector<std::unique_ptr<EmbreePeer>> owned;
+          std::vector<EmbreeTracer> variants;
+          for (const EndVariant& v : kEndVariants) {
+            EmbreePeer* peer = embree.get();
+            if (v.ends != CurveEnds::StrandEnds) {
+              ctx.say(std::string("peers ") + ps.label + ": Embree build, curve ends " + v.name);
+              owned.push_back(std::make_unique<EmbreePeer>(2));
+              owned.back()->set_scene(scene, robust, v.ends);
+              peer = owned.back().get();
+            }
+            variants.push_back({peer, embree_tracers[fast].how, best->query, &batch.rays, {}, {}});
+          }
+          std::vector<std::function<void()>> vt;
+          for (EmbreeTracer& et : variants) vt.push_back([&et] { et.trace(); });
+          std::vector<std::vector<TraceClock>> vtimes = time_round_by_round(vt, warmup, rounds);
+          const double open_rate = rate(vtimes[0]);
+          for (std::size_t k = 0; k < variants.size(); ++k) {
+            const EmbreePeer& peer = *variants[k].peer;
+            Agreement vg = agree(masq_hits, variants[k].answers(), best->query);
+            Arbitration va = arbitrate(orc, batch.rays, masq_hits, variants[k].answers(), vg.differing, best->query,
+                                       oracle_cap);
+            ends.add({ps.label, set_label, kEndVariants[k].name, std::to_string(peer.end_spheres()),
+                      fmt::format("{:.1f}", peer.timing().build_seconds * 1e3),
+                      fmt::format("{:.2f}", peer.bytes() / 1048576.0), fmt::format("{:.3f}", rate(vtimes[k])),
+                      fmt::format("{:.2f}x", rate(vtimes[k]) / open_rate), vg.text(), va.text()});
+            nlohmann::json vj = clock_json(vtimes[k]);
+            vj["ends"] = kEndVariants[k].name;
+            vj["end_spheres"] = peer.end_spheres();
+            vj["build_seconds"] = peer.timing().build_seconds;
+            vj["bytes"] = peer.bytes();
+            vj["hit_miss_disagree"] = vg.hit_miss;
+            pj["embree_curve_ends"].push_back(vj);
+          }
+        } catch (const std::exception& e) {
+          ends.add({ps.label, set_label, "unavailable: " + std::string(e.what())});
+        }
+      }
       sj["peers"].push_back(pj);
     }
-    const BenchRow* rr = find_row(rows, opt.backends.front(), Method::Ref, RaySet::Primary, Builder::Sah);
-    const BenchRow* rm = find_row(rows, opt.backends.front(), Method::Masq, RaySet::Primary, Builder::Sah);
+    const std::string& first = pilot.backends.empty() ? std::string() : pilot.backends.front();
+    const BenchRow* rr = find_row(run.rows, first, Method::Ref, RaySet::Primary, Builder::Sah);
+    const BenchRow* rm = find_row(run.rows, first, Method::Masq, RaySet::Primary, Builder::Sah);
     auto ms = [](const BenchRow* r) { return r ? fmt::format("{:.1f}", (r->build_s + r->scene_s) * 1e3) : std::string("n/a"); };
     auto accel = [](const BenchRow* r) {
       return r ? fmt::format("{:.2f}", (r->accel_bytes + r->prim_bytes) / 1048576.0) : std::string("n/a");
@@ -438,40 +487,53 @@ SuiteResult run_peers(SuiteContext& ctx) {
     build.add({ps.label, ms(rr), accel(rr), ms(rm), accel(rm),
                embree ? fmt::format("{:.1f}", embree->timing().build_seconds * 1e3) : "n/a",
                embree ? fmt::format("{:.2f}", embree->bytes() / 1048576.0) : "n/a"});
+    if (embree) sj["embree_build_seconds"] = embree->timing().build_seconds, sj["embree_bytes"] = embree->bytes();
     res.data["scenes"].push_back(sj);
   }
-  t.notes = {embree_why.empty() ? "Embree: " + EmbreePeer::version() + ", 2 threads, rtcIntersect1 per ray (rtcOccluded1 for shadow rays, as masq traces them: any hit, early exit); capsules as "
-                                  "round linear curves, cubic curves as round Bezier curves closed by sphere points, the "
-                                  "ground plane as triangles"
-                                : "Embree: " + embree_why,
-             "oracle: of the differing rays (at most 300, evenly spread), how many masq and Embree answer as the "
-             "long-double oracle does",
-             "masq best: the fastest of masq's own tracers (cpu, vulkan, opencl x ref, masq, cluster, auto, each on "
-             "the default sah builder's structures and on sah4's: docs/builders.md, in node formats w4 and o4: docs/kernels.md) in the lanes, where the methods of a backend take turns round by round; alone: that tracer's structure "
-             "uploaded again and its warm-up and timed traces run in a row, as Embree's then are (in the lanes each "
-             "trace follows another method's, with cold caches); masq/Embree: both alone",
-             "driver: the driver's BVH with masq's intersectors (rayquery, rtpipeline), best of their methods and two "
-             "builders",
-             "curves: table1's phantom x1 cubics (the strands as round cones chained into Catmull-Rom curves, one "
-             "Bezier piece per segment), traced by masq with the run's curve intersector; Embree gets the same fp32 "
-             "Bezier control points and radius. Embree 3's round Bezier curves sweep a circle and are open at both "
-             "ends (man RTC_GEOMETRY_TYPE_CURVE(3), Round Curves), masq's are the union of balls along the curve; "
-             "sphere points of the curve's radius at every strand end (and at a joint whose next curve is thinner) "
-             "give Embree masq's shape, and a hit on one counts as the curve it closes. The curve ends table "
-             "measures Embree without them and with one at every curve end"};
-  ends.notes = {fmt::format("the three Embree scenes traced in turn round by round, median of {} rounds after {} "
-                            "warm-up (so the strand ends' rate differs from the table above's); vs open: Embree's rate "
-                            "over its rate on open curves (the cost of the spheres); agreement and oracle as in the "
-                            "table above, against the same masq best, the oracle on at most {} of the differing rays",
-                            kEndRounds * opt.repetitions, opt.warmup, quick ? kEndOracleCapQuick : 300)};
+  res.data["rows_decided"] = decided;
+  res.data["rows_masq_at_least_even"] = at_least_even;
+  t.notes = {
+      embree_why.empty()
+          ? fmt::format("Embree: {}; the same two oneTBB threads as masq's cpu backend, started once; timed with "
+                        "rtcIntersect1 per ray and with its stream API rtcIntersect1M (rtcOccluded1 / rtcOccluded1M "
+                        "for shadow rays, which stop at the first hit, as masq's occlusion kernel does; the coherent "
+                        "hint on camera rays), the faster by CPU time counts. Capsules as round linear curves, cubic "
+                        "curves as round Bezier curves closed by sphere points, the ground plane as triangles",
+                        embree_description.empty() ? EmbreePeer::version() : embree_description)
+          : "Embree: " + embree_why,
+      fmt::format("masq/Embree: per round, Embree's time over masq's (above 1: masq is faster), median and range over "
+                  "{} rounds after {} warm-up; each round traces masq and both Embree APIs once, the order rotating "
+                  "round by round, {} ms apart; CPU time: the process's, every thread (this machine is shared: "
+                  "CPU time decides, wall time shown beside it)",
+                  rounds, warmup, 30),
+      fmt::format("masq (pilot's choice): the fastest of masq's tracers on pilot rays of their own ({} camera rays "
+                  "and the rays from their hits, never the timed ones): cpu and opencl x {} x builder sah, "
+                  "sah4 x nodes {}{}; Embree's robust flag {} masq's {} mode",
+                  quick ? "128 x 96" : "192 x 192", quick ? "ref, masq" : "ref, masq, cluster",
+                  quick ? "w4, o4" : "w4, o4, q8", quick ? " (quick: roving curves)" : ", curves phantom and roving",
+                  robust ? "set beside" : "off (its default) beside", mode_name(ctx.config.mode)),
+      fmt::format("oracle: of the differing rays (at most {}, evenly spread), how many masq and Embree answer as the "
+                  "long-double oracle does",
+                  oracle_cap),
+      "curves: table1's phantom x1 cubics (the strands as round cones chained into Catmull-Rom curves, one Bezier "
+      "piece per segment); Embree gets the same fp32 Bezier control points and radius. Embree 3's round Bezier curves "
+      "are open tubes (man RTC_GEOMETRY_TYPE_CURVE(3), Round Curves), masq's the union of balls along the curve; "
+      "sphere points of the curve's radius at every strand end give Embree masq's shape",
+      fmt::format("thick: every radius {} x the scene's mean segment length", kThickRadius)};
+  ends.notes = {fmt::format("the three Embree scenes traced in turn round by round with the main table's API, median "
+                            "of {} rounds after {} warm-up; vs open: Embree's rate over its rate on open curves (the "
+                            "cost of the spheres); agreement and oracle against the same masq tracer",
+                            rounds, warmup)};
   build.notes = {"masq: host build + upload (first backend), nodes + instances + primitives; Embree: rtcCommitScene, "
                  "memory from Embree's device memory monitor"};
   res.tables = {t, build};
   if (!ends.rows.empty()) res.tables.push_back(ends);
-  res.method = fmt::format("{}x{} camera rays and the shadow and diffuse rays derived from their hits; every tracer gets "
-                           "the same rays; median of {} timed traces after {} warm-up; Embree timed by wall clock, after "
-                           "masq's fastest tracer of every ray set was timed alone the same way.",
-                           opt.width, opt.height, opt.repetitions, opt.warmup);
+  res.method = fmt::format("{0}x{0} camera rays ({1}) and the shadow and diffuse rays derived from their hits; masq's "
+                           "tracer chosen per ray set on separate pilot rays; masq and Embree traced round by round, "
+                           "{2} rounds after {3} warm-up; masq faster than or even with Embree by median CPU time on "
+                           "{4} of {5} rows.",
+                           side, quick ? "quick: indicative only" : "at least 262,144", rounds, warmup, at_least_even,
+                           decided);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

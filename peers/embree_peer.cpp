@@ -166,6 +166,8 @@ struct EmbreePeer::Impl {
   }
   RTCGeometry make_geometry(const Geometry& g);
   RTCGeometry make_end_caps(const Geometry& g, std::vector<int>& owner);
+  // A hit of Embree's in masq's conventions (EmbreePeer::trace).
+  void to_hit(const RTCRayHit& rh, kernel::Hit& h) const;
   // fn(begin, end) over [0, n) in chunks of at most 256 rays on the arena's threads;
   // each ray is traced alone into its own slot, so the split cannot change an answer.
   template <class Fn>
@@ -415,7 +417,47 @@ void EmbreePeer::set_scene(const Scene& scene, bool robust, CurveEnds ends) {
   m.scene_bytes = std::size_t(std::max<long long>(0, m.live_bytes.load()));
 }
 
-void EmbreePeer::trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits) {
+namespace {
+
+RTCRay embree_ray(const kernel::Ray& r, std::size_t i) {
+  return RTCRay{r.org[0], r.org[1], r.org[2], r.tmin, r.dir[0], r.dir[1], r.dir[2], 0.0f, r.tmax, ~0u, unsigned(i), 0u};
+}
+
+void init_context(RTCIntersectContext& ctx, const EmbreeTrace& how) {
+  rtcInitIntersectContext(&ctx); // Embree's default: incoherent
+  if (how.api == EmbreeApi::Stream && how.coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+}
+
+// Rays per stream call: a chunk of the batch (Impl::for_chunks) at a time.
+constexpr std::size_t kStreamRays = 256;
+
+} // namespace
+
+const char* embree_api_name(EmbreeApi api) { return api == EmbreeApi::Stream ? "rtcIntersect1M" : "rtcIntersect1"; }
+
+void EmbreePeer::Impl::to_hit(const RTCRayHit& rh, kernel::Hit& h) const {
+  h = miss_hit();
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) return;
+  int inst = int(rh.hit.instID[0]);
+  int geom = inst_geom[std::size_t(inst)];
+  h.t = rh.ray.tfar;
+  h.prim = int(rh.hit.primID);
+  bool cap = rh.hit.geomID == 1; // an end sphere: report the curve it closes
+  if (cap) h.prim = caps[std::size_t(geom)][rh.hit.primID] / 2;
+  h.geom = geom;
+  h.inst = inst;
+  glm::dvec3 n = inst_nrm[std::size_t(inst)] * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  double len = glm::length(n);
+  if (len > 0.0) n /= len;
+  for (int k = 0; k < 3; ++k) h.normal[k] = float(n[k]);
+  switch (embree_prim_row(geom_type[std::size_t(geom)]).uv) {
+    case HitUv::Barycentric: h.u = rh.hit.u; h.v = rh.hit.v; break;
+    case HitUv::None: break;
+    case HitUv::CurveParameter: h.u = cap ? float(caps[std::size_t(geom)][rh.hit.primID] % 2) : rh.hit.u; break;
+  }
+}
+
+void EmbreePeer::trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits, EmbreeTrace how) {
   Impl& m = *impl_;
   if (hits.size() < rays.size())
     throw Error("embree: trace needs a hit per ray (" + std::to_string(rays.size()) + " rays, " +
@@ -424,43 +466,44 @@ void EmbreePeer::trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit>
   auto t0 = std::chrono::steady_clock::now();
   m.for_chunks(rays.size(), [&](std::size_t begin, std::size_t end) {
     RTCIntersectContext ctx;
-    for (std::size_t i = begin; i < end; ++i) {
-      const kernel::Ray& r = rays[i];
-      hits[i] = miss_hit();
-      if (!ray_valid(r)) continue;
+    init_context(ctx, how);
+    auto fresh = [&](std::size_t i) {
       RTCRayHit rh;
-      rh.ray = RTCRay{r.org[0], r.org[1], r.org[2], r.tmin, r.dir[0], r.dir[1], r.dir[2], 0.0f, r.tmax, ~0u,
-                      unsigned(i), 0u};
+      rh.ray = embree_ray(rays[i], i);
       rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-      rtcInitIntersectContext(&ctx);
-      rtcIntersect1(m.top, &ctx, &rh);
-      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) continue;
-      kernel::Hit& h = hits[i];
-      int inst = int(rh.hit.instID[0]);
-      int geom = m.inst_geom[std::size_t(inst)];
-      h.t = rh.ray.tfar;
-      h.prim = int(rh.hit.primID);
-      bool cap = rh.hit.geomID == 1; // an end sphere: report the curve it closes
-      if (cap) h.prim = m.caps[std::size_t(geom)][rh.hit.primID] / 2;
-      h.geom = geom;
-      h.inst = inst;
-      glm::dvec3 n = m.inst_nrm[std::size_t(inst)] * glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-      double len = glm::length(n);
-      if (len > 0.0) n /= len;
-      for (int k = 0; k < 3; ++k) h.normal[k] = float(n[k]);
-      switch (embree_prim_row(m.geom_type[std::size_t(geom)]).uv) {
-        case HitUv::Barycentric: h.u = rh.hit.u; h.v = rh.hit.v; break;
-        case HitUv::None: break;
-        case HitUv::CurveParameter: h.u = cap ? float(m.caps[std::size_t(geom)][rh.hit.primID] % 2) : rh.hit.u; break;
+      return rh;
+    };
+    if (how.api == EmbreeApi::PerRay) {
+      for (std::size_t i = begin; i < end; ++i) {
+        hits[i] = miss_hit();
+        if (!ray_valid(rays[i])) continue;
+        RTCRayHit rh = fresh(i);
+        rtcInitIntersectContext(&ctx);
+        rtcIntersect1(m.top, &ctx, &rh);
+        m.to_hit(rh, hits[i]);
       }
+      return;
+    }
+    // The stream: the chunk's valid rays side by side (rtcIntersect1M's rays must all be
+    // valid), their batch index in the ray's id.
+    RTCRayHit stream[kStreamRays];
+    for (std::size_t b = begin; b < end; b += kStreamRays) {
+      unsigned n = 0;
+      for (std::size_t i = b; i < std::min(end, b + kStreamRays); ++i) {
+        hits[i] = miss_hit();
+        if (ray_valid(rays[i])) stream[n++] = fresh(i);
+      }
+      if (n == 0) continue;
+      rtcIntersect1M(m.top, &ctx, stream, n, sizeof(RTCRayHit));
+      for (unsigned k = 0; k < n; ++k) m.to_hit(stream[k], hits[stream[k].ray.id]);
     }
   });
   m.timing.trace_seconds = seconds_since(t0);
   m.check("trace");
 }
 
-void EmbreePeer::occluded(std::span<const kernel::Ray> rays, std::span<std::uint8_t> occluded) {
+void EmbreePeer::occluded(std::span<const kernel::Ray> rays, std::span<std::uint8_t> occluded, EmbreeTrace how) {
   Impl& m = *impl_;
   if (occluded.size() < rays.size())
     throw Error("embree: occluded needs a flag per ray (" + std::to_string(rays.size()) + " rays, " +
@@ -469,14 +512,28 @@ void EmbreePeer::occluded(std::span<const kernel::Ray> rays, std::span<std::uint
   auto t0 = std::chrono::steady_clock::now();
   m.for_chunks(rays.size(), [&](std::size_t begin, std::size_t end) {
     RTCIntersectContext ctx;
-    for (std::size_t i = begin; i < end; ++i) {
-      const kernel::Ray& r = rays[i];
-      occluded[i] = 0;
-      if (!ray_valid(r)) continue;
-      RTCRay ray{r.org[0], r.org[1], r.org[2], r.tmin, r.dir[0], r.dir[1], r.dir[2], 0.0f, r.tmax, ~0u, unsigned(i), 0u};
-      rtcInitIntersectContext(&ctx);
-      rtcOccluded1(m.top, &ctx, &ray);
-      occluded[i] = ray.tfar < 0.0f; // Embree sets tfar to -inf when it finds any hit
+    init_context(ctx, how);
+    if (how.api == EmbreeApi::PerRay) {
+      for (std::size_t i = begin; i < end; ++i) {
+        occluded[i] = 0;
+        if (!ray_valid(rays[i])) continue;
+        RTCRay ray = embree_ray(rays[i], i);
+        rtcInitIntersectContext(&ctx);
+        rtcOccluded1(m.top, &ctx, &ray);
+        occluded[i] = ray.tfar < 0.0f; // Embree sets tfar to -inf when it finds any hit
+      }
+      return;
+    }
+    RTCRay stream[kStreamRays];
+    for (std::size_t b = begin; b < end; b += kStreamRays) {
+      unsigned n = 0;
+      for (std::size_t i = b; i < std::min(end, b + kStreamRays); ++i) {
+        occluded[i] = 0;
+        if (ray_valid(rays[i])) stream[n++] = embree_ray(rays[i], i);
+      }
+      if (n == 0) continue;
+      rtcOccluded1M(m.top, &ctx, stream, n, sizeof(RTCRay));
+      for (unsigned k = 0; k < n; ++k) occluded[stream[k].id] = stream[k].tfar < 0.0f;
     }
   });
   m.timing.trace_seconds = seconds_since(t0);
@@ -490,7 +547,8 @@ std::size_t EmbreePeer::end_spheres() const { return impl_->end_spheres; }
 std::string EmbreePeer::description() const {
   const Impl& m = *impl_;
   std::string d = version() + ", " + std::to_string(m.threads) + (m.threads == 1 ? " thread" : " threads") +
-                  ", rtcIntersect1" + (m.robust ? ", robust" : "");
+                  (m.robust ? ", RTC_SCENE_FLAG_ROBUST" : ", default scene flags") +
+                  ", build quality medium (Embree's default)";
   bool linear = false, bezier = false, spheres = false, triangles = false;
   for (PrimType t : m.geom_type) {
     const EmbreeKind kind = embree_prim_row(t).kind;
@@ -519,8 +577,13 @@ struct EmbreePeer::Impl {};
 EmbreePeer::EmbreePeer(int /*threads*/) { throw Error(unavailable_reason()); }
 EmbreePeer::~EmbreePeer() = default;
 void EmbreePeer::set_scene(const Scene&, bool, CurveEnds) { throw Error(unavailable_reason()); }
-void EmbreePeer::trace(std::span<const kernel::Ray>, std::span<kernel::Hit>) { throw Error(unavailable_reason()); }
-void EmbreePeer::occluded(std::span<const kernel::Ray>, std::span<std::uint8_t>) { throw Error(unavailable_reason()); }
+const char* embree_api_name(EmbreeApi api) { return api == EmbreeApi::Stream ? "rtcIntersect1M" : "rtcIntersect1"; }
+void EmbreePeer::trace(std::span<const kernel::Ray>, std::span<kernel::Hit>, EmbreeTrace) {
+  throw Error(unavailable_reason());
+}
+void EmbreePeer::occluded(std::span<const kernel::Ray>, std::span<std::uint8_t>, EmbreeTrace) {
+  throw Error(unavailable_reason());
+}
 PeerTiming EmbreePeer::timing() const { return {}; }
 std::size_t EmbreePeer::bytes() const { return 0; }
 std::size_t EmbreePeer::end_spheres() const { return 0; }

@@ -1,5 +1,5 @@
 // Embree 3 as a peer tracer: the benchmark harness traces the same rays through masq and
-// through Embree (rtcIntersect1 per ray, on oneTBB's workers) and compares time, memory
+// through Embree (rtcIntersect1 per ray or its stream API, on oneTBB's workers) and compares time, memory
 // and answers. No Embree header here (pimpl), so callers build whether or not masq was
 // built with Embree; without it every constructor throws and unavailable_reason() says why.
 //
@@ -45,6 +45,17 @@ enum class CurveEnds {
 // there then lies in the union of the two tubes' disks.
 bool curve_end_covered(const std::vector<CurvePrim>& curves, std::size_t i, int end);
 
+// How the peer hands rays to Embree. PerRay: rtcIntersect1 / rtcOccluded1 for each ray;
+// Stream: rtcIntersect1M / rtcOccluded1M on each chunk of the batch (Embree's stream
+// API, for callers that trace batches, as masq does), with the coherent-rays hint when
+// `coherent` (camera rays) and Embree's default (incoherent) otherwise.
+enum class EmbreeApi { PerRay, Stream };
+struct EmbreeTrace {
+  EmbreeApi api = EmbreeApi::PerRay;
+  bool coherent = false;
+};
+const char* embree_api_name(EmbreeApi api); // "rtcIntersect1", "rtcIntersect1M"
+
 struct PeerTiming {
   double build_seconds = 0; // last set_scene: geometry upload and every BVH build
   double trace_seconds = 0; // last trace: wall time of the whole batch
@@ -78,11 +89,12 @@ class EmbreePeer {
   // normal (Embree's Ng), u, v as kernel::Hit documents (triangles: Embree's
   // barycentrics; capsules, round cones, curves: Embree's u, v = 0; spheres: 0, 0).
   // Invalid rays (non-finite, zero direction, tmin > tmax) miss without reaching Embree.
-  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits);
+  void trace(std::span<const kernel::Ray> rays, std::span<kernel::Hit> hits, EmbreeTrace how = {});
 
   // Occlusion (shadow rays): occluded[i] = 1 when any surface lies in [tmin, tmax]
-  // (rtcOccluded1, which stops at the first hit found). Invalid rays are unoccluded.
-  void occluded(std::span<const kernel::Ray> rays, std::span<std::uint8_t> occluded);
+  // (rtcOccluded1 or rtcOccluded1M, which stop at the first hit found). Invalid rays are
+  // unoccluded.
+  void occluded(std::span<const kernel::Ray> rays, std::span<std::uint8_t> occluded, EmbreeTrace how = {});
 
   PeerTiming timing() const;
   // Bytes Embree holds for the current scene (its memory monitor after the build:
@@ -90,8 +102,8 @@ class EmbreePeer {
   std::size_t bytes() const;
   // Sphere points the current scene's curves got (CurveEnds), over all geometries.
   std::size_t end_spheres() const;
-  // "Embree 3.13.5, 2 threads, rtcIntersect1, round linear curves/round Bezier
-  // curves/triangles" (the Embree types of the current scene; end spheres of curves
+  // "Embree 3.13.5, 2 threads, RTC_SCENE_FLAG_ROBUST, build quality medium (Embree's
+  // default), round linear curves/round Bezier curves/triangles" (the Embree types of the current scene; end spheres of curves
   // as "round Bezier curves + end spheres").
   std::string description() const;
 
