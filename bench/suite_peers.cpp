@@ -190,7 +190,7 @@ Scene load_peer_scene(const SuiteConfig& cfg, const PeerScene& ps) {
 // masq's candidate tracers: its CPU-side backends of the run (cpu, and OpenCL: PoCL here;
 // lavapipe's Vulkan has never been the fastest on a CPU and its compiles take minutes)
 // x method x builder x node format (x curve intersector), traced on the pilot's rays.
-// Quick: ref and masq, w4 and o4, roving curves.
+// Quick: ref and masq, w4, w8 and o4, roving curves.
 BenchOptions pilot_options(const SuiteContext& ctx, bool curves) {
   const bool quick = ctx.config.quick;
   BenchOptions o = ctx.bench_options(quick ? 128 : 192, quick ? 96 : 192);
@@ -200,8 +200,8 @@ BenchOptions pilot_options(const SuiteContext& ctx, bool curves) {
   o.methods = quick ? std::vector<Method>{Method::Ref, Method::Masq}
                     : std::vector<Method>{Method::Ref, Method::Masq, Method::Cluster};
   o.builders = {Builder::Sah, Builder::Sah4};
-  o.node_formats = quick ? std::vector<NodeFormat>{NodeFormat::W4, NodeFormat::O4}
-                         : std::vector<NodeFormat>{NodeFormat::W4, NodeFormat::O4, NodeFormat::Q8};
+  o.node_formats = quick ? std::vector<NodeFormat>{NodeFormat::W4, NodeFormat::W8, NodeFormat::O4}
+                         : std::vector<NodeFormat>{NodeFormat::W4, NodeFormat::W8, NodeFormat::O4, NodeFormat::Q8};
   if (curves)
     o.curve_isects = quick ? std::vector<CurveIsect>{CurveIsect::Roving}
                            : std::vector<CurveIsect>{CurveIsect::Phantom, CurveIsect::Roving};
@@ -510,7 +510,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
                   "and the rays from their hits, never the timed ones): cpu and opencl x {} x builder sah, "
                   "sah4 x nodes {}{}; Embree's robust flag {} masq's {} mode",
                   quick ? "128 x 96" : "192 x 192", quick ? "ref, masq" : "ref, masq, cluster",
-                  quick ? "w4, o4" : "w4, o4, q8", quick ? " (quick: roving curves)" : ", curves phantom and roving",
+                  quick ? "w4, w8, o4" : "w4, w8, o4, q8", quick ? " (quick: roving curves)" : ", curves phantom and roving",
                   robust ? "set beside" : "off (its default) beside", mode_name(ctx.config.mode)),
       fmt::format("oracle: of the differing rays (at most {}, evenly spread), how many masq and Embree answer as the "
                   "long-double oracle does",

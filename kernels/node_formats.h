@@ -65,18 +65,17 @@ FN WideHits hits_w8_loop(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3
   return r;
 }
 
-// The cpu dialect tests the eight slots as two groups of four (slab_simd_cpp.h).
+// The cpu dialect tests the eight slots at once (slab_simd_cpp.h: one AVX test where the
+// build machine has AVX).
 FN WideHits hits_w8(KD_PARAM int node, vec3 o, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax) {
 #if defined(MASQ_LANG_CPP)
   WideHits r;
   int b = node * MASQ_W8_WORDS;
   const uint* w = KD(node_words) + b;
-  for (int g = 0; g < MASQ_WIDTH8; g += 4)
-    simd::slab_hits4((const float*)(w + MASQ_W8_LO_X + g), (const float*)(w + MASQ_W8_HI_X + g),
-                     (const float*)(w + MASQ_W8_LO_Y + g), (const float*)(w + MASQ_W8_HI_Y + g),
-                     (const float*)(w + MASQ_W8_LO_Z + g), (const float*)(w + MASQ_W8_HI_Z + g),
-                     (const int*)(w + MASQ_W8_COUNT + g), o, inv_d, padded, pad, tmin, tmax, r.tnear + g,
-                     r.tfar + g);
+  simd::slab_hits8((const float*)(w + MASQ_W8_LO_X), (const float*)(w + MASQ_W8_HI_X),
+                   (const float*)(w + MASQ_W8_LO_Y), (const float*)(w + MASQ_W8_HI_Y),
+                   (const float*)(w + MASQ_W8_LO_Z), (const float*)(w + MASQ_W8_HI_Z),
+                   (const int*)(w + MASQ_W8_COUNT), o, inv_d, padded, pad, tmin, tmax, r.tnear, r.tfar);
   for (int i = 0; i < MASQ_WIDTH8; ++i) {
     r.child[i] = u2i_(w[MASQ_W8_CHILD + i]);
     r.count[i] = u2i_(w[MASQ_W8_COUNT + i]);

@@ -17,6 +17,10 @@ namespace masq::kernel::simd {
 
 typedef float F4 __attribute__((vector_size(16)));
 typedef int I4 __attribute__((vector_size(16)));
+// Eight lanes: one AVX register where the build machine has AVX (-march=native), else
+// two SSE registers; the same operations lane by lane either way.
+typedef float F8 __attribute__((vector_size(32)));
+typedef int I8 __attribute__((vector_size(32)));
 
 template <class V> inline V load(const void* p) {
   V v;
@@ -24,22 +28,26 @@ template <class V> inline V load(const void* p) {
   return v;
 }
 // glm::min and glm::max exactly: min(a, b) = b < a ? b : a; max(a, b) = a < b ? b : a.
-inline F4 vmin(F4 a, F4 b) { return b < a ? b : a; }
-inline F4 vmax(F4 a, F4 b) { return a < b ? b : a; }
+template <class F> inline F vmin(F a, F b) { return b < a ? b : a; }
+template <class F> inline F vmax(F a, F b) { return a < b ? b : a; }
 // fabs: the sign bit cleared (a < 0 ? -a : a would keep -0, and -0 + 0 is not -0 - 0).
 inline F4 vabs(F4 a) { return std::bit_cast<F4>(std::bit_cast<I4>(a) & 0x7fffffff); }
+inline F8 vabs(F8 a) { return std::bit_cast<F8>(std::bit_cast<I8>(a) & 0x7fffffff); }
 
-// Four child boxes as planes: lane i holds slot i's bounds.
-struct Planes4 {
-  F4 lx, hx, ly, hy, lz, hz;
+// Child boxes as planes: lane i holds slot i's bounds (four or eight slots).
+template <class F> struct PlanesN {
+  F lx, hx, ly, hy, lz, hz;
 };
+using Planes4 = PlanesN<F4>;
+using Planes8 = PlanesN<F8>;
 
 // Writes tnear (entry distance clamped to tmin, or +inf when the slot is not live or
 // missed within [tmin, tmax]) and tfar (unspecified for slots that are not live, which
-// nothing reads) of four slots. padded != 0 grows each box by pad and 2u of each
-// bound's magnitude, as intersect_wide_node_padded and slab_hit do.
-inline void slab_hits4v(Planes4 p, I4 live, glm::vec3 o, glm::vec3 inv_d, int padded, glm::vec3 pad, float tmin,
-                        float tmax, float* tnear, float* tfar) {
+// nothing reads) of four or eight slots. padded != 0 grows each box by pad and 2u of
+// each bound's magnitude, as intersect_wide_node_padded and slab_hit do.
+template <class F, class I>
+inline void slab_hitsv(PlanesN<F> p, I live, glm::vec3 o, glm::vec3 inv_d, int padded, glm::vec3 pad, float tmin,
+                       float tmax, float* tnear, float* tfar) {
   const float two_u = 2.0f * MASQ_U;
   if (padded != 0) {
     p.lx = p.lx - (pad.x + vabs(p.lx) * two_u);
@@ -49,19 +57,23 @@ inline void slab_hits4v(Planes4 p, I4 live, glm::vec3 o, glm::vec3 inv_d, int pa
     p.lz = p.lz - (pad.z + vabs(p.lz) * two_u);
     p.hz = p.hz + (pad.z + vabs(p.hz) * two_u);
   }
-  F4 tx0 = (p.lx - o.x) * inv_d.x, tx1 = (p.hx - o.x) * inv_d.x;
-  F4 ty0 = (p.ly - o.y) * inv_d.y, ty1 = (p.hy - o.y) * inv_d.y;
-  F4 tz0 = (p.lz - o.z) * inv_d.z, tz1 = (p.hz - o.z) * inv_d.z;
-  F4 a = vmax(vmin(tx0, tx1), vmax(vmin(ty0, ty1), vmin(tz0, tz1)));
-  F4 b = vmin(vmax(tx0, tx1), vmin(vmax(ty0, ty1), vmax(tz0, tz1)));
-  F4 tn = a - vabs(a) * MASQ_BOX_WIDEN;
-  F4 tf = b + vabs(b) * MASQ_BOX_WIDEN;
-  F4 lo_t = tmin - F4{}; // tmin in every lane (x - 0 is x, signed zeros included)
-  F4 inf = std::numeric_limits<float>::infinity() - F4{};
-  I4 hit = live & (tn <= tf) & (tf >= tmin) & (tn <= tmax);
-  F4 near = hit ? vmax(tn, lo_t) : inf;
+  F tx0 = (p.lx - o.x) * inv_d.x, tx1 = (p.hx - o.x) * inv_d.x;
+  F ty0 = (p.ly - o.y) * inv_d.y, ty1 = (p.hy - o.y) * inv_d.y;
+  F tz0 = (p.lz - o.z) * inv_d.z, tz1 = (p.hz - o.z) * inv_d.z;
+  F a = vmax(vmin(tx0, tx1), vmax(vmin(ty0, ty1), vmin(tz0, tz1)));
+  F b = vmin(vmax(tx0, tx1), vmin(vmax(ty0, ty1), vmax(tz0, tz1)));
+  F tn = a - vabs(a) * MASQ_BOX_WIDEN;
+  F tf = b + vabs(b) * MASQ_BOX_WIDEN;
+  F lo_t = tmin - F{}; // tmin in every lane (x - 0 is x, signed zeros included)
+  F inf = std::numeric_limits<float>::infinity() - F{};
+  I hit = live & (tn <= tf) & (tf >= tmin) & (tn <= tmax);
+  F near = hit ? vmax(tn, lo_t) : inf;
   std::memcpy(tnear, &near, sizeof near);
   std::memcpy(tfar, &tf, sizeof tf);
+}
+inline void slab_hits4v(Planes4 p, I4 live, glm::vec3 o, glm::vec3 inv_d, int padded, glm::vec3 pad, float tmin,
+                        float tmax, float* tnear, float* tfar) {
+  slab_hitsv(p, live, o, inv_d, padded, pad, tmin, tmax, tnear, tfar);
 }
 
 // Float boxes stored as SoA rows (slot i at lo_x[i], ...); count[i] < 0 marks an empty
@@ -71,6 +83,13 @@ inline void slab_hits4(const float* lo_x, const float* hi_x, const float* lo_y, 
                        float tmin, float tmax, float* tnear, float* tfar) {
   Planes4 p{load<F4>(lo_x), load<F4>(hi_x), load<F4>(lo_y), load<F4>(hi_y), load<F4>(lo_z), load<F4>(hi_z)};
   slab_hits4v(p, load<I4>(count) >= 0, o, inv_d, padded, pad, tmin, tmax, tnear, tfar);
+}
+// The same for eight slots at once (w8 nodes).
+inline void slab_hits8(const float* lo_x, const float* hi_x, const float* lo_y, const float* hi_y, const float* lo_z,
+                       const float* hi_z, const int* count, glm::vec3 o, glm::vec3 inv_d, int padded, glm::vec3 pad,
+                       float tmin, float tmax, float* tnear, float* tfar) {
+  Planes8 p{load<F8>(lo_x), load<F8>(hi_x), load<F8>(lo_y), load<F8>(hi_y), load<F8>(lo_z), load<F8>(hi_z)};
+  slab_hitsv(p, load<I8>(count) >= 0, o, inv_d, padded, pad, tmin, tmax, tnear, tfar);
 }
 
 // q8 planes of four slots: the word holds their 8-bit grid coordinates (byte j: slot j);
