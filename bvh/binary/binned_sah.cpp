@@ -38,12 +38,18 @@ struct Split {
 
 double blocks(int n, const SahOptions& opt) { return double((n + opt.leaf_block - 1) / opt.leaf_block); }
 
-// What every node of one build reads: the boxes, their centroids (computed once, as
-// Aabb::center computes them), the options.
+// What every node of one build reads: the options. The primitives are references that
+// carry their box and centroid (computed once, as Aabb::center computes them) and are
+// partitioned themselves, so that a node reads its range in order; reading the boxes
+// through an index array instead (the build before) fetched each one from wherever
+// the primitive's index pointed, at every level.
 struct Input {
-  const std::vector<Aabb>& boxes;
-  std::vector<glm::dvec3> centers;
   const SahOptions& opt;
+};
+struct Ref {
+  Aabb box;
+  glm::dvec3 center;
+  int id;
 };
 
 // Per axis nb bins: box and primitive count of the centroids that fall in each; and the
@@ -84,11 +90,11 @@ void for_chunks(int first, int count, Body body) {
   });
 }
 
-void bounds_of(const Input& in, const std::vector<int>& order, int first, int count, Aabb& box, Aabb& cbox) {
+void bounds_of(const std::vector<Ref>& order, int first, int count, Aabb& box, Aabb& cbox) {
   auto pass = [&](int lo, int hi, Aabb& b, Aabb& c) {
     for (int i = lo; i < hi; ++i) {
-      b.grow(in.boxes[order[i]]);
-      c.grow(in.centers[order[i]]);
+      b.grow(order[std::size_t(i)].box);
+      c.grow(order[std::size_t(i)].center);
     }
   };
   if (count < 2 * kChunk) return pass(first, first + count, box, cbox);
@@ -102,15 +108,15 @@ void bounds_of(const Input& in, const std::vector<int>& order, int first, int co
 
 // Fills bins with the range's primitives, every axis whose centroid extent is positive
 // in one pass over them (each bin grows in primitive order, as three passes would).
-void bin_range(const Input& in, const std::vector<int>& order, int first, int count, const Aabb& cbox, Bins& bins) {
+void bin_range(const Input& in, const std::vector<Ref>& order, int first, int count, const Aabb& cbox, Bins& bins) {
   const int nb = in.opt.bins;
   int axes[3], n_axes = 0;
   for (int axis = 0; axis < 3; ++axis)
     if (cbox.hi[axis] - cbox.lo[axis] > 0.0) axes[n_axes++] = axis;
   auto pass = [&](int lo_i, int hi_i, Bins& out) {
     for (int i = lo_i; i < hi_i; ++i) {
-      const Aabb& b = in.boxes[order[i]];
-      const glm::dvec3& c = in.centers[order[i]];
+      const Aabb& b = order[std::size_t(i)].box;
+      const glm::dvec3& c = order[std::size_t(i)].center;
       for (int a = 0; a < n_axes; ++a) {
         int axis = axes[a];
         std::size_t k = std::size_t(axis * nb + bin_of(c, axis, cbox.lo[axis], cbox.hi[axis] - cbox.lo[axis], nb));
@@ -162,11 +168,11 @@ struct NodeSplit {
   int mid = -1;
 };
 
-NodeSplit split_node(const Input& in, std::vector<int>& order, int first, int count, Bins& bins) {
+NodeSplit split_node(const Input& in, std::vector<Ref>& order, int first, int count, Bins& bins) {
   const SahOptions& opt = in.opt;
   NodeSplit out;
   Aabb cbox;
-  bounds_of(in, order, first, count, out.box, cbox);
+  bounds_of(order, first, count, out.box, cbox);
   if (count <= 1) return out;
   bin_range(in, order, first, count, cbox, bins);
   Split s = find_split(bins, cbox, opt);
@@ -177,7 +183,7 @@ NodeSplit split_node(const Input& in, std::vector<int>& order, int first, int co
   double split_cost = area > 0.0 ? opt.traversal_cost + opt.intersection_cost * s.cost / area : leaf_cost;
   if (s.axis >= 0 && (split_cost < leaf_cost || count > opt.max_leaf_size)) {
     double lo = cbox.lo[s.axis], ext = cbox.hi[s.axis] - lo;
-    auto goes_left = [&](int p) { return bin_of(in.centers[p], s.axis, lo, ext, opt.bins) <= s.bin; };
+    auto goes_left = [&](const Ref& p) { return bin_of(p.center, s.axis, lo, ext, opt.bins) <= s.bin; };
     // std::partition's own (unstable) order decides the leaf order: a long range gets the
     // same order from partition_in_chunks.
     if (count < 2 * kChunk) {
@@ -195,7 +201,7 @@ NodeSplit split_node(const Input& in, std::vector<int>& order, int first, int co
 // The serial build of one subtree: nodes[0] is its root, the rest in the order the
 // serial builder allocates them (both children of a node at once, when the node is
 // split; the right subtree is finished before the left one is started).
-std::vector<BinaryNode> build_serial(const Input& in, std::vector<int>& order, int first, int count) {
+std::vector<BinaryNode> build_serial(const Input& in, std::vector<Ref>& order, int first, int count) {
   struct Job {
     int node, first, count;
   };
@@ -232,7 +238,7 @@ struct Subtree {
   std::size_t size = 0; // nodes in the whole subtree
 };
 
-Subtree build_tasks(const Input& in, std::vector<int>& order, int first, int count) {
+Subtree build_tasks(const Input& in, std::vector<Ref>& order, int first, int count) {
   Subtree t;
   if (count < kSubtreeTask) {
     t.nodes = build_serial(in, order, first, count);
@@ -293,19 +299,22 @@ BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt
     for (int k = 0; k < 3; ++k)
       if (!(boxes[i].lo[k] <= boxes[i].hi[k]) || !std::isfinite(boxes[i].lo[k]) || !std::isfinite(boxes[i].hi[k]))
         throw Error("bvh: box " + std::to_string(i) + " of " + std::to_string(n) + " is empty or not finite");
-  bvh.order.resize(n);
-  for (int i = 0; i < n; ++i) bvh.order[i] = i;
-  Input in{boxes, std::vector<glm::dvec3>(boxes.size()), opt};
+  std::vector<Ref> refs(boxes.size());
+  const Input in{opt};
   parallel_chunks(boxes.size(), 8192, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) in.centers[i] = boxes[i].center();
+    for (std::size_t i = lo; i < hi; ++i) refs[i] = {boxes[i], boxes[i].center(), int(i)};
   });
   if (build_concurrency() == 1 || n < kSubtreeTask) {
-    bvh.nodes = build_serial(in, bvh.order, 0, n);
-    return bvh;
+    bvh.nodes = build_serial(in, refs, 0, n);
+  } else {
+    Subtree root = build_tasks(in, refs, 0, n);
+    bvh.nodes.resize(root.size);
+    place(root, bvh.nodes, 0, 1);
   }
-  Subtree root = build_tasks(in, bvh.order, 0, n);
-  bvh.nodes.resize(root.size);
-  place(root, bvh.nodes, 0, 1);
+  bvh.order.resize(refs.size());
+  parallel_chunks(refs.size(), 8192, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) bvh.order[i] = refs[i].id;
+  });
   return bvh;
 }
 

@@ -9,7 +9,8 @@
 
 namespace masq {
 
-// std::partition of order[first, first + count) by goes_left, the same result, its passes
+// std::partition of order[first, first + count) by goes_left (indices, or references
+// carrying what the predicate reads), the same result, its passes
 // in chunks of `chunk` (>= 1) elements, possibly at once; returns the index of the first
 // element that goes right.
 // libstdc++'s partition (bidirectional) swaps the i-th element from the left that goes
@@ -17,8 +18,8 @@ namespace masq {
 // crossed: exactly the elements that go right in [first, mid) in ascending order with
 // those that go left in [mid, end) in descending order, pair by pair. Those pairs are
 // found by counts per chunk and swapped.
-template <class GoesLeft>
-int partition_in_chunks(std::vector<int>& order, int first, int count, int chunk, GoesLeft goes_left) {
+template <class T, class GoesLeft>
+int partition_in_chunks(std::vector<T>& order, int first, int count, int chunk, GoesLeft goes_left) {
   if (count <= 0) return first;
   const int chunks = (count + chunk - 1) / chunk;
   // body(lo, hi, c) on chunk c = [lo, hi), possibly at once.
