@@ -77,7 +77,8 @@ inline void slab_hits4v(Planes4 p, I4 live, glm::vec3 o, glm::vec3 inv_d, int pa
 }
 
 // Float boxes stored as SoA rows (slot i at lo_x[i], ...); count[i] < 0 marks an empty
-// slot. q8 nodes test their eight slots as two groups of four (w8: slab_hits8 below).
+// slot. w4 and o4 nodes call it once; q8 tests its eight slots as two groups of four
+// through slab_hits4v, w8 all eight at once through slab_hits8 below.
 inline void slab_hits4(const float* lo_x, const float* hi_x, const float* lo_y, const float* hi_y, const float* lo_z,
                        const float* hi_z, const int* count, glm::vec3 o, glm::vec3 inv_d, int padded, glm::vec3 pad,
                        float tmin, float tmax, float* tnear, float* tfar) {
