@@ -5,6 +5,7 @@
 // exceeds the device's limits (lowered through the limit knobs, host/limit_knob.h).
 #include "bvh/twolevel/build_accel.h"
 #include "host/cpu/cpu_backend.h"
+#include "host/vulkan/vk_context.h"
 #include "host/vulkan/vulkan_backends.h"
 #include "scenes/camera.h"
 #include "masq/error.h"
@@ -331,6 +332,43 @@ TEST(VulkanBackend, RtPipelineCallsTheIntersectorsRayQueryCalls) {
     EXPECT_EQ(d.hit_miss + d.wrong_prim, 0) << d.first;
     std::printf("[ %-7s ] intersector calls per ray: rayquery %.3f, rtpipeline %.3f\n", method_name(m),
                 double(calls[0]) / double(rays.size()), double(calls[1]) / double(rays.size()));
+  }
+}
+
+// Two backend objects on one device (the bench's slots) run the same pipeline for the same
+// variant: the second makes nothing new, traces the same bits, and a variant the second
+// asks for first is the one the first then finds (host/vulkan/vk_shared_objects.h).
+TEST(VulkanBackend, BackendObjectsOnOneDeviceShareTheirPipelines) {
+  struct Kind {
+    const char* name;
+    std::unique_ptr<Backend> (*make)();
+    DeviceNeed need;
+  };
+  const Kind kinds[] = {{"vulkan", make_vulkan_backend, DeviceNeed::Compute},
+                        {"rayquery", make_rayquery_backend, DeviceNeed::RayQuery},
+                        {"rtpipeline", make_rtpipeline_backend, DeviceNeed::RayPipeline}};
+  Scene scene = make_default_scene();
+  PackedScene ps = build_accel(scene, Method::Masq);
+  std::vector<Ray> rays = make_camera_rays(scene.camera, 32, 24);
+  for (const Kind& kind : kinds) {
+    SCOPED_TRACE(kind.name);
+    VULKAN_BACKEND_OR_SKIP(first, kind.make);
+    VULKAN_BACKEND_OR_SKIP(second, kind.make);
+    std::shared_ptr<vk::Context> ctx = vk::Context::get(kind.name, kind.need); // the one both hold
+    std::vector<Hit> a(rays.size()), b(rays.size());
+    first->set_scene(ps);
+    second->set_scene(ps);
+    first->trace(rays, a, {});
+    const std::size_t made = ctx->shared().size();
+    second->trace(rays, b, {});
+    EXPECT_EQ(ctx->shared().size(), made) << "the second object compiled the variant again";
+    Diff d = compare(a, b);
+    EXPECT_EQ(d.hit_miss + d.wrong_prim + d.wrong_t, 0) << d.first;
+    std::vector<RayStats> stats(rays.size());
+    second->trace(rays, b, stats, Query::Any); // a variant neither has run yet
+    EXPECT_EQ(ctx->shared().size(), made + 1);
+    first->trace(rays, a, stats, Query::Any);
+    EXPECT_EQ(ctx->shared().size(), made + 1);
   }
 }
 

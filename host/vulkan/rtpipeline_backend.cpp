@@ -122,17 +122,22 @@ class RtPipelineBackend final : public Backend {
     key.push_back(addressed ? 1 : 0);
     auto it = pipelines_.find(key);
     if (it == pipelines_.end()) {
-      auto t0 = Clock::now();
-      Compiled c;
-      c.pipeline = std::make_unique<vk::RtPipeline>(*ctx_, layout_, v, addressed, kRtPipelineName);
-      batch_.bind_minimal(layout_);
-      Prepared warm{c.pipeline.get(), &table(*c.pipeline)};
-      launch(warm, 0, false); // ray_count 0: every invocation returns at once
-      c.compile_seconds = seconds_since(t0);
+      // Made once per context, for every rtpipeline backend object on it (SharedObjects).
+      std::shared_ptr<const Compiled> c =
+          ctx_->shared().get<Compiled>(layout_.pipeline_key(&kCompiledMaker, key), [&] {
+            auto t0 = Clock::now();
+            auto made = std::make_shared<Compiled>();
+            made->pipeline = std::make_unique<vk::RtPipeline>(*ctx_, layout_, v, addressed, kRtPipelineName);
+            batch_.bind_minimal(layout_);
+            Prepared warm{made->pipeline.get(), &table(*made->pipeline)};
+            launch(warm, 0, false); // ray_count 0: every invocation returns at once
+            made->compile_seconds = seconds_since(t0);
+            return made;
+          });
       it = pipelines_.emplace(std::move(key), std::move(c)).first;
     }
-    timing_.compile_seconds = it->second.compile_seconds;
-    return {it->second.pipeline.get(), &table(*it->second.pipeline)};
+    timing_.compile_seconds = it->second->compile_seconds;
+    return {it->second->pipeline.get(), &table(*it->second->pipeline)};
   }
 
   const vk::BindingTable& table(const vk::RtPipeline& p) {
@@ -144,14 +149,15 @@ class RtPipelineBackend final : public Backend {
 
   struct Compiled {
     std::unique_ptr<vk::RtPipeline> pipeline;
-    double compile_seconds = 0;
+    double compile_seconds = 0; // creation and the warm-up launch of the backend that made it
   };
+  static constexpr char kCompiledMaker = 0; // SharedObjects key of the pipelines
 
   std::shared_ptr<vk::Context> ctx_;
   vk::KernelLayout layout_;
   vk::RayBatch batch_;
   vk::DriverScene driver_{*ctx_, layout_, kRtPipelineName};
-  std::map<std::vector<std::uint32_t>, Compiled> pipelines_;                          // by variant
+  std::map<std::vector<std::uint32_t>, std::shared_ptr<const Compiled>> pipelines_;  // by variant
   std::map<const vk::RtPipeline*, std::unique_ptr<vk::BindingTable>> tables_;          // for the current scene
   KernelFeatures features_;
   bool have_scene_ = false;

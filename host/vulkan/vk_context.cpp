@@ -310,6 +310,7 @@ Context::~Context() {
     // A dispatch that timed out may still run: waiting for the device would hang, and
     // destroying it under a running kernel is undefined. Leave it to process exit.
     std::fprintf(stderr, "masq: vulkan: device '%s' left open (a dispatch did not finish)\n", props_.deviceName);
+    (void)shared_.release(); // its pipelines may be running
     command_pool_.release();
     device_.release();
     messenger_.release();

@@ -7,6 +7,7 @@
 #include "host/device_choice.h"
 #include "host/vulkan/vk_check.h"
 #include "host/vulkan/vk_owned.h"
+#include "host/vulkan/vk_shared_objects.h"
 #include <vulkan/vulkan.h>
 #include <cstdint>
 #include <atomic>
@@ -152,6 +153,9 @@ class Context {
   // uses (loaded from and saved to masq's cache directory).
   Staging& staging();
   VkPipelineCache pipeline_cache() const;
+  // The pipeline layouts and pipelines every backend on this context shares
+  // (host/vulkan/vk_shared_objects.h).
+  SharedObjects& shared() { return *shared_; }
   const PipelineCache& pipeline_cache_file() const { return *pipeline_cache_; }
 
   // MASQ_VK_VALIDATION=1: VK_LAYER_KHRONOS_validation is enabled with a debug messenger
@@ -202,6 +206,7 @@ class Context {
   std::mutex staging_mutex_;
   std::unique_ptr<PipelineCache> pipeline_cache_; // saved and destroyed before the device
   std::unique_ptr<Staging> staging_;              // destroyed before the device
+  std::unique_ptr<SharedObjects> shared_ = std::make_unique<SharedObjects>(); // destroyed first
 };
 
 } // namespace masq::vk

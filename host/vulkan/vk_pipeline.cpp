@@ -4,11 +4,16 @@
 #include <fmt/format.h>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <string>
 #include <utility>
 
 namespace masq::vk {
+
+namespace {
+const char kLayoutsMaker = 0; // SharedObjects key of KernelLayout's layouts
+} // namespace
 
 KernelLayout::KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, std::uint32_t push_constant_bytes,
                            VkShaderStageFlags stages)
@@ -25,20 +30,27 @@ KernelLayout::KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, st
     ++counts[types_[i]];
   }
   const VkDevice device = ctx_.device();
-  VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  dl.bindingCount = static_cast<std::uint32_t>(bindings.size());
-  dl.pBindings = bindings.data();
-  set_layout_ = {device, vkDestroyDescriptorSetLayout};
-  MASQ_VK_CHECK(vkCreateDescriptorSetLayout(device, &dl, nullptr, set_layout_.put()));
-  const VkDescriptorSetLayout set_layout = set_layout_.get();
-  VkPushConstantRange pcr{stages_, 0, push_bytes_};
-  VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  pl.setLayoutCount = 1;
-  pl.pSetLayouts = &set_layout;
-  pl.pushConstantRangeCount = push_bytes_ ? 1 : 0;
-  pl.pPushConstantRanges = &pcr;
-  pipeline_layout_ = {device, vkDestroyPipelineLayout};
-  MASQ_VK_CHECK(vkCreatePipelineLayout(device, &pl, nullptr, pipeline_layout_.put()));
+  SharedObjects::Key key{&kLayoutsMaker, {push_bytes_, stages_}};
+  key.values.insert(key.values.end(), types_.begin(), types_.end());
+  layouts_ = ctx_.shared().get<Layouts>(key, [&] {
+    auto made = std::make_shared<Layouts>();
+    VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dl.bindingCount = static_cast<std::uint32_t>(bindings.size());
+    dl.pBindings = bindings.data();
+    made->set_layout = {device, vkDestroyDescriptorSetLayout};
+    MASQ_VK_CHECK(vkCreateDescriptorSetLayout(device, &dl, nullptr, made->set_layout.put()));
+    const VkDescriptorSetLayout set_layout = made->set_layout.get();
+    VkPushConstantRange pcr{stages_, 0, push_bytes_};
+    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    pl.setLayoutCount = 1;
+    pl.pSetLayouts = &set_layout;
+    pl.pushConstantRangeCount = push_bytes_ ? 1 : 0;
+    pl.pPushConstantRanges = &pcr;
+    made->pipeline_layout = {device, vkDestroyPipelineLayout};
+    MASQ_VK_CHECK(vkCreatePipelineLayout(device, &pl, nullptr, made->pipeline_layout.put()));
+    return made;
+  });
+  const VkDescriptorSetLayout set_layout = layouts_->set_layout.get();
   std::vector<VkDescriptorPoolSize> sizes;
   for (auto [type, n] : counts) sizes.push_back({type, n});
   VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -59,6 +71,15 @@ KernelLayout::KernelLayout(Context& ctx, std::vector<VkDescriptorType> types, st
     queries_ = {device, vkDestroyQueryPool};
     MASQ_VK_CHECK(vkCreateQueryPool(device, &qp, nullptr, queries_.put()));
   }
+}
+
+SharedObjects::Key KernelLayout::pipeline_key(const void* maker, std::vector<std::uint32_t> values) const {
+  const VkPipelineLayout layout = pipeline_layout();
+  std::uint64_t handle = 0; // a pointer or a 64-bit integer, as the platform defines it
+  std::memcpy(&handle, &layout, sizeof layout);
+  values.push_back(static_cast<std::uint32_t>(handle));
+  values.push_back(static_cast<std::uint32_t>(handle >> 32));
+  return {maker, std::move(values)};
 }
 
 DeviceOwned<VkShaderModule> create_shader_module(Context& ctx, std::span<const std::uint32_t> spirv) {
@@ -88,7 +109,7 @@ DeviceOwned<VkPipeline> KernelLayout::create_pipeline(std::span<const std::uint3
   cpi.stage.module = module.get();
   cpi.stage.pName = "main";
   cpi.stage.pSpecializationInfo = values.empty() ? nullptr : &spec;
-  cpi.layout = pipeline_layout_.get();
+  cpi.layout = pipeline_layout();
   if (ctx_.pipeline_statistics()) cpi.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
   DeviceOwned<VkPipeline> pipeline(ctx_.device(), vkDestroyPipeline);
   VkResult r = vkCreateComputePipelines(ctx_.device(), ctx_.pipeline_cache(), 1, &cpi, nullptr, pipeline.put());
@@ -168,8 +189,8 @@ void KernelLayout::bind_acceleration_structure(std::uint32_t binding, VkAccelera
 double KernelLayout::dispatch(VkPipeline pipeline, const void* push_constants, std::uint32_t groups) {
   return run_timed([&](VkCommandBuffer cmd) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout_.get(), 0, 1, &set_, 0, nullptr);
-    if (push_bytes_) vkCmdPushConstants(cmd, pipeline_layout_.get(), stages_, 0, push_bytes_, push_constants);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout(), 0, 1, &set_, 0, nullptr);
+    if (push_bytes_) vkCmdPushConstants(cmd, pipeline_layout(), stages_, 0, push_bytes_, push_constants);
     if (groups > 0) vkCmdDispatch(cmd, groups, 1, 1);
     barrier_after_dispatch(cmd); // host/vulkan/vk_barriers.h
   });
@@ -196,13 +217,17 @@ double KernelLayout::run_timed(const std::function<void(VkCommandBuffer)>& recor
 const PipelineVariants::Variant& PipelineVariants::get(const std::vector<std::uint32_t>& spec,
                                                        const std::function<void(VkPipeline)>& warm_up) {
   auto it = cache_.find(spec);
-  if (it != cache_.end()) return it->second;
-  auto t0 = std::chrono::steady_clock::now();
-  Variant v;
-  v.pipeline = layout_.create_pipeline(spirv_, spec);
-  warm_up(v.pipeline.get());
-  v.compile_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return cache_.emplace(spec, std::move(v)).first->second;
+  if (it != cache_.end()) return *it->second;
+  const SharedObjects::Key key = layout_.pipeline_key(spirv_.data(), spec);
+  std::shared_ptr<const Variant> v = layout_.context().shared().get<Variant>(key, [&] {
+    auto t0 = std::chrono::steady_clock::now();
+    auto made = std::make_shared<Variant>();
+    made->pipeline = layout_.create_pipeline(spirv_, spec);
+    warm_up(made->pipeline.get());
+    made->compile_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return made;
+  });
+  return *cache_.emplace(spec, std::move(v)).first->second;
 }
 
 } // namespace masq::vk

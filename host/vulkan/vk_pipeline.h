@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -40,7 +41,12 @@ class KernelLayout {
   double run_timed(const std::function<void(VkCommandBuffer)>& record);
 
   VkDescriptorSet set() const { return set_; }
-  VkPipelineLayout pipeline_layout() const { return pipeline_layout_.get(); }
+  Context& context() const { return ctx_; }
+  // The key of a pipeline made with this layout in the context's SharedObjects: `maker`
+  // and `values` (the module and its constants) and the pipeline layout's handle, so
+  // that layouts of other bindings never share a pipeline.
+  SharedObjects::Key pipeline_key(const void* maker, std::vector<std::uint32_t> values) const;
+  VkPipelineLayout pipeline_layout() const { return layouts_->pipeline_layout.get(); }
   VkShaderStageFlags stages() const { return stages_; }
   std::uint32_t push_constant_bytes() const { return push_bytes_; }
 
@@ -53,17 +59,25 @@ class KernelLayout {
   std::vector<VkDescriptorType> types_;
   std::uint32_t push_bytes_ = 0;
   VkShaderStageFlags stages_ = VK_SHADER_STAGE_COMPUTE_BIT;
+  // The set layout and pipeline layout of these bindings, one pair per context (its
+  // SharedObjects) for every KernelLayout of the same bindings, push constants and
+  // stages: a pipeline made with one can then run with every other's descriptor set.
+  struct Layouts {
+    DeviceOwned<VkDescriptorSetLayout> set_layout;
+    DeviceOwned<VkPipelineLayout> pipeline_layout;
+  };
+  std::shared_ptr<const Layouts> layouts_;
   // In the order they are made: each goes before the one it was made with.
-  DeviceOwned<VkDescriptorSetLayout> set_layout_;
-  DeviceOwned<VkPipelineLayout> pipeline_layout_;
   DeviceOwned<VkDescriptorPool> pool_;
   VkDescriptorSet set_ = VK_NULL_HANDLE; // freed with pool_
   DeviceOwned<VkQueryPool> queries_;
 };
 
 // The pipelines of one shader, one per specialisation (value i -> constant id i), created on
-// first use and kept. compile_seconds covers creation plus the caller's warm-up
-// dispatch, because lavapipe compiles at the first dispatch.
+// first use and kept by the context (its SharedObjects), so that every backend object on
+// one device runs the same pipeline for the same variant. compile_seconds covers
+// creation plus the warm-up dispatch of the caller that made it, because lavapipe
+// compiles at the first dispatch; it is the variant's compile time, paid once per device.
 class PipelineVariants {
  public:
   struct Variant {
@@ -78,7 +92,7 @@ class PipelineVariants {
  private:
   KernelLayout& layout_;
   std::span<const std::uint32_t> spirv_;
-  std::map<std::vector<std::uint32_t>, Variant> cache_;
+  std::map<std::vector<std::uint32_t>, std::shared_ptr<const Variant>> cache_; // this object's look-ups
 };
 
 } // namespace masq::vk
