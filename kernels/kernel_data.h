@@ -67,6 +67,12 @@ LAYOUT_NS_BEGIN
 STRUCT_BEGIN(KernelData)
   MASQ_SCENE_ARRAYS(MASQ_KD_FIELD)
   MASQ_SCENE_ARRAY_VIEWS(MASQ_KD_VIEW_FIELD)
+#if defined(MASQ_LANG_CPP)
+  // Not scene data but the cpu's copy of it: each BLAS leaf's capsules in leaf order, at
+  // the index of their references (host/cpu/leaf_capsules.h). Outside the table, as no
+  // device kernel reads it and no backend but the cpu's builds it.
+  const Capsule* leaf_capsules;
+#endif
 STRUCT_END(KernelData)
 LAYOUT_NS_END
 #endif

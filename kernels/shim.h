@@ -141,8 +141,14 @@ float two_prod_err_(float a, float b, float p) {
 #define KD_PARAM
 #define KD_ARG
 // KD(name) is defined with the arrays in kernel_data.h (bound or addressed).
-#else
+#elif defined(MASQ_LANG_OPENCL)
 #define KD_PARAM const KernelData kd,
+#define KD_ARG kd,
+#define KD(name) kd.name
+#else
+// C++: by reference. By value, every call the compiler does not inline (traverse_blas,
+// once per instance a ray enters) copied the struct's 160 bytes onto the stack.
+#define KD_PARAM const KernelData& kd,
 #define KD_ARG kd,
 #define KD(name) kd.name
 #endif

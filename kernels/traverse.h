@@ -79,17 +79,13 @@ FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id
   // cpu: robust capsules four at a time (capsule_simd_cpp.h). A lane computed within
   // the leaf's starting interval gives the scalar call's answer whenever its crossing
   // lies within the nearest hit so far, and a miss of the scalar call otherwise, so
-  // taking the lanes in order as below is the loop's result, bit for bit.
+  // taking the lanes in order as below is the loop's result, bit for bit. The capsules
+  // come from the leaf-ordered copy (KernelData::leaf_capsules), the same values the
+  // references name; a reference is read only for a hit.
   if (MASQ_ROBUST && MASQ_HAVE_CAPSULES && g.type == MASQ_PRIM_CAPSULE) {
     for (int j0 = 0; j0 < count; j0 += 4) {
       int n = min(count - j0, 4);
-      Capsule caps[4];
-      int prims[4];
-      for (int j = 0; j < n; ++j) {
-        prims[j] = KD(refs)[first + j0 + j];
-        caps[j] = KD(capsules)[g.first + prims[j]];
-      }
-      simd::CapsuleHits4 c = simd::capsule_hits4(caps, n, po, pd, tmin, lo.nearest.t);
+      simd::CapsuleHits4 c = simd::capsule_hits4(KD(leaf_capsules) + first + j0, n, po, pd, tmin, lo.nearest.t);
       for (int j = 0; j < n; ++j) {
         if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
         if (c.hit[j] == 0 || !(c.t[j] <= lo.nearest.t)) continue;
@@ -99,7 +95,7 @@ FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id
         ph.normal = VEC3(c.nx[j], c.ny[j], c.nz[j]);
         ph.u = c.u[j];
         ph.v = 0.0f;
-        lo.nearest = nearest_take(lo.nearest, ph, prims[j], geom_id, inst_id);
+        lo.nearest = nearest_take(lo.nearest, ph, KD(refs)[first + j0 + j], geom_id, inst_id);
         if (MASQ_ANY_HIT) return lo;
       }
     }

@@ -138,9 +138,12 @@ TEST(CapsuleSimd, LeavesGiveTheLoopsNearestAndFirstHit) {
       // The leaf's references: a shuffled selection of the array, as a BVH leaf holds.
       std::vector<int> refs(static_cast<std::size_t>(n));
       for (int j = 0; j < n; ++j) refs[std::size_t(j)] = int(rng() % caps.size());
+      std::vector<Capsule> leaf(static_cast<std::size_t>(n)); // the cpu's leaf-ordered copy
+      for (int j = 0; j < n; ++j) leaf[std::size_t(j)] = caps[std::size_t(refs[std::size_t(j)])];
       KernelData kd{};
       kd.capsules = caps.data();
       kd.refs = refs.data();
+      kd.leaf_capsules = leaf.data();
       Geometry g{MASQ_PRIM_CAPSULE, 0, int(caps.size()), 0};
       Probe p = random_probe(rng, caps[std::size_t(refs[0])], 1.0f);
       k::Nearest start = k::nearest_none(p.tmax);

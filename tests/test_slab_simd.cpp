@@ -142,7 +142,7 @@ std::vector<uint> w8_words(const Slot* s) {
 }
 
 // An 8-wide format's cpu test against its loop on one node, plain and padded.
-typedef WideHits (*NodeTest)(KernelData, int, vec3, vec3, int, vec3, float, float);
+typedef WideHits (*NodeTest)(const KernelData&, int, vec3, vec3, int, vec3, float, float);
 void compare_eight_wide(NodeTest simd_test, NodeTest loop_test, const KernelData& kd, const TestRay& r,
                         const Slot* sl, Tally& plain, Tally& padded, const std::string& name) {
   compare(simd_test(kd, 0, r.o, r.inv_d, 0, r.pad, r.tmin, r.tmax),

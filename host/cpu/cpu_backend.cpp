@@ -1,6 +1,7 @@
 #include "host/cpu/cpu_backend.h"
 #include "cpu/trace_units.h"
 #include "host/cpu/cpu_units.h"
+#include "host/cpu/leaf_capsules.h"
 #include "host/cpu/trace_threads.h"
 #include "host/device_fill.h"
 #include "host/scene_arrays.h"
@@ -32,7 +33,9 @@ class CpuBackend final : public Backend {
   void set_scene(const PackedScene& scene) override {
     auto start = std::chrono::steady_clock::now();
     scene_ = scene; // own a copy: the caller's scene may go away
+    leaf_capsules_ = leaf_capsules(scene_);
     kd_ = kernel_data(scene_array_data(scene_));
+    kd_.leaf_capsules = leaf_capsules_.data();
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     has_scene_ = true;
   }
@@ -59,7 +62,9 @@ class CpuBackend final : public Backend {
   }
 
   TraceTiming timing() const override { return timing_; }
-  std::size_t device_bytes() const override { return scene_.acceleration_bytes() + scene_.primitive_bytes(); }
+  std::size_t device_bytes() const override {
+    return scene_.acceleration_bytes() + scene_.primitive_bytes() + leaf_capsules_.size() * sizeof(kernel::Capsule);
+  }
   // Each thread takes kChunk rays at a time (trace above).
   std::size_t fill_rays() const override { return fill_rays_for(std::size_t(threads_.count()) * kChunk); }
 
@@ -67,6 +72,7 @@ class CpuBackend final : public Backend {
   static constexpr int kChunk = 256; // small chunks, handed out as threads free up, balance uneven rays
   cpu::TraceThreads threads_{thread_count()};
   PackedScene scene_;
+  std::vector<kernel::Capsule> leaf_capsules_; // kd_.leaf_capsules
   kernel::KernelData kd_{};
   bool has_scene_ = false;
   TraceTiming timing_;
