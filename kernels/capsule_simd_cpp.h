@@ -39,7 +39,7 @@ inline F4 vdot(F4 ax, F4 ay, F4 az, F4 bx, F4 by, F4 bz) { return (ax * bx + ay 
 inline F4 splat(float x) { return x - F4{}; }
 
 // Capsules c[0..n-1] (n in 1..4) against the ray (o, d) within [tmin, tmax].
-inline CapsuleHits4 capsule_hits4(const Capsule* c, int n, glm::vec3 o, glm::vec3 d, float tmin, float tmax) {
+FN_INLINED CapsuleHits4 capsule_hits4(const Capsule* c, int n, glm::vec3 o, glm::vec3 d, float tmin, float tmax) {
   CapsuleHits4 out;
   F4 ax, ay, az, bx, by, bz, r;
   for (int i = 0; i < 4; ++i) {

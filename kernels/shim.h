@@ -15,6 +15,11 @@
 #include <limits>
 #define MASQ_LANG_CPP 1
 #define FN inline
+// A function the C++ build inlines into every caller. GCC's own choice kept
+// traverse_blas out of line, and its call then spilled the ray and the nearest hit to
+// the stack as parts and read them back whole, a store-forwarding stall per call: inlined,
+// the bear's ref rays traced 1.21x (primary) and 1.11x (shadow) as fast on cpu.
+#define FN_INLINED inline __attribute__((always_inline))
 #define STRUCT_BEGIN(N) struct N {
 #define STRUCT_END(N) };
 #define VEC3(x, y, z) vec3((x), (y), (z))
@@ -58,6 +63,7 @@ inline float i2f_(int i) { return float(i); }
 #pragma OPENCL FP_CONTRACT OFF
 #define MASQ_LANG_OPENCL 1
 #define FN inline
+#define FN_INLINED inline
 #define STRUCT_BEGIN(N) typedef struct N {
 #define STRUCT_END(N) } N;
 #define VEC3(x, y, z) ((float3)((x), (y), (z)))
@@ -81,6 +87,7 @@ typedef float3 vec3;
 // ---------------------------------------------------------------- GLSL 4.60 (Vulkan)
 #define MASQ_LANG_GLSL 1
 #define FN
+#define FN_INLINED
 #define STRUCT_BEGIN(N) struct N {
 #define STRUCT_END(N) };
 #define VEC3(x, y, z) vec3((x), (y), (z))

@@ -123,8 +123,9 @@ FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id
 // it, or a push onto a full stack, stops with res.fault set (MASQ_STEP_CHECK).
 // The loops hold no return: an early exit sets `done` and breaks, since a compiler merges
 // returns from inside loops through a value left undefined on the other paths.
-FN BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, vec3 d, int padded, vec3 pad,
-                         vec3 po, vec3 pd, float tmin, float root_tbound, Nearest nearest, int budget) {
+FN_INLINED BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, vec3 o, vec3 d, int padded,
+                                 vec3 pad, vec3 po, vec3 pd, float tmin, float root_tbound, Nearest nearest,
+                                 int budget) {
   const bool tbounds = MASQ_NODE_FORMAT == MASQ_NODES_O4;
   BlasOut res;
   res.nearest = nearest;
