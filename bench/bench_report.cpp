@@ -175,8 +175,8 @@ Table bench_table(const std::vector<BenchRow>& rows) {
              "accel MiB / B/prim: masq's own two-level BVH (nodes, refs, instances, compact masquerade entries and "
              "their owners, frames); dev MiB: what the backend "
              "holds on the device (rayquery, rtpipeline: the driver's acceleration structures, BLAS compacted, plus primitives); build "
-             "ms: host build + upload/driver build; compile ms: kernel/pipeline compile on first use of the variant (0: "
-             "cached)"};
+             "ms: host build + upload/driver build; compile ms: the variant's kernel/pipeline compile on its first use (Vulkan "
+             "backends: once per device), shown in every row that runs it (cpu: 0, compiled in)"};
   for (const std::string& n : unfilled) t.notes.push_back(n);
   for (std::size_t k = 0; k < why.size(); ++k) t.notes.push_back(fmt::format("[{}] {}", k + 1, why[k]));
   // Each row's device, once per backend (docs/devices.md: the chosen device, never assumed).
