@@ -204,6 +204,11 @@ STRUCT_BEGIN(Triangle)
   float pad[3];
 STRUCT_END(Triangle)
 
+// The primitive type whose BLAS leaves the cpu tests four at a time from its own
+// leaf-ordered copy (kernels/traverse.h's intersect_leaf, host/cpu/leaf_capsules.h): one
+// name for the kernel's test and the host's copy, which must agree.
+#define MASQ_CPU_LEAF_COPY_TYPE MASQ_PRIM_CAPSULE
+
 // Constant-radius linear segment with spherical caps.
 STRUCT_BEGIN(Capsule)
   float a[3];

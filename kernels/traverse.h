@@ -82,7 +82,7 @@ FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id
   // taking the lanes in order as below is the loop's result, bit for bit. The capsules
   // come from the leaf-ordered copy (KernelData::leaf_capsules), the same values the
   // references name; a reference is read only for a hit.
-  if (MASQ_ROBUST && MASQ_HAVE_CAPSULES && g.type == MASQ_PRIM_CAPSULE) {
+  if (MASQ_ROBUST && MASQ_HAVE_CAPSULES && g.type == MASQ_CPU_LEAF_COPY_TYPE) {
     for (int j0 = 0; j0 < count; j0 += 4) {
       int n = min(count - j0, 4);
       simd::CapsuleHits4 c = simd::capsule_hits4(KD(leaf_capsules) + first + j0, n, po, pd, tmin, lo.nearest.t);

@@ -1,20 +1,37 @@
 #include "host/cpu/leaf_capsules.h"
 #include "bvh/nodes/wide_bvh.h"
-#include <set>
+#include <vector>
 
 namespace masq {
 
 namespace {
 
-// Every leaf slot under `node`, in walk order.
-void leaf_slots(const PackedScene& ps, std::int32_t node, std::vector<std::int32_t>& out) {
-  for (const NodeSlot& s : node_slots(ps, node)) {
-    if (s.count < 0) continue;
-    if (s.count == 0) {
-      leaf_slots(ps, s.child, out);
-      continue;
+// Copies the capsules of every leaf under `root` (a BLAS of geometry g). The walk visits
+// each node once and skips what points outside the arrays, so that a corrupt structure
+// (a cycle, a stray index) reaches the kernels' step budget and fault report
+// (host/trace_faults.h) rather than ending here.
+void copy_leaves(const PackedScene& ps, std::int32_t root, const kernel::Geometry& g, std::vector<bool>& seen,
+                 std::vector<kernel::Capsule>& out) {
+  const std::size_t nodes = ps.node_count();
+  std::vector<std::int32_t> todo{root};
+  while (!todo.empty()) {
+    const std::int32_t node = todo.back();
+    todo.pop_back();
+    if (node < 0 || std::size_t(node) >= nodes || seen[std::size_t(node)]) continue;
+    seen[std::size_t(node)] = true;
+    for (const NodeSlot& s : node_slots(ps, node)) {
+      if (s.count < 0) continue;
+      if (s.count == 0) {
+        todo.push_back(s.child);
+        continue;
+      }
+      for (std::int32_t j = 0; j < s.count; ++j) {
+        const std::int64_t slot = std::int64_t(s.child) + j;
+        if (slot < 0 || std::size_t(slot) >= ps.refs.size()) break;
+        const std::int64_t prim = std::int64_t(g.first) + ps.refs[std::size_t(slot)];
+        if (prim >= 0 && std::size_t(prim) < ps.capsules.size()) out[std::size_t(slot)] = ps.capsules[std::size_t(prim)];
+      }
     }
-    for (std::int32_t j = 0; j < s.count; ++j) out.push_back(s.child + j);
   }
 }
 
@@ -22,20 +39,14 @@ void leaf_slots(const PackedScene& ps, std::int32_t node, std::vector<std::int32
 
 std::vector<kernel::Capsule> leaf_capsules(const PackedScene& ps) {
   std::vector<kernel::Capsule> out;
-  if (ps.capsules.empty()) return out;
-  std::set<std::int32_t> done; // BLAS roots copied (instances of one geometry share theirs)
-  std::vector<std::int32_t> slots;
+  std::vector<bool> seen(ps.node_count(), false); // nodes walked (instances of one geometry share a BLAS)
   for (const kernel::Instance& inst : ps.instances) {
-    if (inst.blas_root < 0 || !done.insert(inst.blas_root).second) continue;
+    if (inst.blas_root < 0 || inst.geom < 0 || std::size_t(inst.geom) >= ps.geoms.size()) continue;
     const kernel::Geometry& g = ps.geoms[std::size_t(inst.geom)];
-    if (g.type != MASQ_PRIM_CAPSULE) continue;
-    slots.clear();
-    leaf_slots(ps, inst.blas_root, slots);
-    for (std::int32_t slot : slots) {
-      // Sized to the last capsule slot: the masquerade's TLAS references need none.
-      if (std::size_t(slot) >= out.size()) out.resize(std::size_t(slot) + 1);
-      out[std::size_t(slot)] = ps.capsules[std::size_t(g.first + ps.refs[std::size_t(slot)])];
-    }
+    if (g.type != MASQ_CPU_LEAF_COPY_TYPE) continue;
+    // As long as the references: every slot a leaf can name is then inside the copy.
+    if (out.empty()) out.resize(ps.refs.size());
+    copy_leaves(ps, inst.blas_root, g, seen, out);
   }
   return out;
 }
