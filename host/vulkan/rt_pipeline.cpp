@@ -60,8 +60,10 @@ RtPipeline::RtPipeline(Context& ctx, KernelLayout& layout, const KernelVariant& 
     : ctx_(ctx), pipeline_(ctx.device(), vkDestroyPipeline) {
   const RtModules m = rt_modules(addressed);
   std::vector<DeviceOwned<VkShaderModule>> modules; // destroyed once the pipeline is made
-  auto module = [&](std::span<const std::uint32_t> spirv) {
-    modules.push_back(create_shader_module(ctx_, spirv));
+  // A module per stage and specialization: frozen on the host, each intersection
+  // stage's module holds its own type's code only.
+  auto module = [&](std::span<const std::uint32_t> spirv, const Specialization& spec) {
+    modules.push_back(create_shader_module(ctx_, spirv, spec.values));
     return modules.back().get();
   };
   // The variant's constants for every stage; each intersection stage its own copy with
@@ -88,17 +90,17 @@ RtPipeline::RtPipeline(Context& ctx, KernelLayout& layout, const KernelVariant& 
   };
   groups.reserve(kFirstHitGroup + std::size(kHitGroups));
   group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR)->generalShader =
-      stage(VK_SHADER_STAGE_RAYGEN_BIT_KHR, module(m.raygen), &common.info);
+      stage(VK_SHADER_STAGE_RAYGEN_BIT_KHR, module(m.raygen, common), &common.info);
   group(VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR)->generalShader =
-      stage(VK_SHADER_STAGE_MISS_BIT_KHR, module(m.miss), &common.info);
-  const VkShaderModule closest = module(m.closest), intersection = module(m.intersection);
-  const std::uint32_t closest_stage = stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, closest, &common.info);
+      stage(VK_SHADER_STAGE_MISS_BIT_KHR, module(m.miss, common), &common.info);
+  const std::uint32_t closest_stage =
+      stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, module(m.closest, common), &common.info);
   for (const HitGroupRow& row : kHitGroups) {
     if (scene_prim_row_of_kernel_type(row.prim_type).mesh) { // the driver intersects triangles itself
       VkRayTracingShaderGroupCreateInfoKHR* g = group(VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR);
       g->closestHitShader =
-          stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, module(m.triangle_closest), &common.info);
-      g->anyHitShader = stage(VK_SHADER_STAGE_ANY_HIT_BIT_KHR, module(m.triangle_any), &common.info);
+          stage(VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, module(m.triangle_closest, common), &common.info);
+      g->anyHitShader = stage(VK_SHADER_STAGE_ANY_HIT_BIT_KHR, module(m.triangle_any, common), &common.info);
       continue;
     }
     KernelVariant only = v;
@@ -106,7 +108,8 @@ RtPipeline::RtPipeline(Context& ctx, KernelLayout& layout, const KernelVariant& 
       if (other.prim_type != row.prim_type) only.*other.have = 0;
     per_type.push_back(std::make_unique<Specialization>(spec_constants(only, 1)));
     VkRayTracingShaderGroupCreateInfoKHR* g = group(VK_RAY_TRACING_SHADER_GROUP_TYPE_PROCEDURAL_HIT_GROUP_KHR);
-    g->intersectionShader = stage(VK_SHADER_STAGE_INTERSECTION_BIT_KHR, intersection, &per_type.back()->info);
+    g->intersectionShader = stage(VK_SHADER_STAGE_INTERSECTION_BIT_KHR, module(m.intersection, *per_type.back()),
+                                  &per_type.back()->info);
     g->closestHitShader = closest_stage;
   }
   VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};

@@ -1,5 +1,6 @@
 #include "host/vulkan/vk_pipeline.h"
 #include "host/vulkan/vk_shader_limits.h"
+#include "host/vulkan/spirv_specialize.h"
 #include "host/vulkan/vk_barriers.h"
 #include <fmt/format.h>
 #include <chrono>
@@ -79,11 +80,15 @@ SharedObjects::Key KernelLayout::pipeline_key(const void* maker, std::vector<std
   std::memcpy(&handle, &layout, sizeof layout);
   values.push_back(static_cast<std::uint32_t>(handle));
   values.push_back(static_cast<std::uint32_t>(handle >> 32));
+  values.push_back(specialize_on_host() ? 1u : 0u);
   return {maker, std::move(values)};
 }
 
-DeviceOwned<VkShaderModule> create_shader_module(Context& ctx, std::span<const std::uint32_t> spirv) {
-  const std::vector<std::uint32_t> code = device_spirv(ctx, spirv); // float controls (vk_shader_limits.h)
+DeviceOwned<VkShaderModule> create_shader_module(Context& ctx, std::span<const std::uint32_t> spirv,
+                                                 std::span<const std::uint32_t> values) {
+  const std::vector<std::uint32_t> code = specialize_on_host() && !values.empty()
+                                              ? device_spirv(ctx, with_constants_frozen(spirv, values))
+                                              : device_spirv(ctx, spirv); // float controls (vk_shader_limits.h)
   VkShaderModuleCreateInfo smi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   smi.codeSize = code.size() * sizeof(std::uint32_t);
   smi.pCode = code.data();
@@ -94,7 +99,7 @@ DeviceOwned<VkShaderModule> create_shader_module(Context& ctx, std::span<const s
 
 DeviceOwned<VkPipeline> KernelLayout::create_pipeline(std::span<const std::uint32_t> spirv,
                                                       std::span<const std::uint32_t> values) {
-  DeviceOwned<VkShaderModule> module = create_shader_module(ctx_, spirv);
+  DeviceOwned<VkShaderModule> module = create_shader_module(ctx_, spirv, values);
   std::vector<VkSpecializationMapEntry> entries;
   for (std::uint32_t i = 0; i < values.size(); ++i)
     entries.push_back({i, static_cast<std::uint32_t>(i * sizeof(std::uint32_t)), sizeof(std::uint32_t)});

@@ -13,9 +13,13 @@
 
 namespace masq::vk {
 
-// A shader module of `spirv` as the device gets it (device_spirv: float controls,
-// host/vulkan/vk_shader_limits.h).
-DeviceOwned<VkShaderModule> create_shader_module(Context& ctx, std::span<const std::uint32_t> spirv);
+// A shader module of `spirv` as the device gets it: its specialization constants frozen
+// at `values` (values[i] to constant_id i; host/vulkan/spirv_specialize.h) unless
+// MASQ_VK_SPECIALIZE=driver, then float controls (device_spirv,
+// host/vulkan/vk_shader_limits.h). The pipeline still passes `values` as its
+// VkSpecializationInfo: an id the frozen module no longer has is ignored.
+DeviceOwned<VkShaderModule> create_shader_module(Context& ctx, std::span<const std::uint32_t> spirv,
+                                                 std::span<const std::uint32_t> values);
 
 class KernelLayout {
  public:
@@ -43,8 +47,9 @@ class KernelLayout {
   VkDescriptorSet set() const { return set_; }
   Context& context() const { return ctx_; }
   // The key of a pipeline made with this layout in the context's SharedObjects: `maker`
-  // and `values` (the module and its constants) and the pipeline layout's handle, so
-  // that layouts of other bindings never share a pipeline.
+  // and `values` (the module and its constants), the pipeline layout's handle, so
+  // that layouts of other bindings never share a pipeline, and who applies the constants
+  // (MASQ_VK_SPECIALIZE, read at each use: a knob set between scenes gets its own pipelines).
   SharedObjects::Key pipeline_key(const void* maker, std::vector<std::uint32_t> values) const;
   VkPipelineLayout pipeline_layout() const { return layouts_->pipeline_layout.get(); }
   VkShaderStageFlags stages() const { return stages_; }

@@ -33,6 +33,7 @@ enum class Knob {
   ClDevice,
   VkAddressing,
   VkFloatControls,
+  VkSpecialize,
   VkLocalSize,
   VkValidation,
   VkPipelineStats,
@@ -122,6 +123,11 @@ inline constexpr KnobRow knob_rows[] = {
      "on: the Vulkan kernels' SPIR-V gets NoContraction, and SignedZeroInfNanPreserve where the device "
      "supports it; off: the SPIR-V as compiled",
      "host/vulkan/vk_shader_limits.cpp"},
+    {Knob::VkSpecialize, "MASQ_VK_SPECIALIZE", KnobType::Choice, "host|driver", 0, 0, "host",
+     "host: masq applies a Vulkan pipeline's specialization constants to its SPIR-V and drops the code they "
+     "disable before the driver compiles it; driver: the SPIR-V as compiled, with the constants passed to the driver "
+     "(read when a backend first makes a variant's pipeline)",
+     "host/vulkan/spirv_specialize.cpp"},
     {Knob::VkLocalSize, "MASQ_VK_LOCAL_SIZE", KnobType::Integer, nullptr, 1, 1024, "64, fitted to the device's subgroup and limits",
      "The work-group size of the Vulkan kernels (over the device's limits: an error); read once per process", "host/vulkan/vk_shader_limits.cpp"},
     {Knob::VkValidation, "MASQ_VK_VALIDATION", KnobType::Choice, "0|1|sync", 0, 0, "0",
