@@ -265,9 +265,13 @@ TEST(EmbreePeer, StreamApiAnswersAsPerRayCalls) {
       ASSERT_EQ(one[i].prim, many[i].prim) << "ray " << i << " coherent " << coherent;
       ASSERT_EQ(one[i].geom, many[i].geom) << "ray " << i;
       ASSERT_EQ(one[i].inst, many[i].inst) << "ray " << i;
-      if (one[i].prim >= 0) EXPECT_NEAR(one[i].t, many[i].t, 1e-5f * one[i].t) << "ray " << i;
+      if (one[i].prim >= 0) {
+        EXPECT_NEAR(one[i].t, many[i].t, 1e-5f * one[i].t) << "ray " << i;
+      }
       ASSERT_EQ(occ_one[i], occ_many[i]) << "ray " << i;
-      if (i % 97 == 0) EXPECT_EQ(many[i].prim, -1) << "invalid ray " << i;
+      if (i % 97 == 0) {
+        EXPECT_EQ(many[i].prim, -1) << "invalid ray " << i;
+      }
       hits += one[i].prim >= 0;
     }
   }

@@ -39,8 +39,12 @@ TEST(Knobs, RowsAreWellFormed) {
     EXPECT_NE(std::string(row.meaning).back(), '.') << "the table adds the period";
     const bool choice = row.type == KnobType::Choice || row.type == KnobType::Flag;
     EXPECT_EQ(row.choices != nullptr, choice);
-    if (row.type == KnobType::Flag) EXPECT_STREQ(row.choices, "0|1");
-    if (row.type == KnobType::Integer) EXPECT_LE(row.min, row.max);
+    if (row.type == KnobType::Flag) {
+      EXPECT_STREQ(row.choices, "0|1");
+    }
+    if (row.type == KnobType::Integer) {
+      EXPECT_LE(row.min, row.max);
+    }
     if (choice) {
       // Unset, a choice knob reads as its default, which must be one of its choices.
       ScopedEnv unset(row.name, "");

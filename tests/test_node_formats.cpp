@@ -253,7 +253,9 @@ TEST_P(EveryFormat, EveryPrimitiveOnceInsideItsBoxes) {
   // the BLAS is appended first, its root at 0
   check_blas(ps, 0, hulls.size(), [&](int p, const glm::dvec3& d) { return hulls[std::size_t(p)].support(d); });
   // o4 must rotate some nodes of long thin capsules, or the format is not exercised.
-  if (GetParam() == NodeFormat::O4) EXPECT_GT(ps.stats.oriented_nodes, ps.stats.blas_nodes / 20);
+  if (GetParam() == NodeFormat::O4) {
+    EXPECT_GT(ps.stats.oriented_nodes, ps.stats.blas_nodes / 20);
+  }
 }
 
 // The deepest stack the kernels' discipline reaches on this tree (all inner children

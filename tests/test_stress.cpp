@@ -73,7 +73,9 @@ TEST_P(Stress, QuickSuiteOnEveryBackend) {
     if (c.spec.type == PrimType::Capsule && c.backend == "cpu" && c.spec.sweep == "distance")
       (c.mode == Mode::Fast ? fast_bad : robust_bad) += c.m.disagree;
   }
-  if (GetParam().type == PrimType::Capsule) EXPECT_GT(fast_bad, 10 * robust_bad + 10);
+  if (GetParam().type == PrimType::Capsule) {
+    EXPECT_GT(fast_bad, 10 * robust_bad + 10);
+  }
 }
 
 TEST(StressParts, TogetherTheyAreTheWholeQuickSuite) {
