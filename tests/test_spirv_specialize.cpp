@@ -22,12 +22,11 @@
 #include "spirv/trace_comp_addr_spv.h"
 #include "spirv/trace_comp_sized_spv.h"
 #include "spirv/trace_comp_spv.h"
+#include "tests/random_rays.h"
 #include "tests/test_env.h"
 #include <gtest/gtest.h>
 #include <spirv-tools/libspirv.hpp>
-#include <bit>
 #include <cstring>
-#include <random>
 #include <set>
 
 using namespace masq;
@@ -163,34 +162,19 @@ Scene every_type_scene() {
   return s;
 }
 
-std::vector<kernel::Ray> rays_across(int n, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<kernel::Ray> rays(static_cast<std::size_t>(n));
-  for (kernel::Ray& r : rays) {
-    const glm::vec3 from(u(rng) * 2.0f, u(rng) * 1.5f, -3.0f), to(u(rng) * 1.6f, u(rng) * 1.1f, u(rng) * 0.3f);
-    const glm::vec3 d = glm::normalize(to - from);
-    r = kernel::Ray{{from.x, from.y, from.z}, 0.0f, {d.x, d.y, d.z}, 1e30f};
-  }
-  return rays;
-}
-
-bool same_hits(const std::vector<kernel::Hit>& a, const std::vector<kernel::Hit>& b, std::string* first) {
+// The first ray whose hit differs in any bit (every field: t, ids, normal, u, v, fault),
+// or "".
+std::string first_difference(const std::vector<kernel::Hit>& a, const std::vector<kernel::Hit>& b) {
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (a[i].prim != b[i].prim || a[i].geom != b[i].geom || a[i].inst != b[i].inst ||
-        std::bit_cast<std::uint32_t>(a[i].t) != std::bit_cast<std::uint32_t>(b[i].t) ||
-        std::bit_cast<std::uint32_t>(a[i].u) != std::bit_cast<std::uint32_t>(b[i].u) ||
-        std::bit_cast<std::uint32_t>(a[i].v) != std::bit_cast<std::uint32_t>(b[i].v)) {
-      *first = "ray " + std::to_string(i) + ": prim " + std::to_string(a[i].prim) + " t " + std::to_string(a[i].t) +
-               " vs prim " + std::to_string(b[i].prim) + " t " + std::to_string(b[i].t);
-      return false;
-    }
-  return true;
+    if (std::memcmp(&a[i], &b[i], sizeof(kernel::Hit)) != 0)
+      return "ray " + std::to_string(i) + ": prim " + std::to_string(a[i].prim) + " t " + std::to_string(a[i].t) +
+             " vs prim " + std::to_string(b[i].prim) + " t " + std::to_string(b[i].t);
+  return "";
 }
 
 TEST(SpirvSpecialize, HostAndDriverSpecializationTraceTheSameBits) {
   const Scene s = every_type_scene();
-  const std::vector<kernel::Ray> rays = rays_across(3000, 5);
+  const std::vector<kernel::Ray> rays = test::random_rays(5, 3000);
   for (const char* name : {"vulkan", "rayquery", "rtpipeline"}) {
     for (Method m : {Method::Ref, Method::Masq}) {
       const PackedScene ps = build_accel(s, m);
@@ -210,8 +194,7 @@ TEST(SpirvSpecialize, HostAndDriverSpecializationTraceTheSameBits) {
       }
       SCOPED_TRACE(std::string(name) + " " + method_name(m));
       EXPECT_GT(hit_count, int(rays.size() / 10)) << "too few hits to compare";
-      std::string first;
-      EXPECT_TRUE(same_hits(hits[0], hits[1], &first)) << first;
+      EXPECT_EQ(first_difference(hits[0], hits[1]), "");
       for (std::size_t i = 0; i < stats[0].size(); ++i)
         if (std::memcmp(&stats[0][i], &stats[1][i], sizeof(kernel::RayStats)) != 0) {
           ADD_FAILURE() << "ray " << i << ": the counters differ";

@@ -49,7 +49,7 @@ class KernelLayout {
   // The key of a pipeline made with this layout in the context's SharedObjects: `maker`
   // and `values` (the module and its constants), the pipeline layout's handle, so
   // that layouts of other bindings never share a pipeline, and who applies the constants
-  // (MASQ_VK_SPECIALIZE, read at each use: a knob set between scenes gets its own pipelines).
+  // (MASQ_VK_SPECIALIZE: backend objects made after the knob changes get their own pipelines).
   SharedObjects::Key pipeline_key(const void* maker, std::vector<std::uint32_t> values) const;
   VkPipelineLayout pipeline_layout() const { return layouts_->pipeline_layout.get(); }
   VkShaderStageFlags stages() const { return stages_; }
