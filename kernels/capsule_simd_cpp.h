@@ -58,27 +58,44 @@ FN_INLINED CapsuleHits4 capsule_hits4(const Capsule* c, int n, glm::vec3 o, glm:
   F4 bax = bx - ax, bay = by - ay, baz = bz - az;
   F4 len = vsqrt(vdot(bax, bay, baz, bax, bay, baz));
   F4 h = 0.5f * len;
-  I4 long_axis = len > 0.0f;
-  F4 wx = long_axis ? bax / len : splat(0.0f);
-  F4 wy = long_axis ? bay / len : splat(0.0f);
-  F4 wz = long_axis ? baz / len : splat(1.0f);
   F4 ocx = (o.x - ax) - 0.5f * bax, ocy = (o.y - ay) - 0.5f * bay, ocz = (o.z - az) - 0.5f * baz;
-  F4 self = (MASQ_SELF_REL * r + 32.0f * MASQ_U * (vsqrt(vdot(ocx, ocy, ocz, ocx, ocy, ocz)) + len)) / std::sqrt(dd);
-  F4 tlo = vmax(splat(tmin), self);
   F4 ts = -vdot(ocx, ocy, ocz, splat(d.x), splat(d.y), splat(d.z)) / dd;
   F4 px = ocx + ts * d.x, py = ocy + ts * d.y, pz = ocz + ts * d.z;
-  // Most leaves are crossed without a hit. Every crossing lies within h + r of
-  // the centre, and p is the line's closest point to it up to the rounding of ts and p
-  // (bounded by the 64u term): when every lane's line passes farther, even with 1% to
-  // spare, every scalar call misses too, and the rest is skipped. Otherwise all lanes
-  // run in full, so the lanes stay bit-identical to the scalar calls.
+  // Most leaves are crossed without a hit, so two conservative tests come first; when
+  // they clear every lane, every scalar call misses too and the rest is skipped.
+  // Otherwise all lanes run in full, so the lanes stay bit-identical to the scalar calls.
+  // Sphere: every crossing lies within h + r of the centre, and p is the line's closest
+  // point to it up to the rounding of ts and p (bounded by the 64u term): a line that
+  // passes farther, even with 1% to spare, misses.
   float d1 = std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z);
-  F4 reach = (h + r) * 1.01f + 64.0f * MASQ_U * ((vabs(ocx) + vabs(ocy)) + vabs(ocz) + vabs(ts) * d1);
+  F4 oc1 = (vabs(ocx) + vabs(ocy)) + vabs(ocz);
+  F4 rounding = 64.0f * MASQ_U * (oc1 + vabs(ts) * d1);
+  F4 reach = (h + r) * 1.01f + rounding;
   I4 near = ok & (vdot(px, py, pz, px, py, pz) <= reach * reach);
+  // Axis line: every crossing also lies within r of the capsule's axis line, so within r
+  // of it along n = d x (b - a), the normal of both lines: |oc.n| <= r |n|. With the
+  // scalar call's own rounding in R (as in the sphere's reach, plus the axis length), and
+  // K bounding the rest: the rounding of n (|e| <= 6u |d| len, which tilts n off both
+  // lines by up to |e| over the crossing's distances from o and the centre, at most
+  // |oc| + len + R), of oc (2u (|oc| + 2 len)) and of the dot product (3u |oc| |n|), all
+  // within 64u |d| len (|oc|_1 + len + R). A ray along the axis (n about 0) never passes
+  // this test's miss, nor a zero-length capsule (n = 0), nor any NaN.
+  F4 lnx = d.y * baz - d.z * bay, lny = d.z * bax - d.x * baz, lnz = d.x * bay - d.y * bax;
+  F4 R = r * 1.01f + rounding + 64.0f * MASQ_U * len;
+  F4 K = (64.0f * MASQ_U * std::sqrt(dd)) * len * (oc1 + len + R);
+  F4 gap = vabs(vdot(ocx, ocy, ocz, lnx, lny, lnz)) - K;
+  I4 off_axis = (gap > 0.0f) & (gap * gap > (R * R) * vdot(lnx, lny, lnz, lnx, lny, lnz) * 1.01f);
+  near = near & ~off_axis;
   if ((near[0] | near[1] | near[2] | near[3]) == 0) {
     for (int i = 0; i < 4; ++i) out.hit[i] = 0;
     return out;
   }
+  I4 long_axis = len > 0.0f;
+  F4 wx = long_axis ? bax / len : splat(0.0f);
+  F4 wy = long_axis ? bay / len : splat(0.0f);
+  F4 wz = long_axis ? baz / len : splat(1.0f);
+  F4 self = (MASQ_SELF_REL * r + 32.0f * MASQ_U * (vsqrt(vdot(ocx, ocy, ocz, ocx, ocy, ocz)) + len)) / std::sqrt(dd);
+  F4 tlo = vmax(splat(tmin), self);
   // From here every lane performs intersect_capsule's operations in its order.
   F4 oax = o.x - ax, oay = o.y - ay, oaz = o.z - az;
   F4 obx = o.x - bx, oby = o.y - by, obz = o.z - bz;

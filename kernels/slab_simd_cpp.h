@@ -106,12 +106,34 @@ struct SlotMasks {
   unsigned leaves;
   unsigned inner;
 };
+// One bit per lane: the lane's sign bit, i.e. set where a vector comparison is true.
+inline unsigned lane_bits(I4 m) {
+#if defined(__SSE__)
+  return unsigned(__builtin_ia32_movmskps(std::bit_cast<F4>(m)));
+#else
+  unsigned b = 0u;
+  for (int i = 0; i < 4; ++i) b |= unsigned(m[i] != 0) << i;
+  return b;
+#endif
+}
+// Read straight from the vectors the node test has just stored (one compare and one
+// movemask per group of four slots: the scalar loop over the slots cost about a tenth of
+// a BVH walk's time, perf on the bear's shadow rays).
+// The slots whose entry distance is not +inf (those the node test hit).
+inline unsigned hit_slots(const float* tnear, int width) {
+  const F4 inf = std::numeric_limits<float>::infinity() - F4{};
+  unsigned m = 0u;
+  for (int g = 0; g < width; g += 4) m |= lane_bits(load<F4>(tnear + g) != inf) << g;
+  return m;
+}
 inline SlotMasks slot_masks(const float* tnear, const int* count, int width) {
+  const F4 inf = std::numeric_limits<float>::infinity() - F4{};
   SlotMasks m{0u, 0u};
-  for (int i = 0; i < width; ++i) {
-    unsigned hit = tnear[i] != std::numeric_limits<float>::infinity() ? 1u : 0u;
-    m.leaves |= (hit & unsigned(count[i] > 0)) << i;
-    m.inner |= (hit & unsigned(count[i] == 0)) << i;
+  for (int g = 0; g < width; g += 4) {
+    I4 hit = load<F4>(tnear + g) != inf;
+    I4 c = load<I4>(count + g);
+    m.leaves |= lane_bits(hit & (c > 0)) << g;
+    m.inner |= lane_bits(hit & (c == 0)) << g;
   }
   return m;
 }

@@ -290,7 +290,9 @@ FN Hit hit_fault(KD_PARAM float tmax, int fault, int node, int depth) {
 }
 
 // budget: TraceParams::step_budget, for the TLAS walk and each BLAS walk alike.
-FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
+// Inlined into the cpu unit's loop over its rays: returned from a call, the hit was
+// stored in small pieces and read back as 32-byte words (a failed store forward per ray).
+FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
   TraceOut res;
   res.stats.tlas_nodes = 0;
   res.stats.blas_nodes = 0;
@@ -355,6 +357,14 @@ FN TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
     for (int k = 0; k < co.n; ++k) {
       int i = co.slot[k];
       if (wh.count[i] <= 0 || wh.tnear[i] > best.t) continue;
+#if defined(MASQ_LANG_CPP)
+      // cpu: every entry of the leaf asked for at once, so their misses overlap.
+      for (int j = 0; j < wh.count[i]; ++j) {
+        int ref = KD(refs)[wh.child[i] + j];
+        if (ref < 0) __builtin_prefetch(KD(masq_instances) + (-1 - ref));
+        else __builtin_prefetch(KD(instances) + ref);
+      }
+#endif
       for (int j = 0; j < wh.count[i]; ++j) {
         // ref >= 0: an Instance; ref < 0: compact masquerade entry ~ref (same branch).
         int ref = KD(refs)[wh.child[i] + j];
