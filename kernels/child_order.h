@@ -81,19 +81,10 @@ FN ChildOrder order_children(WideHits wh, int width) {
   for (int i = 0; i < MASQ_WIDTH8; ++i) co.slot[i] = o.slot[i];
   return co;
 }
-#elif defined(MASQ_LANG_CPP)
-// C++: the hit slots as a bitmask, sorted as OpenCL's insertion sort orders them
-// (slab_simd_cpp.h's sorted_slots): the same order without a pass over every slot. The
-// hits are read in place: a copy by value was read back wider than it was stored (a
-// failed store forward on every TLAS visit, perf on the masquerade's rays).
-FN ChildOrder order_children(const WideHits& wh, int width) {
-  ChildOrder co;
-  co.n = simd::sorted_slots(wh.tnear, simd::hit_slots(wh.tnear, width), co.slot);
-  return co;
-}
 #else
-// OpenCL: insertion sort on slot indices (up to 8), stable.
-FN ChildOrder order_children(WideHits wh, int width) {
+// OpenCL and C++: insertion sort on slot indices (up to 8), stable. OpenCL visits in
+// this order; C++ keeps it as the reference its bitmask form below is tested against.
+FN ChildOrder order_children_loop(WideHits wh, int width) {
   ChildOrder co;
   co.n = 0;
   for (int i = 0; i < width; ++i) {
@@ -108,6 +99,20 @@ FN ChildOrder order_children(WideHits wh, int width) {
   }
   return co;
 }
+
+#if defined(MASQ_LANG_CPP)
+// C++: the hit slots as a bitmask sorted by slab_simd_cpp.h's sorted_slots, the loop's
+// order without its pass over every slot. The hits are read in place: a copy by value
+// was read back wider than it was stored (a failed store forward on every TLAS visit,
+// perf on the masquerade's rays).
+FN ChildOrder order_children(const WideHits& wh, int width) {
+  ChildOrder co;
+  co.n = simd::sorted_slots(wh.tnear, simd::hit_slots(wh.tnear, width), co.slot);
+  return co;
+}
+#else
+FN ChildOrder order_children(WideHits wh, int width) { return order_children_loop(wh, width); }
+#endif
 #endif
 
 KERNEL_NS_END

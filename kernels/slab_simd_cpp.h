@@ -116,9 +116,9 @@ inline unsigned lane_bits(I4 m) {
   return b;
 #endif
 }
-// Read straight from the vectors the node test has just stored (one compare and one
-// movemask per group of four slots: the scalar loop over the slots cost about a tenth of
-// a BVH walk's time, perf on the bear's shadow rays).
+// Both read the rows the node test has just stored, one compare and one movemask per
+// four slots (a scalar loop over the slots cost about a tenth of a BVH walk's time,
+// perf on the bear's shadow rays).
 // The slots whose entry distance is not +inf (those the node test hit).
 inline unsigned hit_slots(const float* tnear, int width) {
   const F4 inf = std::numeric_limits<float>::infinity() - F4{};
@@ -127,15 +127,13 @@ inline unsigned hit_slots(const float* tnear, int width) {
   return m;
 }
 inline SlotMasks slot_masks(const float* tnear, const int* count, int width) {
-  const F4 inf = std::numeric_limits<float>::infinity() - F4{};
-  SlotMasks m{0u, 0u};
+  unsigned hit = hit_slots(tnear, width), leaf = 0u, inner = 0u;
   for (int g = 0; g < width; g += 4) {
-    I4 hit = load<F4>(tnear + g) != inf;
     I4 c = load<I4>(count + g);
-    m.leaves |= lane_bits(hit & (c > 0)) << g;
-    m.inner |= lane_bits(hit & (c == 0)) << g;
+    leaf |= lane_bits(c > 0) << g;
+    inner |= lane_bits(c == 0) << g;
   }
-  return m;
+  return SlotMasks{hit & leaf, hit & inner};
 }
 
 // The slots of `mask` in order of entry distance, ties in slot order: the order of

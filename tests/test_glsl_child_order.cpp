@@ -1,8 +1,10 @@
-// The Vulkan kernels order a node's hit children by a sorting network, OpenCL and the
-// cpu by an insertion sort (kernels/child_order.h). Every backend must visit the same
+// The Vulkan kernels order a node's hit children by a sorting network, OpenCL by an
+// insertion sort and the cpu by bitmasks in the insertion sort's order
+// (kernels/child_order.h). Every backend must visit the same
 // nodes in the same order, so the network must give the insertion sort's order: entry
 // distance, ties in slot order. tests/kernels/child_order_check.comp runs the GLSL
-// order_children on entry distances with many ties; the C++ one is the reference.
+// order_children on entry distances with many ties; the C++ insertion sort
+// (order_children_loop) is the reference.
 // Vulkan missing fails the test unless MASQ_ALLOW_MISSING_BACKENDS=1.
 #include "host/backend.h"
 #include "host/vulkan/vk_pipeline.h"
@@ -62,7 +64,7 @@ TEST(GlslChildOrder, NetworkGivesTheInsertionSortsOrder) {
     for (int c = 0; c < cases; ++c) {
       WideHits wh{};
       for (int i = 0; i < kWidth8; ++i) wh.tnear[i] = tnear[std::size_t(c) * kWidth8 + i];
-      ChildOrder want = masq::kernel::v_default::order_children(wh, width);
+      ChildOrder want = masq::kernel::v_default::order_children_loop(wh, width);
       const std::int32_t* g = &got[std::size_t(c) * (kWidth8 + 1)];
       bool same = g[kWidth8] == want.n;
       for (int k = 0; same && k < want.n; ++k) same = g[k] == want.slot[k];

@@ -262,8 +262,9 @@ TEST(SlabSimd, AOneUlpChangeWouldBeCaught) {
 }
 
 // The cpu traversal takes a node's hit leaves and hit inner children from
-// simd::slot_masks and simd::sorted_slots; each must come in the order the one-source
-// loops take them from order_children (entry distance, ties in slot order).
+// simd::slot_masks and simd::sorted_slots, and the TLAS walk its hit children from the
+// C++ order_children; each must come in the order the one-source loops take them from
+// the insertion sort (entry distance, ties in slot order).
 TEST(SlabSimd, SortedSlotsKeepOrderChildrensOrder) {
   std::mt19937 rng(11);
   std::uniform_int_distribution<int> pick_t(0, 4), pick_count(-1, 3);
@@ -276,7 +277,12 @@ TEST(SlabSimd, SortedSlotsKeepOrderChildrensOrder) {
         wh.count[i] = pick_count(rng);
         wh.tnear[i] = k == 4 || wh.count[i] < 0 ? kInf : 0.5f * float(k);
       }
-      masq::kernel::v_default::ChildOrder co = masq::kernel::v_default::order_children(wh, width);
+      // The one-source insertion sort (OpenCL's order) is the reference; the C++
+      // order_children (bitmask and sorted_slots, the TLAS walk's) must match it too.
+      masq::kernel::v_default::ChildOrder co = masq::kernel::v_default::order_children_loop(wh, width);
+      masq::kernel::v_default::ChildOrder fast = masq::kernel::v_default::order_children(wh, width);
+      ASSERT_EQ(std::vector<int>(fast.slot, fast.slot + fast.n), std::vector<int>(co.slot, co.slot + co.n))
+          << "width " << width << " trial " << trial;
       std::vector<int> want_leaves, want_inner;
       for (int k = 0; k < co.n; ++k) {
         int i = co.slot[k];
