@@ -4,6 +4,7 @@
 // masq's tracer is chosen on pilot rays of their own (a camera of another resolution),
 // never on the timed ones.
 #include "bench/bench_report.h"
+#include "bench/peer_builds.h"
 #include "bench/peer_rounds.h"
 #include "bench/suite.h"
 #include "oracle/oracle.h"
@@ -291,9 +292,14 @@ SuiteResult run_peers(SuiteContext& ctx) {
                  "Embree Mrays/s", "vs open", "Embree agreement", "oracle: masq / Embree right"};
   ends.left_columns = 3;
   Table build;
-  build.title = "build time and memory";
-  build.header = {"scene", "masq ref build ms", "masq ref MiB", "masq masq build ms", "masq masq MiB", "Embree build ms",
-                  "Embree MiB"};
+  build.title = fmt::format("build time and memory: masq's ref and masq structures (builder sah4, host build and the cpu "
+                            "backend's upload) and Embree's scene (geometry and every BVH build), each alone, round by "
+                            "round; ms: median (min-max) of {} rounds after 1 warm-up; masq/Embree: masq's time over "
+                            "Embree's, per round (below 1: masq builds faster), by wall time and by CPU time",
+                            rounds);
+  build.header = {"scene",           "masq ref build ms", "masq ref MiB",     "masq masq build ms", "masq masq MiB",
+                  "Embree build ms", "Embree MiB",        "ref/Embree wall",  "masq/Embree wall",   "ref/Embree CPU",
+                  "masq/Embree CPU"};
   build.left_columns = 1;
   res.data["scenes"] = nlohmann::json::array();
   res.data["indicative"] = quick;
@@ -478,15 +484,41 @@ SuiteResult run_peers(SuiteContext& ctx) {
       sj["peers"].push_back(pj);
     }
     const std::string& first = pilot.backends.empty() ? std::string() : pilot.backends.front();
-    const BenchRow* rr = find_row(run.rows, first, Method::Ref, RaySet::Primary, Builder::Sah);
-    const BenchRow* rm = find_row(run.rows, first, Method::Masq, RaySet::Primary, Builder::Sah);
-    auto ms = [](const BenchRow* r) { return r ? fmt::format("{:.1f}", (r->build_s + r->scene_s) * 1e3) : std::string("n/a"); };
+    const BenchRow* rr = find_row(run.rows, first, Method::Ref, RaySet::Primary, Builder::Sah4);
+    const BenchRow* rm = find_row(run.rows, first, Method::Masq, RaySet::Primary, Builder::Sah4);
     auto accel = [](const BenchRow* r) {
       return r ? fmt::format("{:.2f}", (r->accel_bytes + r->prim_bytes) / 1048576.0) : std::string("n/a");
     };
-    build.add({ps.label, ms(rr), accel(rr), ms(rm), accel(rm),
-               embree ? fmt::format("{:.1f}", embree->timing().build_seconds * 1e3) : "n/a",
-               embree ? fmt::format("{:.2f}", embree->bytes() / 1048576.0) : "n/a"});
+    ctx.say("peers " + ps.label + ": build rounds");
+    AccelOptions build_opt = pilot.accel;
+    build_opt.builder.kind = Builder::Sah4;
+    build_opt.nodes = NodeFormat::W4;
+    try {
+      const PeerBuildTimes bt = time_peer_builds(scene, build_opt, 2, robust, warmup, rounds);
+      auto ms = [](const std::vector<TraceClock>& tc) {
+        std::vector<double> w;
+        for (const TraceClock& c : tc) w.push_back(c.wall * 1e3);
+        const Spread s = spread_of(w);
+        return tc.empty() ? std::string("n/a") : fmt::format("{:.1f} ({:.1f}-{:.1f})", s.median, s.min, s.max);
+      };
+      // masq's time over Embree's: per_round(a, b, f) = f(a[k], b[k]).
+      auto over = [&](const std::vector<TraceClock>& m, double (*f)(const TraceClock&, const TraceClock&)) {
+        return bt.embree.empty() ? std::string("n/a") : ratio_text(spread_of(per_round(m, bt.embree, f)));
+      };
+      build.add({ps.label, ms(bt.ref), accel(rr), ms(bt.masq), accel(rm),
+                 bt.embree.empty() ? "n/a: " + bt.embree_error : ms(bt.embree),
+                 embree ? fmt::format("{:.2f}", embree->bytes() / 1048576.0) : "n/a", over(bt.ref, wall_ratio),
+                 over(bt.masq, wall_ratio), over(bt.ref, cpu_ratio), over(bt.masq, cpu_ratio)});
+      auto clocks = [](const std::vector<TraceClock>& tc) {
+        std::vector<double> w, c;
+        for (const TraceClock& x : tc) w.push_back(x.wall), c.push_back(x.cpu);
+        return nlohmann::json{{"wall_seconds", spread_of(w).json()}, {"cpu_seconds", spread_of(c).json()}};
+      };
+      sj["builds"] = {{"ref", clocks(bt.ref)}, {"masq", clocks(bt.masq)}};
+      if (!bt.embree.empty()) sj["builds"]["embree"] = clocks(bt.embree);
+    } catch (const std::exception& e) {
+      build.add({ps.label, "unavailable: " + std::string(e.what())});
+    }
     if (embree) sj["embree_build_seconds"] = embree->timing().build_seconds, sj["embree_bytes"] = embree->bytes();
     res.data["scenes"].push_back(sj);
   }
@@ -524,7 +556,9 @@ SuiteResult run_peers(SuiteContext& ctx) {
                             "of {} rounds after {} warm-up; vs open: Embree's rate over its rate on open curves (the "
                             "cost of the spheres); agreement and oracle against the same masq tracer",
                             rounds, warmup)};
-  build.notes = {"masq: host build + upload (first backend), nodes + instances + primitives; Embree: rtcCommitScene, "
+  build.notes = {"masq: build_accel (2 threads) then the cpu backend's set_scene, builder sah4 (leaves priced per "
+                 "block of four, as Embree's SAH prices its four-wide leaves), nodes w4; MiB: nodes + instances + "
+                 "primitives; Embree: its geometry and rtcCommitScene of every scene at its default (medium) quality, "
                  "memory from Embree's device memory monitor"};
   res.tables = {t, build};
   if (!ends.rows.empty()) res.tables.push_back(ends);

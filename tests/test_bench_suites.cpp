@@ -548,6 +548,23 @@ TEST(Suites, PeersQuickOnCpuChoosesOnPilotRaysAndTimesRoundByRound) {
     }
   }
   EXPECT_EQ(sets, 9); // primary, shadow and diffuse of each scene
+  // The build table: masq's two structures and Embree's scene built alone, round by
+  // round, a time per round each.
+  for (const auto& sc : scenes) {
+    const nlohmann::json& b = sc["builds"];
+    for (const char* who : {"ref", "masq", "embree"}) {
+      if (std::string(who) == "embree" && !b.contains("embree")) continue; // masq built without Embree
+      const auto& w = b[who]["wall_seconds"];
+      EXPECT_GT(w["min"].get<double>(), 0.0) << sc["scene"] << " " << who;
+      EXPECT_LE(w["min"].get<double>(), w["median"].get<double>()) << who;
+      EXPECT_LE(w["median"].get<double>(), w["max"].get<double>()) << who;
+      EXPECT_GT(b[who]["cpu_seconds"]["median"].get<double>(), 0.0) << who;
+    }
+  }
+  ASSERT_GE(out.tables.size(), 2u);
+  EXPECT_NE(out.tables[1].title.find("round by round"), std::string::npos);
+  for (const auto& row : out.tables[1].rows)
+    for (const auto& cell : row) EXPECT_EQ(cell.find("unavailable"), std::string::npos) << cell;
   for (const auto& row : out.tables.front().rows)
     for (const auto& cell : row) EXPECT_EQ(cell.find("unavailable"), std::string::npos) << cell;
 }

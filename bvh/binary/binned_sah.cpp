@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <string>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <memory>
 
 namespace masq {
@@ -36,7 +39,6 @@ struct Split {
   double cost = std::numeric_limits<double>::infinity();
 };
 
-double blocks(int n, const SahOptions& opt) { return double((n + opt.leaf_block - 1) / opt.leaf_block); }
 
 // What every node of one build reads: the options. The primitives are references that
 // carry their box and centroid (computed once, as Aabb::center computes them) and are
@@ -45,36 +47,100 @@ double blocks(int n, const SahOptions& opt) { return double((n + opt.leaf_block 
 // the primitive's index pointed, at every level.
 struct Input {
   const SahOptions& opt;
+  // log2 of opt.leaf_block when it is a power of two (1 and sah4's 4), else -1: the
+  // block count is then a shift, not an integer division at every bin of every node.
+  int block_shift = -1;
 };
+
+int block_shift_of(int leaf_block) {
+  for (int s = 0; s < 31; ++s)
+    if (leaf_block == 1 << s) return s;
+  return -1;
+}
+
+// The leaf blocks of n primitives: ceil(n / leaf_block).
+double blocks(int n, const Input& in) {
+  const int b = in.opt.leaf_block;
+  return double(in.block_shift >= 0 ? (n + b - 1) >> in.block_shift : (n + b - 1) / b);
+}
+// Four doubles with the GCC/Clang vector extensions (one AVX register where the build
+// machine has AVX, else two SSE ones): a box corner's x, y, z and a spare lane, so that
+// a box grows by two vector min/max instead of six scalar ones.
+typedef double D4 __attribute__((vector_size(32)));
+typedef std::int64_t L4 __attribute__((vector_size(32)));
+// glm::min and glm::max lane by lane, the same bits: min(a, b) = b < a ? b : a.
+inline D4 vmin(D4 a, D4 b) { return b < a ? b : a; }
+inline D4 vmax(D4 a, D4 b) { return a < b ? b : a; }
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A box as two corners in lanes 0-2 (lane 3 is spare and never read as a coordinate).
+struct Box4 {
+  D4 lo = {kInf, kInf, kInf, kInf};
+  D4 hi = {-kInf, -kInf, -kInf, -kInf};
+  void grow(const Box4& b) {
+    lo = vmin(lo, b.lo);
+    hi = vmax(hi, b.hi);
+  }
+  void grow(D4 p) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
+  }
+  Aabb aabb() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
+  // Aabb::area, the same operations.
+  double area() const {
+    if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return 0.0;
+    D4 e = hi - lo;
+    return 2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
+  }
+};
+
+// A primitive: its box, with its id in lo's spare lane (exact: ids are below 2^31) and
+// in hi's its bin on each axis at the node being split (one byte an axis, written by
+// bin_range, read by the partition that follows instead of dividing again). The
+// centroid is computed where it is needed, as Aabb::center computes it (the same bits),
+// which keeps a reference at 64 bytes for the partitions that move it.
 struct Ref {
-  Aabb box;
-  glm::dvec3 center;
-  int id;
+  Box4 box;
+  D4 center() const { return 0.5 * (box.lo + box.hi); }
+  int id() const { return int(box.lo[3]); }
+  int bin(int axis) const { return int(std::int64_t(box.hi[3]) >> (8 * axis)) & 0xFF; }
 };
 
 // Per axis nb bins: box and primitive count of the centroids that fall in each; and the
-// sweep's suffix areas and counts. Kept by a thread from node to node (no allocation
-// per node).
+// sweep's occupied bins, suffix areas and counts. Kept by a thread from node to node (no
+// allocation per node), and empty between nodes: find_split empties the bins it used,
+// since clearing all 3 nb of them at each of a build's ~2n nodes cost more than the
+// small nodes' binning itself.
 struct Bins {
-  std::vector<Aabb> box;
+  std::vector<Box4> box;
   std::vector<int> count;
+  std::uint64_t occupied[3] = {0, 0, 0}; // bit k: bin k of the axis holds a primitive (nb <= 64)
+  std::vector<int> used;
   std::vector<double> right_area;
   std::vector<int> right_count;
-  explicit Bins(int nb) : box(3 * std::size_t(nb)), count(3 * std::size_t(nb), 0), right_area(nb), right_count(nb) {}
-  void clear() {
-    std::fill(box.begin(), box.end(), Aabb{});
-    std::fill(count.begin(), count.end(), 0);
-  }
+  explicit Bins(int nb)
+      : box(3 * std::size_t(nb)), count(3 * std::size_t(nb), 0), used(nb), right_area(nb), right_count(nb) {}
   void merge(const Bins& o) {
     for (std::size_t i = 0; i < box.size(); ++i) {
       box[i].grow(o.box[i]);
       count[i] += o.count[i];
     }
+    for (int a = 0; a < 3; ++a) occupied[a] |= o.occupied[a];
   }
 };
 
-int bin_of(const glm::dvec3& center, int axis, double lo, double ext, int nb) {
-  return std::min(nb - 1, int(nb * (center[axis] - lo) / ext));
+// The centroid bounds' origin and extent, for a primitive's bin on an axis:
+// min(nb - 1, int(nb * (centre - lo) / ext)). The extent is 1 on an axis that is not
+// binned (no 0 / 0 in its spare lane).
+struct BinFrame {
+  D4 lo;
+  D4 ext;
+};
+BinFrame bin_frame(const Box4& cbox) {
+  BinFrame f{cbox.lo, cbox.hi - cbox.lo};
+  for (int k = 0; k < 4; ++k)
+    if (!(k < 3 && f.ext[k] > 0.0)) f.lo[k] = 0.0, f.ext[k] = 1.0;
+  return f;
 }
 
 // Calls body(lo, hi, chunk) on the chunks of [first, first + count), possibly at once;
@@ -90,15 +156,16 @@ void for_chunks(int first, int count, Body body) {
   });
 }
 
-void bounds_of(const std::vector<Ref>& order, int first, int count, Aabb& box, Aabb& cbox) {
-  auto pass = [&](int lo, int hi, Aabb& b, Aabb& c) {
+void bounds_of(const std::vector<Ref>& order, int first, int count, Box4& box, Box4& cbox) {
+  auto pass = [&](int lo, int hi, Box4& b, Box4& c) {
     for (int i = lo; i < hi; ++i) {
-      b.grow(order[std::size_t(i)].box);
-      c.grow(order[std::size_t(i)].center);
+      const Ref& r = order[std::size_t(i)];
+      b.grow(r.box);
+      c.grow(r.center());
     }
   };
   if (count < 2 * kChunk) return pass(first, first + count, box, cbox);
-  std::vector<Aabb> b((count + kChunk - 1) / kChunk), c(b.size());
+  std::vector<Box4> b((count + kChunk - 1) / kChunk), c(b.size());
   for_chunks(first, count, [&](int lo, int hi, int k) { pass(lo, hi, b[k], c[k]); });
   for (std::size_t k = 0; k < b.size(); ++k) {
     box.grow(b[k]);
@@ -107,56 +174,83 @@ void bounds_of(const std::vector<Ref>& order, int first, int count, Aabb& box, A
 }
 
 // Fills bins with the range's primitives, every axis whose centroid extent is positive
-// in one pass over them (each bin grows in primitive order, as three passes would).
-void bin_range(const Input& in, const std::vector<Ref>& order, int first, int count, const Aabb& cbox, Bins& bins) {
+// in one pass over them (each bin grows in primitive order, as three passes would). The
+// three axes' bin indices are one vector division; they are kept in the reference for
+// the partition.
+void bin_range(const Input& in, std::vector<Ref>& order, int first, int count, const Box4& cbox, Bins& bins) {
   const int nb = in.opt.bins;
   int axes[3], n_axes = 0;
   for (int axis = 0; axis < 3; ++axis)
     if (cbox.hi[axis] - cbox.lo[axis] > 0.0) axes[n_axes++] = axis;
+  const BinFrame f = bin_frame(cbox);
+  const D4 nbv = {double(nb), double(nb), double(nb), double(nb)};
   auto pass = [&](int lo_i, int hi_i, Bins& out) {
     for (int i = lo_i; i < hi_i; ++i) {
-      const Aabb& b = order[std::size_t(i)].box;
-      const glm::dvec3& c = order[std::size_t(i)].center;
+      Ref& r = order[std::size_t(i)];
+      const L4 k = __builtin_convertvector(nbv * (r.center() - f.lo) / f.ext, L4);
+      std::int64_t packed = 0;
       for (int a = 0; a < n_axes; ++a) {
         int axis = axes[a];
-        std::size_t k = std::size_t(axis * nb + bin_of(c, axis, cbox.lo[axis], cbox.hi[axis] - cbox.lo[axis], nb));
-        out.box[k].grow(b);
-        ++out.count[k];
+        int bin = std::min(nb - 1, int(k[axis]));
+        packed |= std::int64_t(bin) << (8 * axis);
+        std::size_t at = std::size_t(axis * nb + bin);
+        out.box[at].grow(r.box);
+        ++out.count[at];
+        out.occupied[axis] |= std::uint64_t(1) << (bin & 63);
       }
+      r.box.hi[3] = double(packed);
     }
   };
-  bins.clear();
   if (count < 2 * kChunk) return pass(first, first + count, bins);
   std::vector<Bins> part((count + kChunk - 1) / kChunk, Bins(nb));
   for_chunks(first, count, [&](int lo, int hi, int k) { pass(lo, hi, part[k]); });
   for (const Bins& p : part) bins.merge(p);
 }
 
-Split find_split(Bins& bins, const Aabb& cbox, const SahOptions& opt) {
+// The best bin plane of the binned axes, and the bins emptied again. Only occupied bins
+// are visited: a plane after an empty bin has the cost of the plane before it (the same
+// two sides) and never wins the strict comparison, so the split is the one a sweep over
+// every bin finds, bit for bit (growing by an empty box changes no bit).
+Split find_split(const Input& in, Bins& bins, const Box4& cbox) {
   Split best;
-  const int nb = opt.bins;
-  std::vector<double>& right_area = bins.right_area;
-  std::vector<int>& right_count = bins.right_count;
+  const int nb = in.opt.bins;
+  double* right_area = bins.right_area.data();
+  int* right_count = bins.right_count.data();
+  int* used = bins.used.data();
   for (int axis = 0; axis < 3; ++axis) {
     if (!(cbox.hi[axis] - cbox.lo[axis] > 0.0)) continue;
-    const Aabb* bin_box = &bins.box[std::size_t(axis * nb)];
-    const int* bin_count = &bins.count[std::size_t(axis * nb)];
-    Aabb acc;
-    int n = 0;
-    for (int k = nb - 1; k > 0; --k) {
-      acc.grow(bin_box[k]);
-      n += bin_count[k];
-      right_area[k] = acc.area();
-      right_count[k] = n;
+    Box4* bin_box = &bins.box[std::size_t(axis * nb)];
+    int* bin_count = &bins.count[std::size_t(axis * nb)];
+    int m = 0;
+    if (nb <= 64) {
+      for (std::uint64_t bits = bins.occupied[axis]; bits != 0; bits &= bits - 1) used[m++] = std::countr_zero(bits);
+      bins.occupied[axis] = 0;
+    } else {
+      for (int k = 0; k < nb; ++k) {
+        used[m] = k;
+        m += bin_count[k] != 0 ? 1 : 0;
+      }
     }
-    acc = Aabb{};
+    // right_area[j], right_count[j]: the bins used[j..m-1].
+    Box4 acc;
+    int n = 0;
+    for (int j = m - 1; j > 0; --j) {
+      acc.grow(bin_box[used[j]]);
+      n += bin_count[used[j]];
+      right_area[j] = acc.area();
+      right_count[j] = n;
+    }
+    acc = Box4{};
     n = 0;
-    for (int k = 0; k < nb - 1; ++k) {
-      acc.grow(bin_box[k]);
-      n += bin_count[k];
-      if (n == 0 || right_count[k + 1] == 0) continue;
-      double cost = acc.area() * blocks(n, opt) + right_area[k + 1] * blocks(right_count[k + 1], opt);
-      if (cost < best.cost) best = {axis, k, cost};
+    for (int j = 0; j + 1 < m; ++j) {
+      acc.grow(bin_box[used[j]]);
+      n += bin_count[used[j]];
+      double cost = acc.area() * blocks(n, in) + right_area[j + 1] * blocks(right_count[j + 1], in);
+      if (cost < best.cost) best = {axis, used[j], cost};
+    }
+    for (int j = 0; j < m; ++j) {
+      bin_box[used[j]] = Box4{};
+      bin_count[used[j]] = 0;
     }
   }
   return best;
@@ -171,19 +265,20 @@ struct NodeSplit {
 NodeSplit split_node(const Input& in, std::vector<Ref>& order, int first, int count, Bins& bins) {
   const SahOptions& opt = in.opt;
   NodeSplit out;
-  Aabb cbox;
-  bounds_of(order, first, count, out.box, cbox);
+  Box4 box, cbox;
+  bounds_of(order, first, count, box, cbox);
+  out.box = box.aabb();
   if (count <= 1) return out;
   bin_range(in, order, first, count, cbox, bins);
-  Split s = find_split(bins, cbox, opt);
+  Split s = find_split(in, bins, cbox);
   // SAH in units of this node's area: leaf = C_i * b(n), split = C_t + C_i * (A_l b(n_l) + A_r b(n_r)) / A,
   // b(n) the leaf's blocks (n itself with the default block of 1).
   double area = out.box.area();
-  double leaf_cost = opt.intersection_cost * blocks(count, opt);
+  double leaf_cost = opt.intersection_cost * blocks(count, in);
   double split_cost = area > 0.0 ? opt.traversal_cost + opt.intersection_cost * s.cost / area : leaf_cost;
   if (s.axis >= 0 && (split_cost < leaf_cost || count > opt.max_leaf_size)) {
-    double lo = cbox.lo[s.axis], ext = cbox.hi[s.axis] - lo;
-    auto goes_left = [&](const Ref& p) { return bin_of(p.center, s.axis, lo, ext, opt.bins) <= s.bin; };
+    const int axis = s.axis;
+    auto goes_left = [&](const Ref& p) { return p.bin(axis) <= s.bin; };
     // std::partition's own (unstable) order decides the leaf order: a long range gets the
     // same order from partition_in_chunks.
     if (count < 2 * kChunk) {
@@ -291,6 +386,8 @@ void place(const Subtree& t, std::vector<BinaryNode>& out, std::size_t at, std::
 
 BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt) {
   if (opt.leaf_block < 1) throw Error("bvh: SAH leaf block " + std::to_string(opt.leaf_block) + " (must be >= 1)");
+  // A reference keeps its bin on each axis in a byte (Ref::bin).
+  if (opt.bins < 1 || opt.bins > 256) throw Error("bvh: SAH bins " + std::to_string(opt.bins) + " (must be 1-256)");
   BinaryBvh bvh;
   const int n = int(boxes.size());
   if (n == 0) return bvh;
@@ -300,9 +397,13 @@ BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt
       if (!(boxes[i].lo[k] <= boxes[i].hi[k]) || !std::isfinite(boxes[i].lo[k]) || !std::isfinite(boxes[i].hi[k]))
         throw Error("bvh: box " + std::to_string(i) + " of " + std::to_string(n) + " is empty or not finite");
   std::vector<Ref> refs(boxes.size());
-  const Input in{opt};
+  const Input in{opt, block_shift_of(opt.leaf_block)};
   parallel_chunks(boxes.size(), 8192, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) refs[i] = {boxes[i], boxes[i].center(), int(i)};
+    for (std::size_t i = lo; i < hi; ++i) {
+      const Aabb& b = boxes[i];
+      refs[i].box.lo = D4{b.lo.x, b.lo.y, b.lo.z, double(i)};
+      refs[i].box.hi = D4{b.hi.x, b.hi.y, b.hi.z, 0.0};
+    }
   });
   if (build_concurrency() == 1 || n < kSubtreeTask) {
     bvh.nodes = build_serial(in, refs, 0, n);
@@ -313,7 +414,7 @@ BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt
   }
   bvh.order.resize(refs.size());
   parallel_chunks(refs.size(), 8192, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) bvh.order[i] = refs[i].id;
+    for (std::size_t i = lo; i < hi; ++i) bvh.order[i] = refs[i].id();
   });
   return bvh;
 }

@@ -266,7 +266,7 @@ WideBvhInfo append_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& 
 }
 
 template <class Node, int Width>
-void float_slots(const Node& n, std::vector<NodeSlot>& out, const NodeFrame& frame = {}) {
+void float_slots(const Node& n, NodeSlots& out, const NodeFrame& frame = {}) {
   for (int s = 0; s < Width; ++s) {
     NodeSlot slot;
     slot.child = n.child[s];
@@ -296,8 +296,8 @@ WideBvhInfo append_bvh_nodes(const BinaryBvh& bvh, const std::vector<std::int32_
   return append_wide_bvh(bvh, ref_ids, ps.nodes, ps.refs);
 }
 
-std::vector<NodeSlot> node_slots(const PackedScene& ps, std::int32_t node) {
-  std::vector<NodeSlot> out;
+NodeSlots node_slots(const PackedScene& ps, std::int32_t node) {
+  NodeSlots out;
   const std::size_t i = std::size_t(node);
   switch (ps.features.nodes) {
     case NodeFormat::W4: float_slots<kernel::WideNode, MASQ_WIDTH>(ps.nodes.at(i), out); break;

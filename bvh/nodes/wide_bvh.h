@@ -2,6 +2,7 @@
 // kernels/layout.h and docs/kernels.md) and append them, in the GPU layout, to the node
 // array shared by the TLAS and every BLAS.
 #pragma once
+#include <array>
 #include "bvh/binary/binned_sah.h"
 #include "bvh/nodes/node_frame.h"
 #include "bvh/packed_scene.h"
@@ -46,6 +47,21 @@ struct NodeSlot {
   Aabb box; // the box the kernels test (q8: decoded; o4: in the node's frame)
   NodeFrame frame; // o4: the frame the box is in (x' = M x); else the identity
 };
-std::vector<NodeSlot> node_slots(const PackedScene& ps, std::int32_t node);
+// A node's slots (at most MASQ_WIDTH8, the widest format's), held in place: the host walks
+// (the cost model's, the cpu backend's leaf copy) decode every node of a structure, and
+// a vector per node was most of their time.
+class NodeSlots {
+ public:
+  void push_back(const NodeSlot& s) { slot_[std::size_t(n_++)] = s; }
+  const NodeSlot* begin() const { return slot_.data(); }
+  const NodeSlot* end() const { return slot_.data() + n_; }
+  std::size_t size() const { return std::size_t(n_); }
+  const NodeSlot& operator[](std::size_t i) const { return slot_[i]; }
+
+ private:
+  std::array<NodeSlot, MASQ_WIDTH8> slot_{};
+  int n_ = 0;
+};
+NodeSlots node_slots(const PackedScene& ps, std::int32_t node);
 
 } // namespace masq

@@ -32,8 +32,12 @@ double mapped_area(const glm::dmat3& l, const glm::dvec3& e) {
 
 // Slots of any node format, with the boxes the kernels test (bvh/nodes/wide_bvh.h); an
 // o4 slot's box is in its node's frame, mapped back first.
+// An axis-aligned slot's frame is the identity: l itself, not l times the inverse of
+// the identity (glm's has -0 entries, which change no area: the area squares every
+// component), which was most of the walk's time.
 double slot_area(const NodeSlot& s, const glm::dmat3& l) {
-  return mapped_area(l * s.frame.box_to_space(), glm::max(s.box.hi - s.box.lo, glm::dvec3(0.0)));
+  const glm::dvec3 e = glm::max(s.box.hi - s.box.lo, glm::dvec3(0.0));
+  return mapped_area(s.frame.oriented ? l * s.frame.box_to_space() : l, e);
 }
 
 // What the walk needs of one TLAS entry, decoded beforehand (on all threads: a compact

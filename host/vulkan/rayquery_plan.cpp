@@ -66,7 +66,7 @@ std::vector<std::int32_t> cluster_members(const PackedScene& s, int root) {
   std::vector<std::int32_t> out;
   std::vector<int> stack{root};
   while (!stack.empty()) {
-    std::vector<NodeSlot> slots = node_slots(s, stack.back()); // any node format
+    const NodeSlots slots = node_slots(s, stack.back()); // any node format
     stack.pop_back();
     for (const NodeSlot& n : slots) {
       if (n.count == 0) stack.push_back(n.child);
