@@ -5,6 +5,7 @@
 #include "bvh/twolevel/build_accel.h"
 #include "bvh/twolevel/structure_cost.h"
 #include "scenes/generators.h"
+#include "scenes/strand_generators.h"
 #include <gtest/gtest.h>
 #include <cstring>
 
@@ -170,4 +171,35 @@ TEST(AutoSelect, KeepsTheCheapestClusterShape) {
   }
   EXPECT_EQ(a.stats.model_cost, cheapest);
   EXPECT_EQ(a.stats.auto_candidates[std::size_t(Method::Cluster)], cheapest);
+}
+
+// auto's candidates share the clusterings of one cluster size (its cluster shapes of one
+// size, and the mix): each candidate must still be, byte for byte, what its method
+// builds alone in the shape it kept.
+TEST(AutoSelect, SharedClusteringsGiveEachCandidateItsOwnBuild) {
+  HairParams hp;
+  hp.strands = 600;
+  hp.points = 8;
+  hp.type = PrimType::Capsule;
+  for (const Scene& s : {bundle(400, 0.002f, 45.0), make_hair_scene(hp)}) {
+    AutoCandidates c = build_auto_candidates(s, {});
+    ASSERT_EQ(c.built.size(), 4u);
+    for (const PackedScene& cand : c.built) {
+      AccelOptions o;
+      o.cluster.max_size = cand.stats.cluster_size;
+      o.cluster.leaf_price = cand.stats.cluster_leaf_price;
+      if (cand.method == Method::Auto) o.auto_select = AutoSelect::MixOnly;
+      PackedScene alone = build_accel(s, cand.method, o);
+      SCOPED_TRACE(s.name + " " + method_name(cand.method));
+      EXPECT_EQ(std::memcmp(&alone.stats.model_cost, &cand.stats.model_cost, sizeof(double)), 0);
+      ASSERT_EQ(alone.nodes.size(), cand.nodes.size());
+      EXPECT_EQ(std::memcmp(alone.nodes.data(), cand.nodes.data(), alone.nodes.size() * sizeof(alone.nodes[0])), 0);
+      EXPECT_EQ(alone.refs, cand.refs);
+      ASSERT_EQ(alone.instances.size(), cand.instances.size());
+      EXPECT_EQ(std::memcmp(alone.instances.data(), cand.instances.data(),
+                            alone.instances.size() * sizeof(alone.instances[0])),
+                0);
+      EXPECT_EQ(alone.tlas_leaf_order, cand.tlas_leaf_order);
+    }
+  }
 }

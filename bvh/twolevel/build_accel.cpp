@@ -78,8 +78,18 @@ void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids
   bvh = build_blas_binary(boxes, clip, blas_sah, opt.builder, &references);
 }
 
+// The clusterings auto's candidates share: per (cluster size, orientation classes), per
+// geometry, what make_clusters gave (kept from the cluster candidate's plans, whose
+// clusters are exactly that; the mix keeps only some). The cluster shapes of one size
+// differ in the leaf price of their BLAS alone, and the mix clusters as the first shape.
+struct SharedClusterings {
+  std::map<std::pair<int, int>, std::vector<std::optional<std::vector<Cluster>>>> by_shape;
+};
+
 // One method's structure; for Method::Auto the per-cluster mix of bvh/twolevel/method_plan.cpp.
-PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt) {
+// shared (auto's candidates): clusterings to reuse, and to add this build's to.
+PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt,
+                          SharedClusterings* shared = nullptr) {
   auto start = std::chrono::steady_clock::now();
   PackedScene ps;
   ps.method = method;
@@ -111,10 +121,19 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   std::vector<std::vector<int>> insts_of(scene.geometries.size());
   for (std::size_t si = 0; si < scene.instances.size(); ++si) insts_of[scene.instances[si].geometry].push_back(int(si));
   std::vector<GeometryPlan> plans(scene.geometries.size());
+  // (Sized before the parallel loop, which then touches only its own geometry's entry.)
+  std::vector<std::optional<std::vector<Cluster>>>* clusterings = nullptr;
+  if (shared && (method == Method::Cluster || method == Method::Auto)) {
+    clusterings = &shared->by_shape[{opt.cluster.max_size, opt.cluster.classes}];
+    clusterings->resize(scene.geometries.size());
+  }
   parallel_chunks(scene.geometries.size(), 1, [&](std::size_t g0, std::size_t g1) {
-    for (std::size_t gi = g0; gi < g1; ++gi)
-      if (!insts_of[gi].empty() && scene.geometries[gi].primitive_count() > 0)
-        plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt);
+    for (std::size_t gi = g0; gi < g1; ++gi) {
+      if (insts_of[gi].empty() || scene.geometries[gi].primitive_count() == 0) continue;
+      std::optional<std::vector<Cluster>>* known = clusterings ? &(*clusterings)[gi] : nullptr;
+      plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt, known && *known ? &**known : nullptr);
+      if (known && !*known && method == Method::Cluster && !plans[gi].clusters.empty()) *known = plans[gi].clusters;
+    }
   });
 
   // The ordinary BLAS of each geometry over the primitives its plan keeps there.
@@ -306,6 +325,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
   // Triangles stay in a BLAS under every method: a mesh has one candidate, ref's.
   bool thin = std::any_of(scene.geometries.begin(), scene.geometries.end(),
                           [](const Geometry& g) { return !scene_prim_row(g.type).mesh && g.primitive_count() > 0; });
+  SharedClusterings shared;
   for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
     if (m != Method::Ref && !thin) {
       out.costs[std::size_t(m)] = out.costs[std::size_t(Method::Ref)];
@@ -322,7 +342,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     for (std::size_t k = 0; k < shapes.size(); ++k) {
       AccelOptions one = opt;
       one.cluster = shapes[k];
-      PackedScene c = build_planned(scene, m, one);
+      PackedScene c = build_planned(scene, m, one, &shared);
       if (k == 0 || c.stats.model_cost < cand.stats.model_cost) cand = std::move(c);
     }
     out.costs[std::size_t(m)] = cand.stats.model_cost;

@@ -56,7 +56,7 @@ bool clusterable(PrimType t) { return scene_prim_row(t).oriented; }
 
 } // namespace
 
-GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& opt) {
+GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& opt, const std::vector<Cluster>* given) {
   GeometryPlan plan;
   if (scene_prim_row(g.type).mesh || method == Method::Ref) {
     plan.blas_prims = all_prims(g);
@@ -77,7 +77,7 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
     }
     return plan;
   }
-  std::vector<Cluster> clusters = make_clusters(g, all_prims(g), opt.cluster);
+  std::vector<Cluster> clusters = given ? *given : make_clusters(g, all_prims(g), opt.cluster);
   if (method == Method::Cluster) {
     plan.clusters = std::move(clusters);
     return plan;

@@ -45,7 +45,11 @@ struct PlanOptions {
   CostPrices prices;
 };
 
-GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& opt);
+// clusters: what make_clusters gives for this geometry and opt.cluster's size and
+// classes, when the caller has it already (auto's candidates that cluster alike share
+// one clustering, bvh/twolevel/build_accel.cpp); nullptr: made here.
+GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& opt,
+                           const std::vector<Cluster>* clusters = nullptr);
 
 // The cost model's expected work per ray reaching the geometry, in units of area
 // times price (exposed for tests and the docs' tables).
