@@ -535,6 +535,10 @@ TEST(Suites, PeersQuickOnCpuChoosesOnPilotRaysAndTimesRoundByRound) {
         EXPECT_EQ(p["ray_count"].get<int>(), timed_rays);
         EXPECT_LT(pilot_rays, timed_rays);
       }
+      // A sample traces at least the camera's count of rays, a smaller set several times.
+      const int passes = p["traces_per_sample"].get<int>();
+      EXPECT_GE(passes * p["ray_count"].get<int>(), timed_rays) << p["rays"];
+      EXPECT_LT((passes - 1) * p["ray_count"].get<int>(), timed_rays) << p["rays"];
       EXPECT_GT(p["masq"]["mrays_per_s"].get<double>(), 0.0);
       EXPECT_GT(p["masq"]["cpu_seconds"]["median"].get<double>(), 0.0);
       if (p["embree"].contains("unavailable")) continue;
