@@ -39,12 +39,10 @@ struct Split {
   double cost = std::numeric_limits<double>::infinity();
 };
 
-
 // What every node of one build reads: the options. The primitives are references that
-// carry their box and centroid (computed once, as Aabb::center computes them) and are
-// partitioned themselves, so that a node reads its range in order; reading the boxes
-// through an index array instead (the build before) fetched each one from wherever
-// the primitive's index pointed, at every level.
+// carry their box (Ref below) and are partitioned themselves, so that a node reads its
+// range in order; reading the boxes through an index array instead (an earlier build)
+// fetched each one from wherever the primitive's index pointed, at every level.
 struct Input {
   const SahOptions& opt;
   // log2 of opt.leaf_block when it is a power of two (1 and sah4's 4), else -1: the
@@ -63,6 +61,7 @@ double blocks(int n, const Input& in) {
   const int b = in.opt.leaf_block;
   return double(in.block_shift >= 0 ? (n + b - 1) >> in.block_shift : (n + b - 1) / b);
 }
+
 // Four doubles with the GCC/Clang vector extensions (one AVX register where the build
 // machine has AVX, else two SSE ones): a box corner's x, y, z and a spare lane, so that
 // a box grows by two vector min/max instead of six scalar ones.
