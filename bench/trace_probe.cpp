@@ -1,0 +1,103 @@
+// masq_trace_probe: one ray set of a scene file traced on the cpu backend (one thread:
+// MASQ_CPU_THREADS=1) or through Embree, in a function of its own, probe_traces, for
+// valgrind's callgrind to count alone: instructions, cache misses (--cache-sim=yes) and
+// branch mispredictions (--branch-sim=yes) per ray and per node visit (docs/results.md,
+// "Bytes, instructions and branches per ray"). The rays are the bench's: camera rays of
+// width x width, and the shadow or diffuse rays from their hits.
+//   masq_trace_probe FILE ref|masq w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree] [width=256] [traces=4]
+//   valgrind --tool=callgrind --cache-sim=yes --branch-sim=yes --collect-atstart=no
+//     --toggle-collect='*probe_traces*' build/bench/masq_trace_probe ... (one line)
+#include "bench/backend_pool.h"
+#include "bench/bench_runner.h"
+#include "host/backend.h"
+#include "peers/embree_peer.h"
+#include "scenes/curve_tools.h"
+#include "scenes/loaders/load_any.h"
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace masq;
+
+namespace {
+
+// The traces counted: traces x the ray set, through masq's backend or Embree.
+__attribute__((noinline)) void probe_traces(Backend* be, EmbreePeer* embree, const RayBatch& b, Query q, int traces,
+                                            std::vector<kernel::Hit>& hits, std::vector<std::uint8_t>& occluded) {
+  for (int i = 0; i < traces; ++i) {
+    if (be) be->trace(b.rays, hits, {}, q);
+    else if (q == Query::Any) embree->occluded(b.rays, occluded);
+    else embree->trace(b.rays, hits);
+  }
+}
+
+template <class T> T pick(const std::string& what, const std::string& v, std::initializer_list<std::pair<const char*, T>> opts) {
+  for (const auto& [name, value] : opts)
+    if (v == name) return value;
+  throw std::invalid_argument(what + " '" + v + "' is not one of the choices (see the usage line)");
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE ref|masq w4|w8|q8|o4 primary|shadow|diffuse "
+                                              "[capsule|curve] [masq|embree] [width=256] [traces=4]");
+    Scene scene = load_scene_file(argv[1]);
+    const Method method = pick<Method>("method", argv[2], {{"ref", Method::Ref}, {"masq", Method::Masq}});
+    const NodeFormat nodes = pick<NodeFormat>(
+        "nodes", argv[3], {{"w4", NodeFormat::W4}, {"w8", NodeFormat::W8}, {"q8", NodeFormat::Q8}, {"o4", NodeFormat::O4}});
+    const RaySet set = pick<RaySet>("ray set", argv[4],
+                                    {{"primary", RaySet::Primary}, {"shadow", RaySet::Shadow}, {"diffuse", RaySet::Diffuse}});
+    const bool curves = argc > 5 && pick<bool>("primitive", argv[5], {{"capsule", false}, {"curve", true}});
+    const bool embree_side = argc > 6 && pick<bool>("tracer", argv[6], {{"masq", false}, {"embree", true}});
+    const int width = argc > 7 ? std::atoi(argv[7]) : 256;
+    const int traces = argc > 8 ? std::atoi(argv[8]) : 4;
+    if (width < 1 || traces < 1) throw std::invalid_argument("width and traces must be at least 1");
+    if (curves) scene = segments_to_curves(scene); // the strands' Catmull-Rom cubics
+    BenchOptions opt;
+    opt.backends = {"cpu"};
+    opt.methods = {method};
+    opt.ray_sets = {RaySet::Primary, set};
+    opt.width = opt.height = width;
+    opt.builders = {Builder::Sah4};
+    opt.accel.builder.kind = Builder::Sah4;
+    opt.node_formats = {nodes};
+    opt.accel.nodes = nodes;
+    if (curves) opt.accel.curve_isect = CurveIsect::Roving;
+    BuiltMethods built = build_methods(scene, opt);
+    BackendPool pool;
+    const RayBatch b = make_ray_batches(scene, built, opt, pool).back();
+    const Query q = set == RaySet::Shadow ? Query::Any : Query::Closest;
+    std::unique_ptr<Backend> be = make_backend("cpu");
+    be->set_scene(built.scenes.at(method));
+    std::vector<kernel::Hit> hits(b.rays.size());
+    std::vector<kernel::RayStats> stats(b.rays.size());
+    be->trace(b.rays, hits, stats, q);
+    double tlas = 0, blas = 0, transforms = 0, calls = 0;
+    for (const kernel::RayStats& s : stats) tlas += s.tlas_nodes, blas += s.blas_nodes, transforms += s.transforms, calls += s.isect_calls;
+    std::unique_ptr<EmbreePeer> embree;
+    if (embree_side) {
+      embree = std::make_unique<EmbreePeer>(1);
+      embree->set_scene(scene, true);
+    }
+    std::vector<std::uint8_t> occluded(b.rays.size());
+    Backend* masq_side = embree_side ? nullptr : be.get();
+    // One warm-up trace first, outside probe_traces (not counted).
+    if (embree_side && q == Query::Any) embree->occluded(b.rays, occluded);
+    else if (embree_side) embree->trace(b.rays, hits);
+    else be->trace(b.rays, hits, {}, q);
+    probe_traces(masq_side, embree.get(), b, q, traces, hits, occluded);
+    const double n = double(b.rays.size());
+    std::printf("%s: %zu rays x %d traces counted (%zu rays); masq's counters per ray: tlas %.2f blas %.2f "
+                "transforms %.2f isect %.2f\n",
+                embree_side ? "embree" : "masq", b.rays.size(), traces, b.rays.size() * std::size_t(traces), tlas / n,
+                blas / n, transforms / n, calls / n);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "masq_trace_probe: %s\n", e.what());
+    return 1;
+  }
+}
