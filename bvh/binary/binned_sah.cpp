@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <string>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -113,7 +112,6 @@ struct Ref {
 struct Bins {
   std::vector<Box4> box;
   std::vector<int> count;
-  std::uint64_t occupied[3] = {0, 0, 0}; // bit k: bin k of the axis holds a primitive (nb <= 64)
   std::vector<int> used;
   std::vector<double> right_area;
   std::vector<int> right_count;
@@ -124,7 +122,6 @@ struct Bins {
       box[i].grow(o.box[i]);
       count[i] += o.count[i];
     }
-    for (int a = 0; a < 3; ++a) occupied[a] |= o.occupied[a];
   }
 };
 
@@ -195,7 +192,6 @@ void bin_range(const Input& in, std::vector<Ref>& order, int first, int count, c
         std::size_t at = std::size_t(axis * nb + bin);
         out.box[at].grow(r.box);
         ++out.count[at];
-        out.occupied[axis] |= std::uint64_t(1) << (bin & 63);
       }
       r.box.hi[3] = double(packed);
     }
@@ -221,14 +217,9 @@ Split find_split(const Input& in, Bins& bins, const Box4& cbox) {
     Box4* bin_box = &bins.box[std::size_t(axis * nb)];
     int* bin_count = &bins.count[std::size_t(axis * nb)];
     int m = 0;
-    if (nb <= 64) {
-      for (std::uint64_t bits = bins.occupied[axis]; bits != 0; bits &= bits - 1) used[m++] = std::countr_zero(bits);
-      bins.occupied[axis] = 0;
-    } else {
-      for (int k = 0; k < nb; ++k) {
-        used[m] = k;
-        m += bin_count[k] != 0 ? 1 : 0;
-      }
+    for (int k = 0; k < nb; ++k) {
+      used[m] = k;
+      m += bin_count[k] != 0 ? 1 : 0;
     }
     // right_area[j], right_count[j]: the bins used[j..m-1].
     Box4 acc;
