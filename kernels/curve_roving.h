@@ -125,7 +125,9 @@ FN CurveClip curve_roving_clip(CurvePiece pc, float rp, float zlo) {
 
 // The first boundary point of the solid at or after zlo, as curve_subdiv (same
 // arguments), searching only the part of the curve that steps 1 and 2 leave.
-FN CurveRoot curve_roving(CurveFrame f, float zlo, float zmax, float tol, float ttol, float pad, int maybe_inside) {
+// zstop: as curve_subdiv's (an occlusion query's early stop).
+FN CurveRoot curve_roving(CurveFrame f, float zlo, float zmax, float tol, float ttol, float pad, int maybe_inside,
+                          float zstop) {
   float a = 0.0f; // the piece left: s in [a, a + w]
   float w = 1.0f;
   CurvePiece pc;
@@ -153,7 +155,7 @@ FN CurveRoot curve_roving(CurveFrame f, float zlo, float zmax, float tol, float 
     pc = curve_piece(f, a, nb);
   }
   if (missed != 0) return curve_root_none(0.0f);
-  return curve_subdiv(f, a, w, zlo, zmax, tol, ttol, pad, maybe_inside, MASQ_ROVING_COARSE * f.r);
+  return curve_subdiv(f, a, w, zlo, zmax, tol, ttol, pad, maybe_inside, MASQ_ROVING_COARSE * f.r, zstop);
 }
 
 KERNEL_NS_END

@@ -253,8 +253,12 @@ FN int curve_runs_along(CurvePiece pc, vec3 ch) {
 // the part their clipping left, kernels/curve_roving.h). coarse > 0 (roving): a piece
 // flat to coarse whose inner capsule the ray crosses, starting before its outer one, is
 // a leaf whose entry is found by curve_refine right away (curve_roving.h, step 3).
+// zstop (an occlusion query, curve_occlusion.h; -inf otherwise): the first entry found at
+// or before it ends the search, nearer ones or not. The caller passes it only where such
+// an entry proves the ray meets the solid in its window (zlo outside the solid, or the
+// window's end outside the curve's bounding ball).
 FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zmax, float tol, float ttol, float pad,
-                          int maybe_inside, float coarse) {
+                          int maybe_inside, float coarse, float zstop) {
   CurveRoot rt = curve_root_none(0.0f);
   float r = f.r;
   float rp = r + pad;
@@ -386,6 +390,7 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
             rt.found = 1;
             refined = cand.found == 1 ? 1 : 0; // (2: at a joint; refined if it stays the answer)
             wbest = hs;
+            if (cand.found == 1 && cand.z <= zstop) stop = 1; // (2 is a bound, not a crossing)
           }
         } else
         if (keep != 0 && leaf != 0) {
@@ -399,6 +404,7 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
             rt.s = s0 + sp.uin * hs;
             rt.nrm = sp.nin;
             wbest = hs;
+            if (sp.zin <= zstop) stop = 1;
           }
           if (met != 0 && ((mode == 0 && sp.zin < zlo && sp.zout >= zlo) || (mode == 2 && sp.zin <= cur && sp.zout > cur))) {
             inside = 1;

@@ -30,6 +30,7 @@
 // tests/test_curve_intersector_*.cpp.
 #ifndef MASQ_KERNEL_INTERSECT_CURVE_H
 #define MASQ_KERNEL_INTERSECT_CURVE_H
+#include "curve_occlusion.h"
 #include "curve_phantom.h"
 #include "curve_roving.h"
 
@@ -37,7 +38,9 @@ KERNEL_NS_BEGIN
 
 // robust != 0: intersect_curve; 0: intersect_curve_fast (see the top of this file).
 // isect: MASQ_CURVE_PHANTOM or MASQ_CURVE_ROVING (kernels/curve_roving.h).
-FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax, int robust, int isect) {
+// any != 0: an occlusion query's call (MASQ_ANY_HIT): any point of the window that
+// proves the ray meets the solid will do (kernels/curve_occlusion.h).
+FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax, int robust, int isect, int any) {
   float r = c.radius;
   float dd = dot(d, d);
   if (!(r > 0.0f) || !(dd > 0.0f) || !(tmin <= tmax)) return prim_miss();
@@ -114,14 +117,24 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
     // zero-speed end's pieces would otherwise never count as flat).
     float tol = max(MASQ_CURVE_FLAT * MASQ_U * (r + span), 4.0f * MASQ_U * vmax3_(mb.x, mb.y, mb.z));
     int inside = dot(pp, pp) + zlo * zlo <= rb2 ? 1 : 0; // zlo may lie in the solid
+    // Occlusion (curve_occlusion.h): the window's far end outside the bounding ball lets
+    // a point inside the solid prove a crossing; with zlo outside, any entry found does.
+    float zmax = (tmax - ts) * dl;
+    int far_out = zmax > zlo && dot(pp, pp) + zmax * zmax > rb2 ? 1 : 0;
+    CurveRoot rt = curve_root_none(0.0f);
+    if (any != 0 && inside != 0 && far_out != 0) rt = curve_inside_witness(f, zlo, pad);
+    int witness = rt.found; // (a witness lies at zlo, i.e. at tlo itself: taken as such)
+    float zstop = any != 0 && (inside == 0 || far_out != 0) ? zmax : -inf_();
     // The search ignores tmax: it settles near-ties within ttol by its own visit order,
     // so a bound from another primitive (the traversal's nearest hit so far) would
     // prune this curve's entry when it lies within ttol before that hit, and the answer
     // would depend on the order a backend visits primitives in (ray query's driver
-    // order differs from masq's). tmax decides only the answer's acceptance below.
-    CurveRoot rt = roving != 0 ? curve_roving(f, zlo, inf_(), tol, MASQ_CURVE_TTOL * r, pad, inside)
-                               : curve_subdiv(f, 0.0f, 1.0f, zlo, inf_(), tol, MASQ_CURVE_TTOL * r, pad, inside, 0.0f);
-    if (rt.found != 0) best = prim_take(best, ts + rt.z / dl, tlo, rt.nrm, rt.s);
+    // order differs from masq's). tmax decides only the answer's acceptance below (and
+    // an occlusion query's early stop, zstop).
+    if (rt.found == 0)
+      rt = roving != 0 ? curve_roving(f, zlo, inf_(), tol, MASQ_CURVE_TTOL * r, pad, inside, zstop)
+                       : curve_subdiv(f, 0.0f, 1.0f, zlo, inf_(), tol, MASQ_CURVE_TTOL * r, pad, inside, 0.0f, zstop);
+    if (rt.found != 0) best = prim_take(best, witness != 0 ? tlo : ts + rt.z / dl, tlo, rt.nrm, rt.s);
   }
   // Fast: exit chains only when the origin (at tlo) may be inside the solid.
   int maybe_inside = dot(pp, pp) + zlo * zlo <= rb2 ? 1 : 0;
@@ -157,19 +170,19 @@ FN PrimHit curve_intersect_mode(Curve c, vec3 o, vec3 d, float tmin, float tmax,
 }
 
 FN PrimHit intersect_curve(Curve c, vec3 o, vec3 d, float tmin, float tmax) {
-  return curve_intersect_mode(c, o, d, tmin, tmax, 1, MASQ_CURVE_PHANTOM);
+  return curve_intersect_mode(c, o, d, tmin, tmax, 1, MASQ_CURVE_PHANTOM, 0);
 }
 
 FN PrimHit intersect_curve_fast(Curve c, vec3 o, vec3 d, float tmin, float tmax) {
-  return curve_intersect_mode(c, o, d, tmin, tmax, 0, MASQ_CURVE_PHANTOM);
+  return curve_intersect_mode(c, o, d, tmin, tmax, 0, MASQ_CURVE_PHANTOM, 0);
 }
 
 FN PrimHit intersect_curve_roving(Curve c, vec3 o, vec3 d, float tmin, float tmax) {
-  return curve_intersect_mode(c, o, d, tmin, tmax, 1, MASQ_CURVE_ROVING);
+  return curve_intersect_mode(c, o, d, tmin, tmax, 1, MASQ_CURVE_ROVING, 0);
 }
 
 FN PrimHit intersect_curve_roving_fast(Curve c, vec3 o, vec3 d, float tmin, float tmax) {
-  return curve_intersect_mode(c, o, d, tmin, tmax, 0, MASQ_CURVE_ROVING);
+  return curve_intersect_mode(c, o, d, tmin, tmax, 0, MASQ_CURVE_ROVING, 0);
 }
 
 KERNEL_NS_END

@@ -107,7 +107,7 @@ inline Hair make_hair(Rng& rng, ld r, ld len_r, ld T, ld bend = 0.1L) {
 inline int g_curve_isect = MASQ_CURVE_PHANTOM;
 
 inline KV::PrimHit run_kernel(const Hair& h, bool fast, glm::vec3 o, glm::vec3 d, float tmin = 0, float tmax = kInfF) {
-  return KV::curve_intersect_mode(h.k, o, d, tmin, tmax, fast ? 0 : 1, g_curve_isect);
+  return KV::curve_intersect_mode(h.k, o, d, tmin, tmax, fast ? 0 : 1, g_curve_isect, 0);
 }
 
 // Direction of the curve at s; where C'(s) = 0 (coincident control points) the limit
