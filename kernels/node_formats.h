@@ -242,6 +242,55 @@ FN WideHits hits_o4(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, v
   return hits_box4_words(KD_ARG b, mo, safe_rcp3(md), 1, mpad, tmin, tmax);
 }
 
+#if defined(MASQ_LANG_CPP)
+// cpu: the ray in the frame of the last rotated node an o4 walk met, kept for the next
+// node with the same rotation (nodes over parallel strands share one: on the default
+// bundle's camera rays the rotation, its product with the ray and the three divisions
+// were about a quarter of the trace). Everything hits_o4 computes from the rotation and
+// the ray alone is kept; the t_bound term is formed per node in hits_o4's own order, so
+// the bits are hits_o4's.
+struct O4RayCache {
+  bool valid = false;
+  uint key[3] = {0u, 0u, 0u}; // the rotation words (OrientedNode4::rot)
+  vec3 mo{0.0f};              // M o
+  vec3 inv_md{0.0f};          // safe_rcp3(M d)
+  vec3 err_o{0.0f};           // transform_error's origin term, row by row
+  vec3 err_d{0.0f};           // dot(|row|, |d|), which t_bound scales
+  vec3 in_pad{0.0f};          // the incoming pad through |M| (padded != 0)
+};
+
+FN_INLINED WideHits hits_o4_cached(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, vec3 pad, float tmin,
+                                   float tmax, float t_bound, O4RayCache& c) {
+  int b = node * MASQ_O4_WORDS;
+  const uint* w = KD(node_words) + b;
+  if (w[MASQ_O4_ORIENTED] == 0u) return hits_box4_words(KD_ARG b, o, inv_d, padded, pad, tmin, tmax);
+  if (!c.valid || w[MASQ_O4_ROT] != c.key[0] || w[MASQ_O4_ROT + 1] != c.key[1] || w[MASQ_O4_ROT + 2] != c.key[2]) {
+    Affine m;
+    m.r0 = VEC3(o4_entry(KD_ARG b, 0), o4_entry(KD_ARG b, 1), o4_entry(KD_ARG b, 2));
+    m.r1 = VEC3(o4_entry(KD_ARG b, 3), o4_entry(KD_ARG b, 4), o4_entry(KD_ARG b, 5));
+    m.r2 = VEC3(o4_entry(KD_ARG b, 6), o4_entry(KD_ARG b, 7), o4_entry(KD_ARG b, 8));
+    m.t = VEC3(0.0f, 0.0f, 0.0f);
+    c.valid = true;
+    for (int k = 0; k < 3; ++k) c.key[k] = w[MASQ_O4_ROT + k];
+    c.mo = affine_vector(m, o);
+    c.inv_md = safe_rcp3(affine_vector(m, d));
+    // transform_error(m, o, d, t_bound), split where t_bound enters.
+    vec3 ao = vabs_(o);
+    vec3 ad = vabs_(d);
+    c.err_o = VEC3(MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)), MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)),
+                   MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)));
+    c.err_d = VEC3(dot(vabs_(m.r0), ad), dot(vabs_(m.r1), ad), dot(vabs_(m.r2), ad));
+    c.in_pad = VEC3(dot(vabs_(m.r0), pad), dot(vabs_(m.r1), pad), dot(vabs_(m.r2), pad)) * (1.0f + 8.0f * MASQ_U);
+  }
+  float tb = fabs_(t_bound);
+  vec3 mpad = VEC3(c.err_o.x + tb * MASQ_GAMMA3 * c.err_d.x, c.err_o.y + tb * MASQ_GAMMA3 * c.err_d.y,
+                   c.err_o.z + tb * MASQ_GAMMA3 * c.err_d.z) *
+              (1.0f + 8.0f * MASQ_U);
+  if (padded != 0) mpad = mpad + c.in_pad;
+  return hits_box4_words(KD_ARG b, c.mo, c.inv_md, 1, mpad, tmin, tmax);
+}
+#endif
+
 // The node test of the scene's format: child entry distances and the decoded slots.
 // d and t_bound serve the o4 format's rotation (the other formats test with inv_d).
 FN WideHits node_hits(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, vec3 pad, float tmin, float tmax,

@@ -148,6 +148,9 @@ FN_INLINED BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, ve
   bool held = true;
   int steps = 0;
   bool done = false; // an occlusion query's hit, or a fault
+#if defined(MASQ_LANG_CPP)
+  O4RayCache o4_cache; // (o4: the ray in the last rotated node's frame, node_formats.h)
+#endif
   while (!done && (held || sp > 0)) {
     if (!held) {
       sp = sp - 1;
@@ -167,7 +170,13 @@ FN_INLINED BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, ve
     }
     if (node_t > res.nearest.t) continue;
     if (MASQ_STATS) res.nodes = res.nodes + 1;
+#if defined(MASQ_LANG_CPP)
+    WideHits wh = MASQ_NODE_FORMAT == MASQ_NODES_O4
+                      ? hits_o4_cached(KD_ARG node, o, d, inv_d, padded, pad, tmin, res.nearest.t, node_tf, o4_cache)
+                      : node_hits(KD_ARG node, o, d, inv_d, padded, pad, tmin, res.nearest.t, node_tf);
+#else
     WideHits wh = node_hits(KD_ARG node, o, d, inv_d, padded, pad, tmin, res.nearest.t, node_tf);
+#endif
 #if defined(MASQ_LANG_CPP)
     {
       // cpu: the visits of the loops below, in their order, without their scan of every
