@@ -125,7 +125,68 @@ STRUCT_BEGIN(CurveSpan)
   float uout;
 STRUCT_END(CurveSpan)
 
-FN CurveSpan curve_leaf_capsule(vec3 a, vec3 b, float r) {
+// What the capsule tests about one chord share whatever their radius (a node tests two,
+// the sandwich's, and a leaf a third): the end balls' distances from the z axis and the
+// axis line's closest approach (chord parameter us, z0, distance hh). Computed once, the
+// values are those each test computed for itself before, so every backend's bits are too.
+STRUCT_BEGIN(CurveChord)
+  vec3 a;
+  vec3 b;
+  vec3 e;      // b - a
+  float ha;    // |a_xy|
+  float hb;    // |b_xy|
+  float aa;    // |e_xy|^2
+  float ee;    // |e|^2
+  int lateral; // the axis line is not along z: the lateral surface is tested
+  float hh;    // its distance from the z axis
+  float us;    // the chord parameter of its closest approach
+  float z0;    // and that point's z
+STRUCT_END(CurveChord)
+
+// Every field set (no undefined value may reach a decision: docs/kernels.md).
+FN CurveChord curve_chord_none() {
+  CurveChord c;
+  c.a = VEC3(0.0f, 0.0f, 0.0f);
+  c.b = c.a;
+  c.e = c.a;
+  c.ha = 0.0f;
+  c.hb = 0.0f;
+  c.aa = 0.0f;
+  c.ee = 0.0f;
+  c.lateral = 0;
+  c.hh = 0.0f;
+  c.us = 0.0f;
+  c.z0 = 0.0f;
+  return c;
+}
+
+FN CurveChord curve_chord(vec3 a, vec3 b) {
+  CurveChord c;
+  c.a = a;
+  c.b = b;
+  c.ha = sqrt(a.x * a.x + a.y * a.y);
+  c.hb = sqrt(b.x * b.x + b.y * b.y);
+  c.e = b - a;
+  c.aa = c.e.x * c.e.x + c.e.y * c.e.y;
+  c.ee = dot(c.e, c.e);
+  c.lateral = c.aa > 1e-12f * c.ee ? 1 : 0;
+  c.hh = 0.0f;
+  c.us = 0.0f;
+  c.z0 = 0.0f;
+  if (c.lateral != 0) {
+    // Dot2-accurate cross product: hh = |a_xy x e_xy| / |e_xy|.
+    c.hh = fabs_(curve_dop(a.x, c.e.y, a.y, c.e.x)) / sqrt(c.aa);
+    c.us = -(a.x * c.e.x + a.y * c.e.y) / c.aa;
+    c.z0 = a.z + c.us * c.e.z;
+  }
+  return c;
+}
+
+// The capsule of radius r about the chord against the z axis. End balls in the
+// closest-approach form (r - h)(r + h); the lateral surface spans z0 -+ sqrt(r^2 - hh^2)
+// |e| / |e_xy| about the axis line's closest approach, its crossings counting where their
+// chord parameter lies in [0, 1] (beyond, the end balls hold the capsule).
+FN CurveSpan curve_chord_capsule(CurveChord ch, float r) {
   CurveSpan sp;
   sp.zin = inf_();
   sp.zout = -inf_();
@@ -133,10 +194,9 @@ FN CurveSpan curve_leaf_capsule(vec3 a, vec3 b, float r) {
   sp.nout = sp.nin;
   sp.uin = 0.0f;
   sp.uout = 0.0f;
-  // End balls (closest-approach form (r - h)(r + h)).
   for (int k = 0; k < 2; ++k) {
-    vec3 c = k == 0 ? a : b;
-    float hc = sqrt(c.x * c.x + c.y * c.y);
+    vec3 c = k == 0 ? ch.a : ch.b;
+    float hc = k == 0 ? ch.ha : ch.hb;
     float disc = (r - hc) * (r + hc);
     if (disc >= 0.0f) {
       float w = sqrt(disc);
@@ -153,28 +213,17 @@ FN CurveSpan curve_leaf_capsule(vec3 a, vec3 b, float r) {
       }
     }
   }
-  // Lateral surface: the axis line's closest approach to the z axis is at chord
-  // parameter us = -(a_xy . e_xy) / |e_xy|^2, z0 = a_z + us e_z, distance
-  // hh = |a_xy x e_xy| / |e_xy| (Dot2-accurate cross product); the cylinder spans
-  // z0 -+ sqrt(r^2 - hh^2) |e| / |e_xy|. Its crossings count where their chord
-  // parameter lies in [0, 1]; beyond, the end balls hold the capsule.
-  vec3 e = b - a;
-  float aa = e.x * e.x + e.y * e.y;
-  float ee = dot(e, e);
-  if (aa > 1e-12f * ee) {
-    float hh = fabs_(curve_dop(a.x, e.y, a.y, e.x)) / sqrt(aa);
-    float disc = (r - hh) * (r + hh);
+  if (ch.lateral != 0) {
+    float disc = (r - ch.hh) * (r + ch.hh);
     if (disc >= 0.0f) {
-      float us = -(a.x * e.x + a.y * e.y) / aa;
-      float z0 = a.z + us * e.z;
-      float hw = sqrt(disc * ee / aa);
-      float du = hw * e.z / ee;
+      float hw = sqrt(disc * ch.ee / ch.aa);
+      float du = hw * ch.e.z / ch.ee;
       for (int k = 0; k < 2; ++k) {
         float sgn = k == 0 ? -1.0f : 1.0f;
-        float u = us + sgn * du;
-        float z = z0 + sgn * hw;
+        float u = ch.us + sgn * du;
+        float z = ch.z0 + sgn * hw;
         if (u >= 0.0f && u <= 1.0f) {
-          vec3 n = VEC3(0.0f, 0.0f, z) - (a + u * e);
+          vec3 n = VEC3(0.0f, 0.0f, z) - (ch.a + u * ch.e);
           if (k == 0 && z < sp.zin) {
             sp.zin = z;
             sp.nin = n;
@@ -321,24 +370,30 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
       if (keep != 0) {
         int leaf = dev <= tol || level >= MASQ_CURVE_DEPTH ? 1 : 0;
         CurveRoot cand = curve_root_none(0.0f); // a coarse leaf's entry, on the curve's surface
+        CurveChord line = curve_chord_none(); // the chord's capsule terms, once computed (have_line)
+        int have_line = 0;
         if (leaf == 0 && dev <= max(4.0f * ttol, coarse)) {
           // The piece's solid lies between the capsules of radius r -+ (dev + pad)
           // about its chord: if the ray crosses both within ttol at each end of its
           // interval, the capsule of radius r gives both ends to ttol (and the
           // hit/miss is certain); only rays near this piece's outline go deeper.
           float rdev = dev + pad;
-          CurveSpan so = curve_leaf_capsule(pc.p0, pc.p3, r + rdev);
-          CurveSpan si = curve_leaf_capsule(pc.p0, pc.p3, r - rdev);
+          line = curve_chord(pc.p0, pc.p3);
+          have_line = 1;
+          CurveSpan so = curve_chord_capsule(line, r + rdev);
           // The outer capsule bounds the piece's entries and exits tightly: prune a
           // piece that cannot move the answer by more than ttol.
           if (!(so.zin <= so.zout)) keep = 0; // misses the outer capsule
           else if (mode == 0 && (so.zout < zlo || (so.zin > zlo && so.zin >= best - ttol))) keep = 0;
           else if (mode == 1 && (so.zin >= best - ttol || so.zout < zlo)) keep = 0;
           else if (mode == 2 && (so.zin > cur || so.zout <= cur + ttol)) keep = 0;
-          else if (r > rdev && si.zin <= si.zout && si.zin - so.zin <= ttol && so.zout - si.zout <= ttol &&
-                   !(so.zin <= zlo && zlo <= si.zin) && !(si.zout <= zlo && zlo <= so.zout))
+          // (The inner capsule only where the outer one keeps the piece.)
+          CurveSpan si = so;
+          if (keep != 0) si = curve_chord_capsule(line, r - rdev);
+          if (keep != 0 && r > rdev && si.zin <= si.zout && si.zin - so.zin <= ttol && so.zout - si.zout <= ttol &&
+              !(so.zin <= zlo && zlo <= si.zin) && !(si.zout <= zlo && zlo <= so.zout))
             leaf = 1; // (and zlo is not in either band: inside or outside is certain)
-          else if (dev <= coarse && r > rdev && cc >= MASQ_COARSE_SIN2 * dot(ch, ch) &&
+          else if (keep != 0 && dev <= coarse && r > rdev && cc >= MASQ_COARSE_SIN2 * dot(ch, ch) &&
                    dev * dev <= MASQ_COARSE_BOW2 * dot(ch, ch) && curve_runs_along(pc, ch) != 0) {
             // A coarse piece: its z_in and z_out are convex and concave, so the least
             // entry and the greatest exit are where the envelope condition holds on the
@@ -394,7 +449,8 @@ FN CurveRoot curve_subdiv(CurveFrame f, float sa, float sw, float zlo, float zma
           }
         } else
         if (keep != 0 && leaf != 0) {
-          CurveSpan sp = curve_leaf_capsule(pc.p0, pc.p3, r);
+          if (have_line == 0) line = curve_chord(pc.p0, pc.p3);
+          CurveSpan sp = curve_chord_capsule(line, r);
           int met = sp.zin <= sp.zout ? 1 : 0; // (missed: zin = inf, zout = -inf)
           if (met != 0 && mode <= 1 && sp.zin >= zlo && sp.zin <= best) {
             best = sp.zin;
