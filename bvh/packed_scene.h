@@ -68,7 +68,9 @@ struct BuildStats {
   int cluster_size = 0;
   double cluster_leaf_price = 0;
   std::size_t masq_prims = 0;   // masquerade instances (masq and auto)
-  // Expected work per ray of this structure under the auto prices (bvh/twolevel/structure_cost.h).
+  // Expected work per ray of this structure under the auto prices (bvh/twolevel/structure_cost.h),
+  // filled by auto's builds (its candidates, the one it kept, and the mix alone); 0 for a
+  // plain ref, masq or cluster build, whose structure_cost() the caller asks for instead.
   double model_cost = 0;
   double model_triangles = 0; // its share spent in triangle geometries
   // auto: the candidate it kept (ref, masq, cluster, or Auto for its per-cluster mix)

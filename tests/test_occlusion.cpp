@@ -115,7 +115,9 @@ TEST_P(Occlusion, AgreesWithTheOracleAndStopsEarly) {
   EXPECT_EQ(not_a_hit, 0);
   EXPECT_GT(occluded, int(rays.size() / 10)); // the bundle shadows much of the ground, strands each other
   // Curves: rays from a strand's far side prove their occlusion by a point inside it.
-  if (c.scene != SceneKind::Default) EXPECT_GT(inside_witness, 0);
+  if (c.scene != SceneKind::Default) {
+    EXPECT_GT(inside_witness, 0);
+  }
   // Early exit: fewer intersector calls than the closest-hit query on the same rays.
   EXPECT_LT(mean_calls(any_stats), mean_calls(closest_stats));
 }

@@ -40,6 +40,9 @@ template <class T> bool same_bytes(const std::vector<T>& a, const std::vector<T>
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
+// The model's price of a plain build (auto's builds carry theirs in stats.model_cost).
+double priced(const PackedScene& ps, const AccelOptions& opt = {}) { return structure_cost(ps, opt.prices).total; }
+
 } // namespace
 
 TEST(StructureCost, OneCapsuleUnderRefIsRootVisitPlusOneCall) {
@@ -54,7 +57,8 @@ TEST(StructureCost, OneCapsuleUnderRefIsRootVisitPlusOneCall) {
   EXPECT_NEAR(c.isects, 1.0, 1e-6);
   EXPECT_NEAR(c.total, prices.node + prices.isect, 1e-6);
   EXPECT_EQ(c.triangles, 0.0);
-  EXPECT_EQ(ps.stats.model_cost, c.total);
+  EXPECT_EQ(ps.stats.model_cost, 0.0); // a plain build is not priced
+  EXPECT_EQ(priced(ps), c.total);
 }
 
 TEST(StructureCost, OneCapsuleUnderMasqCallsOnlyInsideItsObb) {
@@ -119,9 +123,9 @@ TEST(AutoSelect, KeepsTheCandidatesBytes) {
 
 TEST(AutoSelect, TrianglesShareIsCountedApart) {
   // The default scene's ground plane costs the same in every candidate.
-  PackedScene ps = build_accel(make_default_scene(), Method::Ref);
-  EXPECT_GT(ps.stats.model_triangles, 0.0);
-  EXPECT_LT(ps.stats.model_triangles, ps.stats.model_cost);
+  StructureCost c = structure_cost(build_accel(make_default_scene(), Method::Ref), CostPrices{});
+  EXPECT_GT(c.triangles, 0.0);
+  EXPECT_LT(c.triangles, c.total);
 }
 
 TEST(AutoSelect, MeshHasOnlyRefsCandidate) {
@@ -135,7 +139,7 @@ TEST(AutoSelect, MeshHasOnlyRefsCandidate) {
   EXPECT_EQ(a.stats.auto_choice, Method::Ref);
   EXPECT_TRUE(same_bytes(a.nodes, r.nodes));
   EXPECT_TRUE(same_bytes(a.instances, r.instances));
-  for (double c : a.stats.auto_candidates) EXPECT_EQ(c, r.stats.model_cost);
+  for (double c : a.stats.auto_candidates) EXPECT_EQ(c, priced(r));
 }
 
 TEST(AutoSelect, ClusterShapesAreDistinctAndStartWithTheGivenOne) {
@@ -166,8 +170,8 @@ TEST(AutoSelect, KeepsTheCheapestClusterShape) {
     o.cluster = shape;
     PackedScene c = build_accel(s, Method::Cluster, o);
     EXPECT_EQ(c.stats.cluster_size, shape.max_size);
-    EXPECT_GE(c.stats.model_cost, a.stats.model_cost);
-    if (cheapest == 0 || c.stats.model_cost < cheapest) cheapest = c.stats.model_cost;
+    EXPECT_GE(priced(c, o), a.stats.model_cost);
+    if (cheapest == 0 || priced(c, o) < cheapest) cheapest = priced(c, o);
   }
   EXPECT_EQ(a.stats.model_cost, cheapest);
   EXPECT_EQ(a.stats.auto_candidates[std::size_t(Method::Cluster)], cheapest);
@@ -191,7 +195,8 @@ TEST(AutoSelect, SharedClusteringsGiveEachCandidateItsOwnBuild) {
       if (cand.method == Method::Auto) o.auto_select = AutoSelect::MixOnly;
       PackedScene alone = build_accel(s, cand.method, o);
       SCOPED_TRACE(s.name + " " + method_name(cand.method));
-      EXPECT_EQ(std::memcmp(&alone.stats.model_cost, &cand.stats.model_cost, sizeof(double)), 0);
+      const double alone_cost = cand.method == Method::Auto ? alone.stats.model_cost : priced(alone, o);
+      EXPECT_EQ(std::memcmp(&alone_cost, &cand.stats.model_cost, sizeof(double)), 0);
       ASSERT_EQ(alone.nodes.size(), cand.nodes.size());
       EXPECT_EQ(std::memcmp(alone.nodes.data(), cand.nodes.data(), alone.nodes.size() * sizeof(alone.nodes[0])), 0);
       EXPECT_EQ(alone.refs, cand.refs);

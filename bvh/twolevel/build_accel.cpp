@@ -88,7 +88,9 @@ struct SharedClusterings {
 
 // One method's structure; for Method::Auto the per-cluster mix of bvh/twolevel/method_plan.cpp.
 // shared (auto's candidates): clusterings to reuse, and to add this build's to.
-PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt,
+// price: fill stats.model_cost and model_triangles (auto's candidates, which are chosen by
+// them); a plain build skips the walk (a tenth of the bear's masquerade build).
+PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt, bool price,
                           SharedClusterings* shared = nullptr) {
   auto start = std::chrono::steady_clock::now();
   PackedScene ps;
@@ -281,9 +283,11 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
                             ps.instances[0].prim != MASQ_INST_CLUSTER && !blas_root_oriented &&
                             scene.instances[ps.instances[0].scene_inst].object_to_world.is_identity();
   ps.stats.node_bytes = ps.node_bytes();
-  StructureCost sc = structure_cost(ps, opt.prices);
-  ps.stats.model_cost = sc.total;
-  ps.stats.model_triangles = sc.triangles;
+  if (price) {
+    StructureCost sc = structure_cost(ps, opt.prices);
+    ps.stats.model_cost = sc.total;
+    ps.stats.model_triangles = sc.triangles;
+  }
   ps.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return ps;
 }
@@ -342,7 +346,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     for (std::size_t k = 0; k < shapes.size(); ++k) {
       AccelOptions one = opt;
       one.cluster = shapes[k];
-      PackedScene c = build_planned(scene, m, one, &shared);
+      PackedScene c = build_planned(scene, m, one, true, &shared);
       if (k == 0 || c.stats.model_cost < cand.stats.model_cost) cand = std::move(c);
     }
     out.costs[std::size_t(m)] = cand.stats.model_cost;
@@ -392,7 +396,7 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
   run_with_build_threads(opt.build_threads, [&] {
     if (method != Method::Auto || opt.auto_select == AutoSelect::MixOnly) {
       check_accel_input(scene, opt);
-      out = build_planned(scene, method, opt);
+      out = build_planned(scene, method, opt, method == Method::Auto);
       return;
     }
     // auto: build every candidate whole and keep the one the structure cost model prices
