@@ -85,14 +85,24 @@ FN WideHits intersect_wide_node(WideNode n, vec3 o, vec3 inv_d, float tmin, floa
 //   direction: gamma_3 * |A| |d|, times t_bound
 // Rounded alike on every backend (no contraction anywhere: shim.h), like the transform
 // it bounds: the padded box decides the masquerade's cull.
-FN vec3 transform_error(Affine m, vec3 wo, vec3 wd, float t_bound) {
+// In three parts, for a caller that meets one transform at several t_bound (the cpu's o4
+// walk, node_formats.h): the origin term, |A| |d|, and their sum at t_bound.
+FN vec3 transform_error_origin(Affine m, vec3 wo) {
   vec3 ao = vabs_(wo);
+  return VEC3(MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)), MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)),
+              MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)));
+}
+FN vec3 transform_error_dir(Affine m, vec3 wd) {
   vec3 ad = vabs_(wd);
+  return VEC3(dot(vabs_(m.r0), ad), dot(vabs_(m.r1), ad), dot(vabs_(m.r2), ad));
+}
+FN vec3 transform_error_at(vec3 origin_term, vec3 dir_term, float t_bound) {
   float tb = fabs_(t_bound);
-  float px = MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r0), ad);
-  float py = MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r1), ad);
-  float pz = MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)) + tb * MASQ_GAMMA3 * dot(vabs_(m.r2), ad);
-  return VEC3(px, py, pz);
+  return VEC3(origin_term.x + tb * MASQ_GAMMA3 * dir_term.x, origin_term.y + tb * MASQ_GAMMA3 * dir_term.y,
+              origin_term.z + tb * MASQ_GAMMA3 * dir_term.z);
+}
+FN vec3 transform_error(Affine m, vec3 wo, vec3 wd, float t_bound) {
+  return transform_error_at(transform_error_origin(m, wo), transform_error_dir(m, wd), t_bound);
 }
 
 // The padding a box in the transformed space needs when the primitives inside are

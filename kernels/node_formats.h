@@ -220,6 +220,43 @@ FN float o4_entry(KD_PARAM int b, int e) {
   return i2f_(q > 127 ? q - 256 : q) * 0.0078125f;
 }
 
+// The ray in an o4 node's frame, all of it that does not depend on the node's exit
+// distance: M o, the reciprocals of M d, transform_error's two parts and an incoming pad
+// (the ray itself transformed: cluster BLAS) carried through |M| (padded != 0, else 0).
+STRUCT_BEGIN(O4Ray)
+  vec3 mo;
+  vec3 inv_md;
+  vec3 err_o;
+  vec3 err_d;
+  vec3 in_pad;
+STRUCT_END(O4Ray)
+
+// The ray in the frame of the oriented o4 node at word b.
+FN O4Ray o4_ray(KD_PARAM int b, vec3 o, vec3 d, int padded, vec3 pad) {
+  Affine m;
+  m.r0 = VEC3(o4_entry(KD_ARG b, 0), o4_entry(KD_ARG b, 1), o4_entry(KD_ARG b, 2));
+  m.r1 = VEC3(o4_entry(KD_ARG b, 3), o4_entry(KD_ARG b, 4), o4_entry(KD_ARG b, 5));
+  m.r2 = VEC3(o4_entry(KD_ARG b, 6), o4_entry(KD_ARG b, 7), o4_entry(KD_ARG b, 8));
+  m.t = VEC3(0.0f, 0.0f, 0.0f);
+  O4Ray r;
+  r.mo = affine_vector(m, o);
+  r.inv_md = safe_rcp3(affine_vector(m, d));
+  r.err_o = transform_error_origin(m, o);
+  r.err_d = transform_error_dir(m, d);
+  r.in_pad = VEC3(0.0f, 0.0f, 0.0f);
+  if (padded != 0)
+    r.in_pad = VEC3(dot(vabs_(m.r0), pad), dot(vabs_(m.r1), pad), dot(vabs_(m.r2), pad)) * (1.0f + 8.0f * MASQ_U);
+  return r;
+}
+
+// The boxes of the oriented node at word b against the ray in its frame, padded by the
+// transform's error bound at t_bound (transform_pad's) and the incoming pad.
+FN WideHits o4_box_hits(KD_PARAM int b, O4Ray r, int padded, float tmin, float tmax, float t_bound) {
+  vec3 mpad = transform_error_at(r.err_o, r.err_d, t_bound) * (1.0f + 8.0f * MASQ_U);
+  if (padded != 0) mpad = mpad + r.in_pad;
+  return hits_box4_words(KD_ARG b, r.mo, r.inv_md, 1, mpad, tmin, tmax);
+}
+
 // An o4 node: the ray goes into the node's frame (o' = M o, d' = M d) and the boxes are
 // padded by that product's fp32 error, which grows with t: t_bound is the exit distance
 // of this node's box in its parent (no hit below it lies farther), as transform_pad
@@ -229,34 +266,18 @@ FN WideHits hits_o4(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, v
                     float t_bound) {
   int b = node * MASQ_O4_WORDS;
   if (KD(node_words)[b + MASQ_O4_ORIENTED] == 0u) return hits_box4_words(KD_ARG b, o, inv_d, padded, pad, tmin, tmax);
-  Affine m;
-  m.r0 = VEC3(o4_entry(KD_ARG b, 0), o4_entry(KD_ARG b, 1), o4_entry(KD_ARG b, 2));
-  m.r1 = VEC3(o4_entry(KD_ARG b, 3), o4_entry(KD_ARG b, 4), o4_entry(KD_ARG b, 5));
-  m.r2 = VEC3(o4_entry(KD_ARG b, 6), o4_entry(KD_ARG b, 7), o4_entry(KD_ARG b, 8));
-  m.t = VEC3(0.0f, 0.0f, 0.0f);
-  vec3 mo = affine_vector(m, o);
-  vec3 md = affine_vector(m, d);
-  vec3 mpad = transform_pad(m, o, d, t_bound);
-  if (padded != 0)
-    mpad = mpad + VEC3(dot(vabs_(m.r0), pad), dot(vabs_(m.r1), pad), dot(vabs_(m.r2), pad)) * (1.0f + 8.0f * MASQ_U);
-  return hits_box4_words(KD_ARG b, mo, safe_rcp3(md), 1, mpad, tmin, tmax);
+  return o4_box_hits(KD_ARG b, o4_ray(KD_ARG b, o, d, padded, pad), padded, tmin, tmax, t_bound);
 }
 
 #if defined(MASQ_LANG_CPP)
-// cpu: the ray in the frame of the last rotated node an o4 walk met, kept for the next
-// node with the same rotation (nodes over parallel strands share one: on the default
-// bundle's camera rays the rotation, its product with the ray and the three divisions
-// were about a quarter of the trace). Everything hits_o4 computes from the rotation and
-// the ray alone is kept; the t_bound term is formed per node in hits_o4's own order, so
-// the bits are hits_o4's.
+// cpu: the ray in the frame of the last rotated node an o4 walk met (o4_ray), kept for
+// the next node with the same rotation: nodes over parallel strands share one, and on
+// the default bundle's camera rays the rotation, its product with the ray and the three
+// divisions were about a quarter of the trace. The same bits as hits_o4.
 struct O4RayCache {
   bool valid = false;
   uint key[3] = {0u, 0u, 0u}; // the rotation words (OrientedNode4::rot)
-  vec3 mo{0.0f};              // M o
-  vec3 inv_md{0.0f};          // safe_rcp3(M d)
-  vec3 err_o{0.0f};           // transform_error's origin term, row by row
-  vec3 err_d{0.0f};           // dot(|row|, |d|), which t_bound scales
-  vec3 in_pad{0.0f};          // the incoming pad through |M| (padded != 0)
+  O4Ray ray{};
 };
 
 FN_INLINED WideHits hits_o4_cached(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, vec3 pad, float tmin,
@@ -265,29 +286,11 @@ FN_INLINED WideHits hits_o4_cached(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d
   const uint* w = KD(node_words) + b;
   if (w[MASQ_O4_ORIENTED] == 0u) return hits_box4_words(KD_ARG b, o, inv_d, padded, pad, tmin, tmax);
   if (!c.valid || w[MASQ_O4_ROT] != c.key[0] || w[MASQ_O4_ROT + 1] != c.key[1] || w[MASQ_O4_ROT + 2] != c.key[2]) {
-    Affine m;
-    m.r0 = VEC3(o4_entry(KD_ARG b, 0), o4_entry(KD_ARG b, 1), o4_entry(KD_ARG b, 2));
-    m.r1 = VEC3(o4_entry(KD_ARG b, 3), o4_entry(KD_ARG b, 4), o4_entry(KD_ARG b, 5));
-    m.r2 = VEC3(o4_entry(KD_ARG b, 6), o4_entry(KD_ARG b, 7), o4_entry(KD_ARG b, 8));
-    m.t = VEC3(0.0f, 0.0f, 0.0f);
     c.valid = true;
     for (int k = 0; k < 3; ++k) c.key[k] = w[MASQ_O4_ROT + k];
-    c.mo = affine_vector(m, o);
-    c.inv_md = safe_rcp3(affine_vector(m, d));
-    // transform_error(m, o, d, t_bound), split where t_bound enters.
-    vec3 ao = vabs_(o);
-    vec3 ad = vabs_(d);
-    c.err_o = VEC3(MASQ_GAMMA4 * (dot(vabs_(m.r0), ao) + fabs_(m.t.x)), MASQ_GAMMA4 * (dot(vabs_(m.r1), ao) + fabs_(m.t.y)),
-                   MASQ_GAMMA4 * (dot(vabs_(m.r2), ao) + fabs_(m.t.z)));
-    c.err_d = VEC3(dot(vabs_(m.r0), ad), dot(vabs_(m.r1), ad), dot(vabs_(m.r2), ad));
-    c.in_pad = VEC3(dot(vabs_(m.r0), pad), dot(vabs_(m.r1), pad), dot(vabs_(m.r2), pad)) * (1.0f + 8.0f * MASQ_U);
+    c.ray = o4_ray(KD_ARG b, o, d, padded, pad);
   }
-  float tb = fabs_(t_bound);
-  vec3 mpad = VEC3(c.err_o.x + tb * MASQ_GAMMA3 * c.err_d.x, c.err_o.y + tb * MASQ_GAMMA3 * c.err_d.y,
-                   c.err_o.z + tb * MASQ_GAMMA3 * c.err_d.z) *
-              (1.0f + 8.0f * MASQ_U);
-  if (padded != 0) mpad = mpad + c.in_pad;
-  return hits_box4_words(KD_ARG b, c.mo, c.inv_md, 1, mpad, tmin, tmax);
+  return o4_box_hits(KD_ARG b, c.ray, padded, tmin, tmax, t_bound);
 }
 #endif
 
