@@ -69,9 +69,11 @@ STRUCT_BEGIN(KernelData)
   MASQ_SCENE_ARRAY_VIEWS(MASQ_KD_VIEW_FIELD)
 #if defined(MASQ_LANG_CPP)
   // Not scene data but the cpu's copy of it: each BLAS leaf's capsules in leaf order, at
-  // the index of their references (host/cpu/leaf_capsules.h). Outside the table, as no
-  // device kernel reads it and no backend but the cpu's builds it.
-  const Capsule* leaf_capsules;
+  // the index of their references, as seven rows of floats (ax ay az bx by bz radius),
+  // row k at leaf_capsule_rows + k * leaf_capsule_stride (host/cpu/leaf_capsules.h).
+  // Outside the table, as no device kernel reads it and no backend but the cpu's builds it.
+  const float* leaf_capsule_rows;
+  int leaf_capsule_stride;
 #endif
 STRUCT_END(KernelData)
 LAYOUT_NS_END

@@ -80,12 +80,14 @@ FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id
   // the leaf's starting interval gives the scalar call's answer whenever its crossing
   // lies within the nearest hit so far, and a miss of the scalar call otherwise, so
   // taking the lanes in order as below is the loop's result, bit for bit. The capsules
-  // come from the leaf-ordered copy (KernelData::leaf_capsules), the same values the
-  // references name; a reference is read only for a hit.
+  // come from the cpu's leaf-ordered row copy (KernelData::leaf_capsule_rows), the same
+  // values the references name; a reference is read only for a hit.
   if (MASQ_ROBUST && MASQ_HAVE_CAPSULES && g.type == MASQ_CPU_LEAF_COPY_TYPE) {
     for (int j0 = 0; j0 < count; j0 += 4) {
       int n = min(count - j0, 4);
-      simd::CapsuleHits4 c = simd::capsule_hits4(KD(leaf_capsules) + first + j0, n, po, pd, tmin, lo.nearest.t);
+      simd::CapsuleHits4 c =
+          simd::capsule_hits<simd::F4, simd::I4>(simd::capsule_rows4(KD(leaf_capsule_rows), KD(leaf_capsule_stride), first + j0),
+                                               simd::lanes_below(n), po, pd, tmin, lo.nearest.t);
       for (int j = 0; j < n; ++j) {
         if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
         if (c.hit[j] == 0 || !(c.t[j] <= lo.nearest.t)) continue;
@@ -111,6 +113,80 @@ FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id
   }
   return lo;
 }
+
+#if defined(MASQ_LANG_CPP)
+// cpu: lanes [lane0, lane0 + count) of a capsule test, one leaf's references from refs[first]
+// in order, each taken within the nearest hit so far. Returns true when an occlusion
+// query has its hit.
+template <int L>
+FN_INLINED bool take_leaf_lanes(KD_PARAM const simd::CapsuleHitsN<L>& c, int lane0, int first, int count, int geom_id,
+                                int inst_id, LeafOut& lo) {
+  for (int j = 0; j < count; ++j) {
+    if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
+    int l = lane0 + j;
+    if (c.hit[l] == 0 || !(c.t[l] <= lo.nearest.t)) continue;
+    PrimHit ph;
+    ph.hit = 1;
+    ph.t = c.t[l];
+    ph.normal = VEC3(c.nx[l], c.ny[l], c.nz[l]);
+    ph.u = c.u[l];
+    ph.v = 0.0f;
+    lo.nearest = nearest_take(lo.nearest, ph, KD(refs)[first + j], geom_id, inst_id);
+    if (MASQ_ANY_HIT) return true;
+  }
+  return false;
+}
+
+// cpu: the hit leaves of one capsule node visit (slot[0..n-1], nearest entry first).
+// Two leaves of at most four capsules share one eight-lane capsule test (AVX), the
+// first in lanes 0-3, the second in lanes 4-7; the cpu's sah4 leaves hold four capsules,
+// and secondary rays often enter two or more leaves of a node. A pair is tested within
+// the nearest hit when it is formed; taking the lanes leaf by leaf, each within the
+// nearest hit so far, gives the one-source loop's result bit for bit (intersect_leaf's
+// argument), and a leaf entered beyond the nearest hit is skipped, as that loop skips it,
+// when its turn comes. A leaf without a partner, or of more than four, goes through
+// intersect_leaf.
+FN_INLINED LeafOut capsule_leaves(KD_PARAM const WideHits& wh, const int* slot, int n, int geom_id, int inst_id,
+                                  vec3 po, vec3 pd, float tmin, Nearest nearest) {
+  LeafOut lo;
+  lo.nearest = nearest;
+  lo.isect_calls = 0;
+  Geometry g = KD(geoms)[geom_id];
+  int k = 0;
+  while (k < n) {
+    int a = slot[k];
+    k = k + 1;
+    if (wh.tnear[a] > lo.nearest.t) continue;
+    int b = -1;
+    if (wh.count[a] <= 4) {
+      while (k < n && b < 0) {
+        int i = slot[k];
+        if (wh.tnear[i] > lo.nearest.t) k = k + 1; // beyond the nearest hit: skipped now and at its turn
+        else if (wh.count[i] <= 4) b = i;
+        else break;
+      }
+    }
+    if (b < 0) {
+      LeafOut one = intersect_leaf(KD_ARG g, wh.child[a], wh.count[a], geom_id, inst_id, po, pd, tmin, lo.nearest);
+      lo.nearest = one.nearest;
+      if (MASQ_STATS) lo.isect_calls = lo.isect_calls + one.isect_calls;
+      if (MASQ_ANY_HIT && lo.nearest.prim >= 0) return lo;
+      continue;
+    }
+    k = k + 1;
+    simd::I8 valid = simd::I8{0, 1, 2, 3, 0, 1, 2, 3} <
+                     simd::I8{wh.count[a], wh.count[a], wh.count[a], wh.count[a], wh.count[b], wh.count[b], wh.count[b],
+                              wh.count[b]};
+    simd::CapsuleHitsN<8> c = simd::capsule_hits<simd::F8, simd::I8>(
+        simd::capsule_rows8(KD(leaf_capsule_rows), KD(leaf_capsule_stride), wh.child[a], wh.child[b]), valid, po, pd,
+        tmin, lo.nearest.t);
+    if (take_leaf_lanes<8>(KD_ARG c, 0, wh.child[a], wh.count[a], geom_id, inst_id, lo)) return lo;
+    if (wh.tnear[b] > lo.nearest.t) continue;
+    if (take_leaf_lanes<8>(KD_ARG c, 4, wh.child[b], wh.count[b], geom_id, inst_id, lo)) return lo;
+  }
+  return lo;
+}
+#endif
 
 // (o, d): the ray the boxes are tested with; (po, pd): the ray the primitives are
 // intersected with. They are the same ray for an ordinary BLAS instance; for a cluster
@@ -185,6 +261,13 @@ FN_INLINED BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, ve
       simd::SlotMasks hit = simd::slot_masks(wh.tnear, wh.count, node_width());
       int slot[MASQ_WIDTH8];
       int n = simd::sorted_slots(wh.tnear, hit.leaves, slot);
+      if (MASQ_ROBUST && MASQ_HAVE_CAPSULES && g.type == MASQ_CPU_LEAF_COPY_TYPE && n > 0) {
+        LeafOut lo = capsule_leaves(KD_ARG wh, slot, n, geom_id, inst_id, po, pd, tmin, res.nearest);
+        res.nearest = lo.nearest;
+        if (MASQ_STATS) res.isect_calls = res.isect_calls + lo.isect_calls;
+        if (MASQ_ANY_HIT && res.nearest.prim >= 0) return res;
+        n = 0;
+      }
       for (int k = 0; k < n; ++k) {
         int i = slot[k];
         if (wh.tnear[i] > res.nearest.t) continue;

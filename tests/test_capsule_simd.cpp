@@ -1,10 +1,11 @@
-// The cpu dialect's four-lane capsule intersector (kernels/capsule_simd_cpp.h) against
+// The cpu dialect's four- and eight-lane capsule intersector (kernels/capsule_simd_cpp.h) against
 // the one-source intersect_capsule: every lane's hit flag, t, normal and axial parameter
 // must be bit-identical to the scalar call, for thin, long, short, zero-length and
 // invalid capsules, grazing and end-on rays, rays from far away and from a capsule's
 // own surface, and intervals that cut crossings off (the all-lanes-miss early exit
 // must never drop a crossing the scalar call finds). Then whole leaves: intersect_leaf (lanes taken in
-// reference order) against the scalar loop it replaces on cpu, closest and any hit.
+// reference order) and a node's hit leaves paired into eight lanes (capsule_leaves)
+// against the scalar loops they replace on cpu, closest and any hit.
 #include "kernels/traverse.h"
 #include <gtest/gtest.h>
 #include <bit>
@@ -88,7 +89,8 @@ struct Tally {
   std::string first;
 };
 
-void compare_lane(const simd::CapsuleHits4& c, int lane, const k::PrimHit& want, Tally& t, const std::string& what) {
+template <int L>
+void compare_lane(const simd::CapsuleHitsN<L>& c, int lane, const k::PrimHit& want, Tally& t, const std::string& what) {
   bool hit = c.hit[lane] != 0;
   bool same = hit == (want.hit != 0);
   if (same && hit)
@@ -99,6 +101,23 @@ void compare_lane(const simd::CapsuleHits4& c, int lane, const k::PrimHit& want,
   if (!same && t.mismatches++ == 0)
     t.first = what + " lane " + std::to_string(lane) + ": hit " + std::to_string(hit) + " t " +
               std::to_string(c.t[lane]) + " vs hit " + std::to_string(want.hit) + " t " + std::to_string(want.t);
+}
+
+// The cpu's row copy (host/cpu/leaf_capsules.h) of capsules in slot order, zero padded.
+struct Rows {
+  std::vector<float> rows;
+  int stride = 0;
+};
+Rows capsule_rows(const std::vector<Capsule>& slots) {
+  Rows r;
+  r.stride = int((slots.size() + 4 + 3) / 4 * 4);
+  r.rows.assign(std::size_t(7 * r.stride), 0.0f);
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    const Capsule& c = slots[i];
+    const float v[7] = {c.a[0], c.a[1], c.a[2], c.b[0], c.b[1], c.b[2], c.radius};
+    for (int k = 0; k < 7; ++k) r.rows[std::size_t(k * r.stride) + i] = v[k];
+  }
+  return r;
 }
 
 } // namespace
@@ -116,6 +135,23 @@ TEST(CapsuleSimd, EveryLaneMatchesTheScalarIntersectorBitForBit) {
       for (int i = 0; i < n; ++i)
         compare_lane(got, i, k::intersect_capsule(caps[i], p.o, p.d, p.tmin, p.tmax), tally,
                      "scale " + std::to_string(s));
+      // Eight lanes from the row copy: these four in lanes 0-3, four more in lanes 4-7
+      // (m of them valid; the rest read the rows' neighbours and padding, masked off).
+      std::vector<Capsule> slots(caps, caps + 4);
+      int m = 1 + int(rng() % 4);
+      for (int i = 0; i < 4; ++i) slots.push_back(random_capsule(rng, s));
+      Rows rows = capsule_rows(slots);
+      simd::I8 valid = simd::I8{0, 1, 2, 3, 0, 1, 2, 3} < simd::I8{n, n, n, n, m, m, m, m};
+      simd::CapsuleHitsN<8> got8 = simd::capsule_hits<simd::F8, simd::I8>(
+          simd::capsule_rows8(rows.rows.data(), rows.stride, 0, 4), valid, p.o, p.d, p.tmin, p.tmax);
+      for (int i = 0; i < 8; ++i) {
+        if ((i < 4 ? i < n : i - 4 < m) == false) {
+          if (got8.hit[i] != 0 && tally.mismatches++ == 0) tally.first = "an invalid lane of eight reports a hit";
+          continue;
+        }
+        compare_lane(got8, i, k::intersect_capsule(slots[std::size_t(i)], p.o, p.d, p.tmin, p.tmax), tally,
+                     "eight lanes, scale " + std::to_string(s));
+      }
     }
   EXPECT_EQ(tally.mismatches, 0) << tally.first;
   // Not vacuous: hits and misses both common.
@@ -140,10 +176,12 @@ TEST(CapsuleSimd, LeavesGiveTheLoopsNearestAndFirstHit) {
       for (int j = 0; j < n; ++j) refs[std::size_t(j)] = int(rng() % caps.size());
       std::vector<Capsule> leaf(static_cast<std::size_t>(n)); // the cpu's leaf-ordered copy
       for (int j = 0; j < n; ++j) leaf[std::size_t(j)] = caps[std::size_t(refs[std::size_t(j)])];
+      Rows rows = capsule_rows(leaf);
       KernelData kd{};
       kd.capsules = caps.data();
       kd.refs = refs.data();
-      kd.leaf_capsules = leaf.data();
+      kd.leaf_capsule_rows = rows.rows.data();
+      kd.leaf_capsule_stride = rows.stride;
       Geometry g{MASQ_PRIM_CAPSULE, 0, int(caps.size()), 0};
       Probe p = random_probe(rng, caps[std::size_t(refs[0])], 1.0f);
       k::Nearest start = k::nearest_none(p.tmax);
@@ -169,4 +207,78 @@ TEST(CapsuleSimd, LeavesGiveTheLoopsNearestAndFirstHit) {
   k::MASQ_ANY_HIT = false;
   EXPECT_EQ(mismatches, 0) << first;
   EXPECT_GT(hits, 40000 / 5);
+}
+
+// A node's hit leaves (1..8 leaves of 1..9 capsules, nearest entry first, some entered
+// beyond a hit the ray already has) through capsule_leaves, which pairs leaves of up to
+// four into eight lanes, against the one-source leaves loop: the same nearest hit (or
+// first hit) and the same count of intersector calls.
+TEST(CapsuleSimd, PairedLeavesGiveTheLoopsNearestAndFirstHit) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  long hits = 0, pairs = 0, mismatches = 0;
+  std::string first;
+  for (int any = 0; any < 2; ++any) {
+    k::MASQ_ANY_HIT = any != 0;
+    k::MASQ_STATS = true;
+    for (int c = 0; c < 20000; ++c) {
+      std::vector<Capsule> caps(24);
+      for (Capsule& x : caps) x = random_capsule(rng, 1.0f);
+      int leaves = 1 + int(rng() % 8);
+      k::WideHits wh = k::wide_hits_none();
+      std::vector<int> refs;
+      int slot[8];
+      float t = 0.0f;
+      for (int i = 0; i < leaves; ++i) {
+        int count = rng() % 5 == 0 ? 5 + int(rng() % 5) : 1 + int(rng() % 4);
+        wh.child[i] = int(refs.size());
+        wh.count[i] = count;
+        t += u01(rng) * 0.5f; // entries in order, as sorted_slots gives them
+        wh.tnear[i] = t;
+        slot[i] = i;
+        for (int j = 0; j < count; ++j) refs.push_back(int(rng() % caps.size()));
+      }
+      pairs += leaves / 2;
+      std::vector<Capsule> leaf(refs.size());
+      for (std::size_t j = 0; j < refs.size(); ++j) leaf[j] = caps[std::size_t(refs[j])];
+      Rows rows = capsule_rows(leaf);
+      Geometry g{MASQ_PRIM_CAPSULE, 0, int(caps.size()), 0};
+      KernelData kd{};
+      kd.capsules = caps.data();
+      kd.refs = refs.data();
+      kd.geoms = &g;
+      kd.leaf_capsule_rows = rows.rows.data();
+      kd.leaf_capsule_stride = rows.stride;
+      Probe p = random_probe(rng, caps[std::size_t(refs[0])], 1.0f);
+      k::Nearest start = k::nearest_none(p.tmax);
+      if (!any && rng() % 3 == 0) start.t = t * u01(rng); // a hit found earlier cuts later leaves off
+      k::LeafOut got = k::capsule_leaves(kd, wh, slot, leaves, 0, 3, p.o, p.d, p.tmin, start);
+      // The one-source leaves loop.
+      k::Nearest want = start;
+      int calls = 0;
+      for (int i = 0; i < leaves && !(any && want.prim >= 0); ++i) {
+        if (wh.tnear[i] > want.t) continue;
+        for (int j = 0; j < wh.count[i]; ++j) {
+          int prim = refs[std::size_t(wh.child[i] + j)];
+          ++calls;
+          k::PrimHit ph = k::intersect_capsule(caps[std::size_t(prim)], p.o, p.d, p.tmin, want.t);
+          want = k::nearest_take(want, ph, prim, 0, 3);
+          if (any && want.prim >= 0) break;
+        }
+      }
+      bool same = got.nearest.prim == want.prim && bits(got.nearest.t) == bits(want.t) &&
+                  bits(got.nearest.normal.x) == bits(want.normal.x) && bits(got.nearest.u) == bits(want.u) &&
+                  got.isect_calls == calls;
+      hits += want.prim >= 0;
+      if (!same && mismatches++ == 0)
+        first = std::to_string(leaves) + " leaves" + (any ? " (any hit)" : "") + ": prim " +
+                std::to_string(got.nearest.prim) + " t " + std::to_string(got.nearest.t) + " calls " +
+                std::to_string(got.isect_calls) + " vs prim " + std::to_string(want.prim) + " t " +
+                std::to_string(want.t) + " calls " + std::to_string(calls);
+    }
+  }
+  k::MASQ_ANY_HIT = false;
+  EXPECT_EQ(mismatches, 0) << first;
+  EXPECT_GT(hits, 40000 / 5);
+  EXPECT_GT(pairs, 40000);
 }

@@ -35,7 +35,8 @@ class CpuBackend final : public Backend {
     scene_ = scene; // own a copy: the caller's scene may go away
     leaf_capsules_ = leaf_capsules(scene_);
     kd_ = kernel_data(scene_array_data(scene_));
-    kd_.leaf_capsules = leaf_capsules_.data();
+    kd_.leaf_capsule_rows = leaf_capsules_.rows.data();
+    kd_.leaf_capsule_stride = leaf_capsules_.stride;
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     has_scene_ = true;
   }
@@ -63,7 +64,7 @@ class CpuBackend final : public Backend {
 
   TraceTiming timing() const override { return timing_; }
   std::size_t device_bytes() const override {
-    return scene_.acceleration_bytes() + scene_.primitive_bytes() + leaf_capsules_.size() * sizeof(kernel::Capsule);
+    return scene_.acceleration_bytes() + scene_.primitive_bytes() + leaf_capsules_.rows.size() * sizeof(float);
   }
   // Each thread takes kChunk rays at a time (trace above).
   std::size_t fill_rays() const override { return fill_rays_for(std::size_t(threads_.count()) * kChunk); }
@@ -72,7 +73,7 @@ class CpuBackend final : public Backend {
   static constexpr int kChunk = 256; // small chunks, handed out as threads free up, balance uneven rays
   cpu::TraceThreads threads_{thread_count()};
   PackedScene scene_;
-  std::vector<kernel::Capsule> leaf_capsules_; // kd_.leaf_capsules
+  LeafCapsuleRows leaf_capsules_; // kd_.leaf_capsule_rows
   kernel::KernelData kd_{};
   bool has_scene_ = false;
   TraceTiming timing_;
