@@ -115,7 +115,7 @@ bool direction_frame(std::span<const BallHull> hulls, glm::dmat3& axes) {
 
 } // namespace
 
-NodeFramer::Choice NodeFramer::choose(const std::vector<int>& kids) const {
+NodeFramer::Choice NodeFramer::choose(const std::vector<int>& kids, const NodeFrame* parent) const {
   Choice best;
   double aligned = 0;
   int first = INT32_MAX, end = 0;
@@ -132,20 +132,35 @@ NodeFramer::Choice NodeFramer::choose(const std::vector<int>& kids) const {
   glm::dmat3 axes;
   if (direction_frame(all, axes)) candidates.push_back(axes);
   candidates.push_back(fit_obb(all).axes);
-  // gain +inf: any candidate (inf * 0 for a node of empty boxes would be NaN).
-  double best_cost = std::isinf(gain_) ? INFINITY : gain_ * aligned;
-  for (const glm::dmat3& c : candidates) {
-    NodeFrame f = quantised_frame(c);
-    std::vector<Aabb> boxes;
+  // The children's boxes in frame f and what they cost.
+  auto framed = [&](const NodeFrame& f, std::vector<Aabb>& boxes) {
     double cost = 0;
     for (int k : kids) {
       std::span<const BallHull> h = subtree(k);
       boxes.push_back(frame_box(h, f));
       cost += framed_area(boxes.back(), f) * double(h.size());
     }
+    return cost;
+  };
+  // gain +inf: any candidate (inf * 0 for a node of empty boxes would be NaN).
+  const double gain_cost = std::isinf(gain_) ? INFINITY : gain_ * aligned;
+  double best_cost = gain_cost;
+  for (const glm::dmat3& c : candidates) {
+    NodeFrame f = quantised_frame(c);
+    std::vector<Aabb> boxes;
+    double cost = framed(f, boxes);
     if (cost < best_cost || (std::isinf(best_cost) && !best.frame.oriented)) {
       best_cost = cost;
       best.frame = f;
+      best.boxes = std::move(boxes);
+    }
+  }
+  if (parent && parent->oriented && parent->q != best.frame.q) {
+    std::vector<Aabb> boxes;
+    double cost = framed(*parent, boxes);
+    bool passes = std::isinf(gain_) || cost <= gain_cost;
+    if (passes && (!best.frame.oriented || cost <= kFrameReuse * best_cost)) {
+      best.frame = *parent;
       best.boxes = std::move(boxes);
     }
   }

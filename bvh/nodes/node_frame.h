@@ -42,6 +42,14 @@ using RefHull = std::function<BallHull(std::int32_t ref)>;
 // docs/kernels.md, "Node formats", measures it).
 inline constexpr double kOrientedGain = 0.85;
 
+// A node keeps its parent's rotation when that frame's children's boxes cost at most
+// this factor times the best candidate's: the cpu's o4 walk then reuses the ray it
+// already rotated into that frame (kernels/node_formats.h, O4RayCache), where a new
+// frame costs its nine entries' decode, two products and three divisions per ray. On
+// the default bundle's nearly parallel strands, about half of the rotated nodes a
+// camera ray visited needed a new frame before.
+inline constexpr double kFrameReuse = 1.1;
+
 // What an o4 collapse rotates its nodes by: every reference's hull and the gain above
 // (+inf: every node rotated, the format's numerical worst case that the stress suite
 // runs).
@@ -65,8 +73,10 @@ public:
   // (the principal frame of the primitives' directions, the best-fit OBB of their
   // hulls) whose children's boxes cost least, kept only when that cost is at most the
   // framing's gain times the axis-aligned boxes'. Cost is summed surface area times
-  // primitives, per child (the SAH's leaf estimate).
-  Choice choose(const std::vector<int>& kids) const;
+  // primitives, per child (the SAH's leaf estimate). `parent`, the frame of the node
+  // above (null at the root), is taken instead when it passes the same gain test and
+  // costs at most kFrameReuse times that choice.
+  Choice choose(const std::vector<int>& kids, const NodeFrame* parent = nullptr) const;
 
 private:
   std::span<const BallHull> subtree(int node) const;

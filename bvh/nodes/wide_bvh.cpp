@@ -105,7 +105,9 @@ struct FloatCollapser : Common {
   }
 
   // Emits the wide node for a list of binary children; returns {index, stack need}.
-  std::pair<int, StackNeedOf> emit(const std::vector<int>& kids, const Aabb& box, int depth) {
+  // parent: the frame of the node above (o4; null at the root).
+  std::pair<int, StackNeedOf> emit(const std::vector<int>& kids, const Aabb& box, int depth,
+                                   const NodeFrame* parent = nullptr) {
     int index = int(nodes.size());
     nodes.push_back({});
     count_node(box, depth);
@@ -113,7 +115,7 @@ struct FloatCollapser : Common {
     auto& w = boxes_of(node);
     std::optional<NodeFramer::Choice> framed;
     if constexpr (std::is_same_v<Node, kernel::OrientedNode4>) {
-      if (framer) framed = framer->choose(kids);
+      if (framer) framed = framer->choose(kids, parent);
       if (framed) set_frame(node, framed->frame);
       if (framed && framed->frame.oriented) {
         ++info.oriented;
@@ -130,7 +132,8 @@ struct FloatCollapser : Common {
         w.child[s] = emit_leaf_refs(c);
         w.count[s] = c.count;
       } else {
-        auto [child, need] = emit(gather(bvh, kids[s], Width, max_inner), c.box, depth + 1);
+        auto [child, need] = emit(gather(bvh, kids[s], Width, max_inner), c.box, depth + 1,
+                                  framed ? &framed->frame : nullptr);
         w.child[s] = child;
         w.count[s] = 0;
         ++inner;
