@@ -68,52 +68,6 @@ STRUCT_BEGIN(LeafOut)
   int isect_calls;
 STRUCT_END(LeafOut)
 
-// The leaf's `count` references from refs[first] in order, each intersected within the
-// nearest hit so far; an occlusion query stops at the first hit.
-FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id, int inst_id, vec3 po, vec3 pd,
-                          float tmin, Nearest nearest) {
-  LeafOut lo;
-  lo.nearest = nearest;
-  lo.isect_calls = 0;
-#if defined(MASQ_LANG_CPP)
-  // cpu: robust capsules four at a time (capsule_simd_cpp.h). A lane computed within
-  // the leaf's starting interval gives the scalar call's answer whenever its crossing
-  // lies within the nearest hit so far, and a miss of the scalar call otherwise, so
-  // taking the lanes in order as below is the loop's result, bit for bit. The capsules
-  // come from the cpu's leaf-ordered row copy (KernelData::leaf_capsule_rows), the same
-  // values the references name; a reference is read only for a hit.
-  if (MASQ_ROBUST && MASQ_HAVE_CAPSULES && g.type == MASQ_CPU_LEAF_COPY_TYPE) {
-    for (int j0 = 0; j0 < count; j0 += 4) {
-      int n = min(count - j0, 4);
-      simd::CapsuleHits4 c =
-          simd::capsule_hits<simd::F4, simd::I4>(simd::capsule_rows4(KD(leaf_capsule_rows), KD(leaf_capsule_stride), first + j0),
-                                               simd::lanes_below(n), po, pd, tmin, lo.nearest.t);
-      for (int j = 0; j < n; ++j) {
-        if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
-        if (c.hit[j] == 0 || !(c.t[j] <= lo.nearest.t)) continue;
-        PrimHit ph;
-        ph.hit = 1;
-        ph.t = c.t[j];
-        ph.normal = VEC3(c.nx[j], c.ny[j], c.nz[j]);
-        ph.u = c.u[j];
-        ph.v = 0.0f;
-        lo.nearest = nearest_take(lo.nearest, ph, KD(refs)[first + j0 + j], geom_id, inst_id);
-        if (MASQ_ANY_HIT) return lo;
-      }
-    }
-    return lo;
-  }
-#endif
-  for (int j = 0; j < count; ++j) {
-    int prim = KD(refs)[first + j];
-    if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
-    PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, lo.nearest.t);
-    lo.nearest = nearest_take(lo.nearest, ph, prim, geom_id, inst_id);
-    if (MASQ_ANY_HIT && lo.nearest.prim >= 0) break;
-  }
-  return lo;
-}
-
 #if defined(MASQ_LANG_CPP)
 // cpu: lanes [lane0, lane0 + count) of a capsule test, one leaf's references from refs[first]
 // in order, each taken within the nearest hit so far. Returns true when an occlusion
@@ -136,7 +90,44 @@ FN_INLINED bool take_leaf_lanes(KD_PARAM const simd::CapsuleHitsN<L>& c, int lan
   }
   return false;
 }
+#endif
 
+// The leaf's `count` references from refs[first] in order, each intersected within the
+// nearest hit so far; an occlusion query stops at the first hit.
+FN LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int geom_id, int inst_id, vec3 po, vec3 pd,
+                          float tmin, Nearest nearest) {
+  LeafOut lo;
+  lo.nearest = nearest;
+  lo.isect_calls = 0;
+#if defined(MASQ_LANG_CPP)
+  // cpu: robust capsules four at a time (capsule_simd_cpp.h). A lane computed within
+  // the leaf's starting interval gives the scalar call's answer whenever its crossing
+  // lies within the nearest hit so far, and a miss of the scalar call otherwise, so
+  // taking the lanes in order as below is the loop's result, bit for bit. The capsules
+  // come from the cpu's leaf-ordered row copy (KernelData::leaf_capsule_rows), the same
+  // values the references name; a reference is read only for a hit.
+  if (MASQ_ROBUST && MASQ_HAVE_CAPSULES && g.type == MASQ_CPU_LEAF_COPY_TYPE) {
+    for (int j0 = 0; j0 < count; j0 += 4) {
+      int n = min(count - j0, 4);
+      simd::CapsuleLanes<simd::F4> caps = simd::capsule_rows4(KD(leaf_capsule_rows), KD(leaf_capsule_stride), first + j0);
+      simd::CapsuleHits4 c =
+          simd::capsule_hits<simd::F4, simd::I4>(caps, simd::lanes_below(n), po, pd, tmin, lo.nearest.t);
+      if (take_leaf_lanes<4>(KD_ARG c, 0, first + j0, n, geom_id, inst_id, lo)) return lo;
+    }
+    return lo;
+  }
+#endif
+  for (int j = 0; j < count; ++j) {
+    int prim = KD(refs)[first + j];
+    if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
+    PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, lo.nearest.t);
+    lo.nearest = nearest_take(lo.nearest, ph, prim, geom_id, inst_id);
+    if (MASQ_ANY_HIT && lo.nearest.prim >= 0) break;
+  }
+  return lo;
+}
+
+#if defined(MASQ_LANG_CPP)
 // cpu: the hit leaves of one capsule node visit (slot[0..n-1], nearest entry first).
 // Two leaves of at most four capsules share one eight-lane capsule test (AVX), the
 // first in lanes 0-3, the second in lanes 4-7; the cpu's sah4 leaves hold four capsules,
