@@ -4,6 +4,16 @@
 // time along the curve, after systematically eliminating the parts of the swept-ball
 // solid that cannot meet the ray. masq's form of it, in the ray frame of curve_frame.h
 // (the ray is the z axis):
+//  0. Sieve. The curve is cut into MASQ_ROVING_PIECES equal pieces; a piece whose balls
+//     lie in a capsule about its chord that misses the ray, or leaves it before the
+//     search window starts, cannot meet the ray there; if no piece can, the call is a
+//     miss. Most calls that miss end here: rays through a curve's bounding box that pass
+//     its tube, and a secondary ray's calls on the curve it starts on (whose balls it
+//     leaves before z_lo). The cpu tests the pieces in eight lanes
+//     (curve_sieve_simd_cpp.h), with the same verdicts. The search below still starts
+//     from the whole curve: starting it from the pieces kept changes which leaf answers,
+//     and from there curve_refine's few Newton steps near a zero-speed end can settle on
+//     the wrong foot point (tests/test_curve_intersector_shapes.cpp, degenerate points).
 //  1. Elimination. A ball B(C(s), r) meets the ray only where the curve's distance from
 //     the z axis is at most r: rho^2(s) = x(s)^2 + y(s)^2 <= r^2. rho^2 of a cubic is a
 //     degree-6 polynomial whose Bernstein coefficients are sums of the control points'
@@ -22,9 +32,10 @@
 //     the two capsules leave, or the node is split as before. The phantom setting
 //     descends until a node is flat to ttol (7.8e-3 r) or to the fp32 grain, then
 //     projects the capsule's hit onto the curve (curve_refine).
-// Step 1 discards only s where no ball can meet the ray: rho and z are computed from
-// control points whose error `pad` bounds (curve_subdiv.h), and each coefficient is
-// moved by its own rounding bound before the test. Step 3 trusts the piece's z_in to
+// Steps 0 and 1 discard only s where no ball can meet the ray: the pieces, rho and z
+// are computed from control points whose error `pad` bounds (curve_subdiv.h); the
+// sieve's capsules are widened by pad once more for the pieces' own rounding, and each
+// clipping coefficient is moved by its own rounding bound before the test. Step 3 trusts the piece's z_in to
 // have one minimum (true of a straight piece; the conditions above keep the pieces
 // near that); everything else is the subdivision's certificate. Measured against the
 // oracle like the phantom setting: tests/test_curve_intersector_*.cpp (every test runs
@@ -32,7 +43,10 @@
 #ifndef MASQ_KERNEL_CURVE_ROVING_H
 #define MASQ_KERNEL_CURVE_ROVING_H
 #include "curve_subdiv.h"
+#include "curve_sieve_simd_cpp.h"
 
+// Sieve pieces (step 0; a power of two: their weights are exact).
+#define MASQ_ROVING_PIECES 8
 // Clipping rounds at most (each must halve the range to go on).
 #define MASQ_ROVING_CLIPS 4
 // Coarse leaves: pieces flat to this times r (step 3).
@@ -123,11 +137,95 @@ FN CurveClip curve_roving_clip(CurvePiece pc, float rp, float zlo) {
   return cl;
 }
 
+// Step 0, the sieve: the curve cut at s = k / MASQ_ROVING_PIECES into pieces whose control
+// points are the Bernstein sums below. The weights at those s are dyadic with numerators
+// below 2^11, so exact in fp32 on every backend; each point is a sum of four products
+// and its rounding a few u of the largest frame coordinate, below pad.
+// t: s of the cut; e0..e2: the control polygon's legs (b1 - b0, ...).
+FN CurvePieceEnd curve_sieve_end(CurveFrame f, vec3 e0, vec3 e1, vec3 e2, float t) {
+  float u = 1.0f - t;
+  CurvePieceEnd e;
+  e.p = ((u * u * u) * f.b0 + (3.0f * t * u * u) * f.b1) + ((3.0f * t * t * u) * f.b2 + (t * t * t) * f.b3);
+  // (1 / pieces) C'(t) / 3: one piece's handle (curve_piece_end's dh)
+  e.dh = (1.0f / i2f_(MASQ_ROVING_PIECES)) * (((u * u) * e0 + (2.0f * t * u) * e1) + (t * t) * e2);
+  return e;
+}
+
+// Whether the piece q0..q3 may hold a ball that meets the ray at or after zlo. It lies
+// within dev (the larger distance of q1, q2 from the chord's thirds) of its chord, so
+// its balls of radius rr lie in the capsule of radius rr + dev about the chord (rr: the ball radius with the sieve's own rounding allowance): the piece
+// matters only if that capsule meets the z axis and leaves it at or after zlo. The exit
+// is the later of the end balls' and, where the axis line's closest approach lies within
+// the chord, the lateral surface's (as curve_chord_capsule). NaN keeps nothing.
+FN int curve_sieve_keeps(vec3 q0, vec3 q1, vec3 q2, vec3 q3, float rr, float zlo) {
+  float cx = q3.x - q0.x;
+  float cy = q3.y - q0.y;
+  float cz = q3.z - q0.z;
+  float g1x = q1.x - (q0.x + cx * (1.0f / 3.0f));
+  float g1y = q1.y - (q0.y + cy * (1.0f / 3.0f));
+  float g1z = q1.z - (q0.z + cz * (1.0f / 3.0f));
+  float g2x = q2.x - (q3.x - cx * (1.0f / 3.0f));
+  float g2y = q2.y - (q3.y - cy * (1.0f / 3.0f));
+  float g2z = q2.z - (q3.z - cz * (1.0f / 3.0f));
+  float cap = rr + sqrt(max((g1x * g1x + g1y * g1y) + g1z * g1z, (g2x * g2x + g2y * g2y) + g2z * g2z));
+  float cap2 = cap * cap;
+  float zout = -inf_();
+  float da = cap2 - (q0.x * q0.x + q0.y * q0.y);
+  if (da >= 0.0f) zout = q0.z + sqrt(da);
+  float db = cap2 - (q3.x * q3.x + q3.y * q3.y);
+  if (db >= 0.0f) zout = max(zout, q3.z + sqrt(db));
+  float aa = cx * cx + cy * cy;
+  float ee = aa + cz * cz;
+  float cr = q0.x * cy - q0.y * cx;
+  float dl = cap2 - (cr * cr) / aa;
+  if (aa > 1e-12f * ee && dl >= 0.0f) {
+    float us = -(q0.x * cx + q0.y * cy) / aa; // the closest approach's chord parameter
+    float hw = sqrt((dl * ee) / aa);
+    float u = us + (hw * cz) / ee;
+    if (u >= 0.0f && u <= 1.0f) zout = max(zout, (q0.z + us * cz) + hw);
+  }
+  return zout >= zlo ? 1 : 0;
+}
+
+// Bit k: the sieve keeps piece k (rr: rp plus the sieve's allowance).
+FN uint curve_sieve_kept(CurveFrame f, float rr, float zlo) {
+  vec3 e0 = f.b1 - f.b0;
+  vec3 e1 = f.b2 - f.b1;
+  vec3 e2 = f.b3 - f.b2;
+  float h = 1.0f / i2f_(MASQ_ROVING_PIECES);
+  uint kept = 0u;
+  uint bit = 1u; // 2^k
+  CurvePieceEnd lo = curve_sieve_end(f, e0, e1, e2, 0.0f);
+  for (int k = 0; k < MASQ_ROVING_PIECES; ++k) {
+    CurvePieceEnd hi = curve_sieve_end(f, e0, e1, e2, i2f_(k + 1) * h);
+    if (curve_sieve_keeps(lo.p, lo.p + lo.dh, hi.p - hi.dh, hi.p, rr, zlo) != 0) kept = kept | bit;
+    lo = hi;
+    bit = bit << 1u;
+  }
+  return kept;
+}
+
+// Whether the sieve keeps any piece (0: the ray misses the solid beyond zlo). rp = r +
+// pad; the allowance adds pad again for the pieces' own rounding.
+FN int curve_roving_sieve(CurveFrame f, float rp, float pad, float zlo) {
+  float rr = rp + pad;
+#if defined(MASQ_LANG_CPP)
+  // cpu: the eight pieces in eight lanes, the same verdicts (curve_sieve_simd_cpp.h).
+  static_assert(MASQ_ROVING_PIECES == 8, "the cpu sieve tests eight pieces in eight lanes");
+  const vec3 b[4] = {f.b0, f.b1, f.b2, f.b3};
+  uint kept = simd::curve_sieve_mask8(b, rr, zlo);
+#else
+  uint kept = curve_sieve_kept(f, rr, zlo);
+#endif
+  return kept != 0u ? 1 : 0;
+}
+
 // The first boundary point of the solid at or after zlo, as curve_subdiv (same
-// arguments), searching only the part of the curve that steps 1 and 2 leave.
+// arguments), searching only the part of the curve that step 1 leaves (if step 0 leaves any).
 // zstop: as curve_subdiv's (an occlusion query's early stop).
 FN CurveRoot curve_roving(CurveFrame f, float zlo, float zmax, float tol, float ttol, float pad, int maybe_inside,
                           float zstop) {
+  if (curve_roving_sieve(f, f.r + pad, pad, zlo) == 0) return curve_root_none(0.0f);
   float a = 0.0f; // the piece left: s in [a, a + w]
   float w = 1.0f;
   CurvePiece pc;
