@@ -157,10 +157,11 @@ FN CurvePieceEnd curve_sieve_end(CurveFrame f, vec3 e0, vec3 e1, vec3 e2, float 
 
 // Whether the piece q0..q3 may hold a ball that meets the ray at or after zlo. It lies
 // within dev (the larger distance of q1, q2 from the chord's thirds) of its chord, so
-// its balls of radius rr lie in the capsule of radius rr + dev about the chord (rr: the ball radius with the sieve's own rounding allowance): the piece
-// matters only if that capsule meets the z axis and leaves it at or after zlo. The exit
-// is the later of the end balls' and, where the axis line's closest approach lies within
-// the chord, the lateral surface's (as curve_chord_capsule). NaN keeps nothing.
+// its balls of radius rr (the radius with the sieve's own rounding allowance) lie in
+// the capsule of radius rr + dev about the chord: the piece matters only if that
+// capsule meets the z axis and leaves it at or after zlo. The exit is the later of the
+// end balls' and, where the axis line's closest approach lies within the chord, the
+// lateral surface's (as curve_chord_capsule). NaN keeps nothing.
 FN int curve_sieve_keeps(vec3 q0, vec3 q1, vec3 q2, vec3 q3, float rr, float zlo) {
   float cx = q3.x - q0.x;
   float cy = q3.y - q0.y;
