@@ -141,20 +141,9 @@ FN CurveClip curve_roving_clip(CurvePiece pc, float rp, float zlo) {
   return cl;
 }
 
-// Step 0, the sieve: the curve cut at s = k / MASQ_ROVING_PIECES into pieces whose control
-// points are the Bernstein sums below. The weights at those s are dyadic with numerators
-// below 2^11, so exact in fp32 on every backend; each point is a sum of four products
-// and its rounding a few u of the largest frame coordinate, below pad.
-// t: s of the cut; e0..e2: the control polygon's legs (b1 - b0, ...).
-FN CurvePieceEnd curve_sieve_end(CurveFrame f, vec3 e0, vec3 e1, vec3 e2, float t) {
-  float u = 1.0f - t;
-  CurvePieceEnd e;
-  e.p = ((u * u * u) * f.b0 + (3.0f * t * u * u) * f.b1) + ((3.0f * t * t * u) * f.b2 + (t * t * t) * f.b3);
-  // (1 / pieces) C'(t) / 3: one piece's handle (curve_piece_end's dh)
-  e.dh = (1.0f / i2f_(MASQ_ROVING_PIECES)) * (((u * u) * e0 + (2.0f * t * u) * e1) + (t * t) * e2);
-  return e;
-}
-
+// Step 0, the sieve: the curve cut at s = k / MASQ_ROVING_PIECES into pieces, each end
+// a point and one piece's handle from curve_piece_end (de Casteljau: convex
+// combinations, their rounding a few u of the largest frame coordinate, below pad).
 // Whether the piece q0..q3 may hold a ball that meets the ray at or after zlo. It lies
 // within dev (the larger distance of q1, q2 from the chord's thirds) of its chord, so
 // its balls of radius rr (the radius with the sieve's own rounding allowance) lie in
@@ -192,17 +181,14 @@ FN int curve_sieve_keeps(vec3 q0, vec3 q1, vec3 q2, vec3 q3, float rr, float zlo
   return zout >= zlo ? 1 : 0;
 }
 
-// Bit k: the sieve keeps piece k (rr: rp plus the sieve's allowance).
+// Bit k: the sieve keeps piece k (rr: the ball radius with the sieve's allowance).
 FN uint curve_sieve_kept(CurveFrame f, float rr, float zlo) {
-  vec3 e0 = f.b1 - f.b0;
-  vec3 e1 = f.b2 - f.b1;
-  vec3 e2 = f.b3 - f.b2;
   float h = 1.0f / i2f_(MASQ_ROVING_PIECES);
   uint kept = 0u;
   uint bit = 1u; // 2^k
-  CurvePieceEnd lo = curve_sieve_end(f, e0, e1, e2, 0.0f);
+  CurvePieceEnd lo = curve_piece_end(f, 0.0f, h);
   for (int k = 0; k < MASQ_ROVING_PIECES; ++k) {
-    CurvePieceEnd hi = curve_sieve_end(f, e0, e1, e2, i2f_(k + 1) * h);
+    CurvePieceEnd hi = curve_piece_end(f, i2f_(k + 1) * h, h);
     if (curve_sieve_keeps(lo.p, lo.p + lo.dh, hi.p - hi.dh, hi.p, rr, zlo) != 0) kept = kept | bit;
     lo = hi;
     bit = bit << 1u;
@@ -210,10 +196,11 @@ FN uint curve_sieve_kept(CurveFrame f, float rr, float zlo) {
   return kept;
 }
 
-// Whether the sieve keeps any piece (0: the ray misses the solid beyond zlo). rp = r +
-// pad; the allowance adds pad again for the pieces' own rounding.
-FN int curve_roving_sieve(CurveFrame f, float rp, float pad, float zlo) {
-  float rr = rp + pad;
+// Whether the sieve keeps any piece (0: the ray misses the solid beyond zlo). The balls'
+// radius is grown by pad twice: once for the frame's rounding, as everywhere in the
+// search, once for the pieces' own.
+FN int curve_roving_sieve(CurveFrame f, float pad, float zlo) {
+  float rr = (f.r + pad) + pad;
 #if defined(MASQ_LANG_CPP)
   // cpu: the eight pieces in eight lanes, the same verdicts (curve_sieve_simd_cpp.h).
   static_assert(MASQ_ROVING_PIECES == 8, "the cpu sieve tests eight pieces in eight lanes");
@@ -230,7 +217,7 @@ FN int curve_roving_sieve(CurveFrame f, float rp, float pad, float zlo) {
 // zstop: as curve_subdiv's (an occlusion query's early stop).
 FN CurveRoot curve_roving(CurveFrame f, float zlo, float zmax, float tol, float ttol, float pad, int maybe_inside,
                           float zstop) {
-  if (maybe_inside != 0 && curve_roving_sieve(f, f.r + pad, pad, zlo) == 0) return curve_root_none(0.0f);
+  if (maybe_inside != 0 && curve_roving_sieve(f, pad, zlo) == 0) return curve_root_none(0.0f);
   float a = 0.0f; // the piece left: s in [a, a + w]
   float w = 1.0f;
   CurvePiece pc;

@@ -1,8 +1,8 @@
 // cpu dialect only: the roving sieve (curve_roving.h, step 0) on its eight pieces at once,
 // one piece per lane, with the GCC/Clang vector extensions. Every lane performs the
-// operations of curve_sieve_end and curve_sieve_keeps in the same order (selects for the
-// branches), so each lane's verdict is the scalar loop's bit for bit and the span the
-// sieve hands on is the same on every backend (tests/test_curve_sieve_simd.cpp).
+// operations of curve_piece_end and curve_sieve_keeps in the same order (selects for the
+// branches), so each lane's verdict is the scalar loop's bit for bit, and the call's
+// outcome the same on every backend (tests/test_curve_sieve.cpp).
 #ifndef MASQ_KERNEL_CURVE_SIEVE_SIMD_CPP_H
 #define MASQ_KERNEL_CURVE_SIEVE_SIMD_CPP_H
 #if defined(MASQ_LANG_CPP)
@@ -10,32 +10,34 @@
 
 namespace masq::kernel::simd {
 
-// One cut per lane: the curve's point and one piece's handle there (curve_sieve_end).
+// One cut per lane: the curve's point and one piece's handle there, curve_piece_end's
+// de Casteljau steps per coordinate.
 struct SieveEnds8 {
   F8 px, py, pz, hx, hy, hz;
 };
 
-inline SieveEnds8 curve_sieve_ends8(const glm::vec3 b[4], const glm::vec3 e[3], F8 t, float h) {
-  F8 u = 1.0f - t;
-  F8 w0 = u * u * u, w1 = 3.0f * t * u * u, w2 = 3.0f * t * t * u, w3 = t * t * t;
-  F8 v0 = u * u, v1 = 2.0f * t * u, v2 = t * t;
-  SieveEnds8 s;
-  s.px = (w0 * b[0].x + w1 * b[1].x) + (w2 * b[2].x + w3 * b[3].x);
-  s.py = (w0 * b[0].y + w1 * b[1].y) + (w2 * b[2].y + w3 * b[3].y);
-  s.pz = (w0 * b[0].z + w1 * b[1].z) + (w2 * b[2].z + w3 * b[3].z);
-  s.hx = h * ((v0 * e[0].x + v1 * e[1].x) + v2 * e[2].x);
-  s.hy = h * ((v0 * e[0].y + v1 * e[1].y) + v2 * e[2].y);
-  s.hz = h * ((v0 * e[0].z + v1 * e[1].z) + v2 * e[2].z);
-  return s;
+inline void curve_sieve_end8(float b0, float b1, float b2, float b3, F8 s, float h, F8& p, F8& dh) {
+  F8 t = 1.0f - s;
+  F8 a = t * b0 + s * b1, b = t * b1 + s * b2, c = t * b2 + s * b3;
+  F8 ab = t * a + s * b, bc = t * b + s * c;
+  p = t * ab + s * bc;
+  dh = h * (bc - ab);
+}
+
+inline SieveEnds8 curve_sieve_ends8(const glm::vec3 b[4], F8 s, float h) {
+  SieveEnds8 e;
+  curve_sieve_end8(b[0].x, b[1].x, b[2].x, b[3].x, s, h, e.px, e.hx);
+  curve_sieve_end8(b[0].y, b[1].y, b[2].y, b[3].y, s, h, e.py, e.hy);
+  curve_sieve_end8(b[0].z, b[1].z, b[2].z, b[3].z, s, h, e.pz, e.hz);
+  return e;
 }
 
 // Bit k: the sieve keeps piece k of eight (curve_sieve_keeps on its control points).
 inline unsigned curve_sieve_mask8(const glm::vec3 b[4], float rr, float zlo) {
-  const glm::vec3 e[3] = {b[1] - b[0], b[2] - b[1], b[3] - b[2]};
   const float h = 1.0f / 8.0f;
   const F8 k = {0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f};
-  SieveEnds8 lo = curve_sieve_ends8(b, e, k * h, h);
-  SieveEnds8 hi = curve_sieve_ends8(b, e, (k + 1.0f) * h, h);
+  SieveEnds8 lo = curve_sieve_ends8(b, k * h, h);
+  SieveEnds8 hi = curve_sieve_ends8(b, (k + 1.0f) * h, h);
   F8 q0x = lo.px, q0y = lo.py, q0z = lo.pz;
   F8 q1x = lo.px + lo.hx, q1y = lo.py + lo.hy, q1z = lo.pz + lo.hz;
   F8 q2x = hi.px - hi.hx, q2y = hi.py - hi.hy, q2z = hi.pz - hi.hz;
