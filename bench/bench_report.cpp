@@ -275,6 +275,7 @@ nlohmann::json bench_row_json(const BenchRow& r) {
   e["wall_seconds"] = r.wall_s; // medians over the timed traces, like trace_seconds.median
   e["upload_seconds"] = r.upload_s;
   e["readback_seconds"] = r.readback_s;
+  e["cpu_seconds"] = r.cpu_s; // the process's CPU time per trace, every thread (median)
   e["fill_rays"] = r.fill_rays; // 0: the device does not say
   e["mrays_per_s"] = r.mrays_per_s();
   e["per_ray"] = {{"tlas_nodes", r.tlas_nodes}, {"blas_nodes", r.blas_nodes}, {"transforms", r.transforms},

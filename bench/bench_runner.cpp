@@ -1,4 +1,5 @@
 #include "bench/bench_runner.h"
+#include "bench/peer_rounds.h"
 #include "bvh/twolevel/build_accel.h"
 #include "scenes/camera.h"
 #include "masq/error.h"
@@ -186,8 +187,10 @@ void prepare_lane(Lane& lane, BenchRow& row, const RayBatch& batch, std::size_t 
 // Warm-up and timed traces of the counter-free variants, the lanes taking turns.
 void time_lanes(std::vector<Lane>& lanes, std::vector<BenchRow>& rows, const RayBatch& batch, const BenchOptions& opt) {
   std::vector<std::vector<TraceTiming>> times(lanes.size());
+  std::vector<std::vector<double>> cpu_times(lanes.size());
   std::vector<kernel::Hit> hits(batch.rays.size());
   const int rounds = opt.warmup + opt.repetitions;
+  const int passes = traces_per_sample(batch.rays.size(), opt.sample_rays);
   for (int round = 0; round < rounds; ++round) {
     opt.say(fmt::format("{} {}: trace round {}/{}", rows.empty() ? "" : rows[0].backend, ray_set_name(batch.set),
                          round + 1, rounds));
@@ -195,9 +198,21 @@ void time_lanes(std::vector<Lane>& lanes, std::vector<BenchRow>& rows, const Ray
       BenchRow& row = rows[i];
       if (!row.unavailable.empty()) continue;
       try {
-        lanes[i].be->trace(batch.rays, hits, {}, row.query);
-        if (round == 0) row.compile_s = lanes[i].be->timing().compile_seconds;
-        if (round >= opt.warmup) times[i].push_back(lanes[i].be->timing());
+        TraceTiming sum;
+        const double cpu0 = process_cpu_seconds();
+        for (int pass = 0; pass < passes; ++pass) {
+          lanes[i].be->trace(batch.rays, hits, {}, row.query);
+          const TraceTiming& t = lanes[i].be->timing();
+          if (round == 0 && pass == 0) row.compile_s = t.compile_seconds;
+          sum.trace_seconds += t.trace_seconds / passes;
+          sum.wall_seconds += t.wall_seconds / passes;
+          sum.upload_seconds += t.upload_seconds / passes;
+          sum.readback_seconds += t.readback_seconds / passes;
+        }
+        if (round >= opt.warmup) {
+          times[i].push_back(sum);
+          cpu_times[i].push_back((process_cpu_seconds() - cpu0) / passes);
+        }
       } catch (const std::exception& e) {
         row.unavailable = e.what();
       }
@@ -219,6 +234,8 @@ void time_lanes(std::vector<Lane>& lanes, std::vector<BenchRow>& rows, const Ray
     row.wall_s = sorted(&TraceTiming::wall_seconds)[device.size() / 2];
     row.upload_s = sorted(&TraceTiming::upload_seconds)[device.size() / 2];
     row.readback_s = sorted(&TraceTiming::readback_seconds)[device.size() / 2];
+    std::sort(cpu_times[i].begin(), cpu_times[i].end());
+    row.cpu_s = cpu_times[i][cpu_times[i].size() / 2];
     row.device_bytes = lanes[i].be->device_bytes();
   }
 }
@@ -278,6 +295,10 @@ std::vector<Lane> open_lanes(const std::string& name, const std::vector<const Bu
 }
 
 } // namespace
+
+int traces_per_sample(std::size_t rays, std::size_t sample_rays) {
+  return rays == 0 || sample_rays <= rays ? 1 : int((sample_rays + rays - 1) / rays);
+}
 
 BuiltMethods build_methods(const Scene& scene, const BenchOptions& opt) {
   BuiltMethods built;

@@ -43,6 +43,11 @@ struct BenchOptions {
   int height = 512;
   int warmup = 1;
   int repetitions = 5;
+  // Each timed sample traces a ray set over and over until it has traced at least this
+  // many rays, and counts the time per trace (0: once). The hair's shadow and diffuse
+  // sets at a pilot's resolution hold a few hundred to a few thousand rays, a trace of
+  // about a millisecond: once, its time measures the threads' wake-up as much as tracing.
+  std::size_t sample_rays = 0;
   bool keep_per_ray = false; // keep every row's hits and counters (heatmaps, agreement)
   // Shadow rays ask the occlusion question (any hit, early exit), as a renderer would;
   // false traces them for the closest hit like the other sets.
@@ -78,6 +83,9 @@ struct BenchRow {
   // Medians over the timed traces of the host-clock times (host/backend.h TraceTiming):
   // the whole trace, and the parts writing rays and reading results back.
   double wall_s = 0, upload_s = 0, readback_s = 0;
+  // Median over the timed samples of the process's CPU time per trace, every thread
+  // (CLOCK_PROCESS_CPUTIME_ID): the peers suite's deciding figure on a shared machine.
+  double cpu_s = 0;
   std::size_t fill_rays = 0; // rays that fill the row's device (Backend::fill_rays; 0: unknown)
   double build_s = 0, scene_s = 0, compile_s = 0;
   // Per ray, from the stats variant (rayquery, rtpipeline: node tests and transforms are not observable: -1).
@@ -98,6 +106,10 @@ struct BenchRow {
   std::vector<kernel::RayStats> stats;  // keep_per_ray only
   double mrays_per_s() const { return median_s > 0 ? rays / median_s * 1e-6 : 0; }
 };
+
+// Traces of a set of `rays` rays that make one timed sample of at least `sample_rays`
+// rays (BenchOptions::sample_rays): 1 when the set alone has that many (or is empty).
+int traces_per_sample(std::size_t rays, std::size_t sample_rays);
 
 // The scene built once per method (host BVH build time is in each PackedScene's stats).
 struct BuiltMethods {

@@ -4,7 +4,8 @@
 // branch mispredictions (--branch-sim=yes) per ray and per node visit (docs/results.md,
 // "Bytes, instructions and branches per ray"). The rays are the bench's: camera rays of
 // width x width, and the shadow or diffuse rays from their hits.
-//   masq_trace_probe FILE ref|masq w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree] [width=256] [traces=4]
+// FILE "bundle" is the embedded default scene (the peers suite's bundle row).
+//   masq_trace_probe FILE|bundle ref|masq|cluster w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree] [width=256] [traces=4]
 //   valgrind --tool=callgrind --cache-sim=yes --branch-sim=yes --collect-atstart=no
 //     --toggle-collect='*probe_traces*' build/bench/masq_trace_probe ... (one line)
 #include "bench/backend_pool.h"
@@ -12,6 +13,7 @@
 #include "host/backend.h"
 #include "peers/embree_peer.h"
 #include "scenes/curve_tools.h"
+#include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
 #include <cstdio>
 #include <cstdlib>
@@ -43,10 +45,10 @@ template <class T> T pick(const std::string& what, const std::string& v, std::in
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE ref|masq w4|w8|q8|o4 primary|shadow|diffuse "
+    if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE|bundle ref|masq|cluster w4|w8|q8|o4 primary|shadow|diffuse "
                                               "[capsule|curve] [masq|embree] [width=256] [traces=4]");
-    Scene scene = load_scene_file(argv[1]);
-    const Method method = pick<Method>("method", argv[2], {{"ref", Method::Ref}, {"masq", Method::Masq}});
+    Scene scene = std::string(argv[1]) == "bundle" ? make_default_scene() : load_scene_file(argv[1]);
+    const Method method = pick<Method>("method", argv[2], {{"ref", Method::Ref}, {"masq", Method::Masq}, {"cluster", Method::Cluster}});
     const NodeFormat nodes = pick<NodeFormat>(
         "nodes", argv[3], {{"w4", NodeFormat::W4}, {"w8", NodeFormat::W8}, {"q8", NodeFormat::Q8}, {"o4", NodeFormat::O4}});
     const RaySet set = pick<RaySet>("ray set", argv[4],

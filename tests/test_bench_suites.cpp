@@ -310,6 +310,37 @@ TEST(Bench, BuildersSideBySide) {
   EXPECT_TRUE(bench_builders(run_bench(scene, opt)).rows.empty()) << "one builder: no builders table";
 }
 
+// A timed sample of a set smaller than sample_rays traces it as many times as it takes to
+// reach that many rays, the row's times per trace; every row carries the process's CPU
+// time per trace (the peers pilot chooses by it).
+TEST(Bench, SampleRaysRepeatASmallSetAndRowsCarryCpuTime) {
+  EXPECT_EQ(traces_per_sample(850, 36864), 44); // 44 x 850 = 37,400 >= 36,864 > 43 x 850
+  EXPECT_EQ(traces_per_sample(36864, 36864), 1);
+  EXPECT_EQ(traces_per_sample(40000, 36864), 1);
+  EXPECT_EQ(traces_per_sample(850, 0), 1); // 0: each set once
+  EXPECT_EQ(traces_per_sample(0, 36864), 1);
+  BundleParams bp;
+  bp.count = 200;
+  Scene scene = make_default_scene(bp);
+  BenchOptions opt;
+  opt.backends = {"cpu"};
+  opt.methods = {Method::Ref};
+  opt.ray_sets = {RaySet::Primary, RaySet::Shadow};
+  opt.width = 32;
+  opt.height = 32;
+  opt.warmup = 0;
+  opt.repetitions = 1;
+  opt.sample_rays = 4 * 32 * 32;
+  std::vector<BenchRow> rows = run_bench(scene, opt);
+  ASSERT_EQ(rows.size(), 2u);
+  for (const BenchRow& r : rows) {
+    ASSERT_TRUE(r.unavailable.empty()) << r.unavailable;
+    EXPECT_GT(r.median_s, 0.0);
+    EXPECT_GT(r.cpu_s, 0.0);
+    EXPECT_EQ(bench_row_json(r)["cpu_seconds"].get<double>(), r.cpu_s);
+  }
+}
+
 // Several node formats in one bench run: each (backend, method, format) gets its row, the
 // same rays and the same hits, fewer node visits for 8-wide nodes, and the node table
 // compares each format with w4.

@@ -8,8 +8,8 @@
 using namespace masq;
 
 // A real quick peers run on the cpu backend: masq's tracer of each ray set is chosen on
-// pilot rays (a camera of another resolution: never the timed rays), over both builders'
-// structures, and timed round by round against both of Embree's APIs by CPU and wall
+// pilot rays (a camera of another resolution: never the timed rays) by CPU time, over
+// both builders' structures, and timed round by round against both of Embree's APIs by CPU and wall
 // time, each ratio with its spread, a short ray set traced several times per sample; the
 // builds timed alone, round by round; or the Embree columns say why not.
 TEST(Suites, PeersQuickOnCpuChoosesOnPilotRaysAndTimesRoundByRound) {
@@ -36,6 +36,15 @@ TEST(Suites, PeersQuickOnCpuChoosesOnPilotRaysAndTimesRoundByRound) {
       ++sets;
       EXPECT_EQ(p["masq_choice"]["backend"], "cpu");
       EXPECT_TRUE(builders.count(p["masq_choice"]["builder"].get<std::string>()));
+      // The choice is the pilot row of the set with the least CPU time per trace.
+      double least = 0;
+      for (const auto& r : sc["pilot"]["rows"]) {
+        if (r["rays"] != p["rays"] || r.contains("unavailable")) continue;
+        const double c = r["cpu_seconds"].get<double>();
+        EXPECT_GT(c, 0.0) << r.dump();
+        if (least == 0 || c < least) least = c;
+      }
+      EXPECT_EQ(p["masq_choice"]["cpu_seconds"].get<double>(), least) << p["rays"];
       if (p["rays"] == "primary") {
         EXPECT_EQ(p["ray_count"].get<int>(), timed_rays);
         EXPECT_LT(pilot_rays, timed_rays);
