@@ -2,14 +2,13 @@
 // as the peers suite's build table times it) repeated in a function of its own,
 // probe_builds, for a profiler to count alone (valgrind's callgrind, or perf record with
 // its software clock: these virtual machines expose no hardware counters).
-//   masq_build_probe FILE|bundle ref|masq [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]
+//   masq_build_probe FILE|bundle ref|masq|cluster [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]
 //   valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*probe_builds*'
 //     build/bench/masq_build_probe ... (one line)
+#include "bench/probe_args.h"
 #include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "scenes/curve_tools.h"
-#include "scenes/generators.h"
-#include "scenes/loaders/load_any.h"
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -26,26 +25,18 @@ __attribute__((noinline)) void probe_builds(const Scene& scene, Method method, c
   for (int i = 0; i < builds; ++i) cpu.set_scene(build_accel(scene, method, accel));
 }
 
-template <class T> T pick(const std::string& what, const std::string& v, std::initializer_list<std::pair<const char*, T>> opts) {
-  for (const auto& [name, value] : opts)
-    if (v == name) return value;
-  throw std::invalid_argument(what + " '" + v + "' is not one of the choices (see the usage line)");
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
   try {
     if (argc < 3)
-      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]");
-    Scene scene = std::string(argv[1]) == "bundle" ? make_default_scene() : load_scene_file(argv[1]);
-    const Method method = pick<Method>("method", argv[2], {{"ref", Method::Ref}, {"masq", Method::Masq}});
+      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]");
+    Scene scene = probe::scene(argv[1]);
+    const Method method = probe::method(argv[2]);
     AccelOptions accel;
     accel.builder.kind = Builder::Sah4; // the peers suite's build table
-    if (argc > 3)
-      accel.nodes = pick<NodeFormat>(
-          "nodes", argv[3], {{"w4", NodeFormat::W4}, {"w8", NodeFormat::W8}, {"q8", NodeFormat::Q8}, {"o4", NodeFormat::O4}});
-    if (argc > 4 && pick<bool>("primitive", argv[4], {{"capsule", false}, {"curve", true}})) {
+    if (argc > 3) accel.nodes = probe::nodes(argv[3]);
+    if (argc > 4 && probe::pick<bool>("primitive", argv[4], {{"capsule", false}, {"curve", true}})) {
       scene = segments_to_curves(scene);
       accel.curve_isect = CurveIsect::Roving;
     }

@@ -10,11 +10,10 @@
 //     --toggle-collect='*probe_traces*' build/bench/masq_trace_probe ... (one line)
 #include "bench/backend_pool.h"
 #include "bench/bench_runner.h"
+#include "bench/probe_args.h"
 #include "host/backend.h"
 #include "peers/embree_peer.h"
 #include "scenes/curve_tools.h"
-#include "scenes/generators.h"
-#include "scenes/loaders/load_any.h"
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -35,26 +34,19 @@ __attribute__((noinline)) void probe_traces(Backend* be, EmbreePeer* embree, con
   }
 }
 
-template <class T> T pick(const std::string& what, const std::string& v, std::initializer_list<std::pair<const char*, T>> opts) {
-  for (const auto& [name, value] : opts)
-    if (v == name) return value;
-  throw std::invalid_argument(what + " '" + v + "' is not one of the choices (see the usage line)");
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
   try {
     if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE|bundle ref|masq|cluster w4|w8|q8|o4 primary|shadow|diffuse "
                                               "[capsule|curve] [masq|embree] [width=256] [traces=4]");
-    Scene scene = std::string(argv[1]) == "bundle" ? make_default_scene() : load_scene_file(argv[1]);
-    const Method method = pick<Method>("method", argv[2], {{"ref", Method::Ref}, {"masq", Method::Masq}, {"cluster", Method::Cluster}});
-    const NodeFormat nodes = pick<NodeFormat>(
-        "nodes", argv[3], {{"w4", NodeFormat::W4}, {"w8", NodeFormat::W8}, {"q8", NodeFormat::Q8}, {"o4", NodeFormat::O4}});
-    const RaySet set = pick<RaySet>("ray set", argv[4],
+    Scene scene = probe::scene(argv[1]);
+    const Method method = probe::method(argv[2]);
+    const NodeFormat nodes = probe::nodes(argv[3]);
+    const RaySet set = probe::pick<RaySet>("ray set", argv[4],
                                     {{"primary", RaySet::Primary}, {"shadow", RaySet::Shadow}, {"diffuse", RaySet::Diffuse}});
-    const bool curves = argc > 5 && pick<bool>("primitive", argv[5], {{"capsule", false}, {"curve", true}});
-    const bool embree_side = argc > 6 && pick<bool>("tracer", argv[6], {{"masq", false}, {"embree", true}});
+    const bool curves = argc > 5 && probe::pick<bool>("primitive", argv[5], {{"capsule", false}, {"curve", true}});
+    const bool embree_side = argc > 6 && probe::pick<bool>("tracer", argv[6], {{"masq", false}, {"embree", true}});
     const int width = argc > 7 ? std::atoi(argv[7]) : 256;
     const int traces = argc > 8 ? std::atoi(argv[8]) : 4;
     if (width < 1 || traces < 1) throw std::invalid_argument("width and traces must be at least 1");

@@ -1,0 +1,33 @@
+// The profiling probes' command-line words (masq_trace_probe, masq_build_probe): each
+// probe is a plain main() for valgrind or perf, so its arguments are positional words.
+#pragma once
+#include "bvh/options.h"
+#include "scenes/generators.h"
+#include "scenes/loaders/load_any.h"
+#include <initializer_list>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace masq::probe {
+
+// The value named by v among opts; an unknown word names what it was for.
+template <class T> T pick(const std::string& what, const std::string& v, std::initializer_list<std::pair<const char*, T>> opts) {
+  for (const auto& [name, value] : opts)
+    if (v == name) return value;
+  throw std::invalid_argument(what + " '" + v + "' is not one of the choices (see the usage line)");
+}
+
+// FILE, or "bundle": the embedded default scene (the peers suite's bundle row).
+inline Scene scene(const std::string& arg) { return arg == "bundle" ? make_default_scene() : load_scene_file(arg); }
+
+inline Method method(const std::string& arg) {
+  return pick<Method>("method", arg, {{"ref", Method::Ref}, {"masq", Method::Masq}, {"cluster", Method::Cluster}});
+}
+
+inline NodeFormat nodes(const std::string& arg) {
+  return pick<NodeFormat>("nodes", arg,
+                          {{"w4", NodeFormat::W4}, {"w8", NodeFormat::W8}, {"q8", NodeFormat::Q8}, {"o4", NodeFormat::O4}});
+}
+
+} // namespace masq::probe
