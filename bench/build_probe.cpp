@@ -2,7 +2,7 @@
 // as the peers suite's build table times it) repeated in a function of its own,
 // probe_builds, for a profiler to count alone (valgrind's callgrind, or perf record with
 // its software clock: these virtual machines expose no hardware counters).
-//   masq_build_probe FILE|bundle ref|masq|cluster [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]
+//   masq_build_probe FILE|bundle ref|masq|cluster|auto [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]
 //   valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*probe_builds*'
 //     build/bench/masq_build_probe ... (one line)
 #include "bench/probe_args.h"
@@ -30,7 +30,7 @@ __attribute__((noinline)) void probe_builds(const Scene& scene, Method method, c
 int main(int argc, char** argv) {
   try {
     if (argc < 3)
-      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]");
+      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster|auto [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]");
     Scene scene = probe::scene(argv[1]);
     const Method method = probe::method(argv[2]);
     AccelOptions accel;

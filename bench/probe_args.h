@@ -22,7 +22,7 @@ template <class T> T pick(const std::string& what, const std::string& v, std::in
 inline Scene scene(const std::string& arg) { return arg == "bundle" ? make_default_scene() : load_scene_file(arg); }
 
 inline Method method(const std::string& arg) {
-  return pick<Method>("method", arg, {{"ref", Method::Ref}, {"masq", Method::Masq}, {"cluster", Method::Cluster}});
+  return pick<Method>("method", arg, {{"ref", Method::Ref}, {"masq", Method::Masq}, {"cluster", Method::Cluster}, {"auto", Method::Auto}});
 }
 
 inline NodeFormat nodes(const std::string& arg) {

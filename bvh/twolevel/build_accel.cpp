@@ -126,8 +126,9 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   // (Sized before the parallel loop, which then touches only its own geometry's entry.)
   std::vector<std::optional<std::vector<Cluster>>>* clusterings = nullptr;
   if (shared && (method == Method::Cluster || method == Method::Auto)) {
-    clusterings = &shared->by_shape[{opt.cluster.max_size, opt.cluster.classes}];
-    clusterings->resize(scene.geometries.size());
+    // (auto_candidates made the slots of every shape it builds: only looked up here.)
+    auto it = shared->by_shape.find({opt.cluster.max_size, opt.cluster.classes});
+    if (it != shared->by_shape.end() && it->second.size() == scene.geometries.size()) clusterings = &it->second;
   }
   parallel_chunks(scene.geometries.size(), 1, [&](std::size_t g0, std::size_t g1) {
     for (std::size_t gi = g0; gi < g1; ++gi) {
@@ -326,31 +327,57 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
   check_accel_input(scene, opt);
   auto start = std::chrono::steady_clock::now();
   AutoCandidates out;
+  auto build = [&](Method m, const ClusterOptions& shape, SharedClusterings* shared) {
+    AccelOptions one = opt;
+    one.cluster = shape;
+    return build_planned(scene, m, one, true, shared);
+  };
   // Triangles stay in a BLAS under every method: a mesh has one candidate, ref's.
   bool thin = std::any_of(scene.geometries.begin(), scene.geometries.end(),
                           [](const Geometry& g) { return !scene_prim_row(g.type).mesh && g.primitive_count() > 0; });
-  SharedClusterings shared;
-  for (Method m : {Method::Ref, Method::Masq, Method::Cluster, Method::Auto}) {
-    if (m != Method::Ref && !thin) {
-      out.costs[std::size_t(m)] = out.costs[std::size_t(Method::Ref)];
-      continue;
-    }
+  if (!thin) {
+    out.built.push_back(build(Method::Ref, opt.cluster, nullptr));
+    out.costs.fill(out.built[0].stats.model_cost);
+  } else {
     // The cluster candidate in several shapes, the cheapest by the model standing for
     // it: how many members a cluster takes and how full its leaves are decide between
     // transforms, node visits and intersector calls, and which wins depends on the
     // scene (a bundle of parallel strands wants a few large clusters, fur many small
     // ones; docs/methods.md).
-    std::vector<ClusterOptions> shapes = {opt.cluster};
-    if (m == Method::Cluster) shapes = auto_cluster_shapes(opt.cluster);
-    PackedScene cand;
-    for (std::size_t k = 0; k < shapes.size(); ++k) {
-      AccelOptions one = opt;
-      one.cluster = shapes[k];
-      PackedScene c = build_planned(scene, m, one, true, &shared);
-      if (k == 0 || c.stats.model_cost < cand.stats.model_cost) cand = std::move(c);
+    const std::vector<ClusterOptions> shapes = auto_cluster_shapes(opt.cluster);
+    std::vector<PackedScene> shaped(shapes.size());
+    PackedScene ref, masq, mix;
+    // The candidates build in two groups at once (each build is parallel inside too, but
+    // keeps about 1.3 of two threads busy: its serial stretches). A clustering is made by
+    // the first shape of its size and reused by the rest, so each size's shapes stay in
+    // one group, in order: the given size's with the mix, which reuses that clustering,
+    // and the others with ref and masq. Every size's slots exist before the groups start,
+    // so the groups only look them up. Each candidate is the one a serial build makes,
+    // and the choice below reads them in the serial order.
+    SharedClusterings shared;
+    for (const ClusterOptions& c : shapes) shared.by_shape[{c.max_size, c.classes}].resize(scene.geometries.size());
+    auto given_size = [&](const ClusterOptions& c) {
+      return c.max_size == opt.cluster.max_size && c.classes == opt.cluster.classes;
+    };
+    parallel_pair(
+        [&] {
+          for (std::size_t k = 0; k < shapes.size(); ++k)
+            if (given_size(shapes[k])) shaped[k] = build(Method::Cluster, shapes[k], &shared);
+          mix = build(Method::Auto, opt.cluster, &shared);
+        },
+        [&] {
+          ref = build(Method::Ref, opt.cluster, &shared);
+          masq = build(Method::Masq, opt.cluster, &shared);
+          for (std::size_t k = 0; k < shapes.size(); ++k)
+            if (!given_size(shapes[k])) shaped[k] = build(Method::Cluster, shapes[k], &shared);
+        });
+    std::size_t cheapest = 0;
+    for (std::size_t k = 1; k < shaped.size(); ++k)
+      if (shaped[k].stats.model_cost < shaped[cheapest].stats.model_cost) cheapest = k;
+    for (PackedScene* c : {&ref, &masq, &shaped[cheapest], &mix}) {
+      out.costs[std::size_t(c->method)] = c->stats.model_cost;
+      out.built.push_back(std::move(*c));
     }
-    out.costs[std::size_t(m)] = cand.stats.model_cost;
-    out.built.push_back(std::move(cand));
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
