@@ -1,5 +1,5 @@
 #include "bench/bench_runner.h"
-#include "bench/peer_rounds.h"
+#include "bench/process_clock.h"
 #include "bvh/twolevel/build_accel.h"
 #include "scenes/camera.h"
 #include "masq/error.h"

@@ -1,8 +1,8 @@
 #include "bench/peer_rounds.h"
+#include "bench/process_clock.h"
 #include "masq/error.h"
 #include <algorithm>
 #include <thread>
-#include <time.h>
 
 namespace masq {
 
@@ -12,12 +12,6 @@ Spread spread_of(std::vector<double> v) {
   const std::size_t n = v.size();
   const double median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
   return {median, v.front(), v.back()};
-}
-
-double process_cpu_seconds() {
-  timespec ts{};
-  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) throw Error("peers: clock_gettime(CLOCK_PROCESS_CPUTIME_ID) failed");
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
 std::vector<std::vector<TraceClock>> time_round_by_round(const std::vector<std::function<void()>>& tracers,

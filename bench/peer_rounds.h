@@ -24,9 +24,6 @@ struct Spread {
 };
 Spread spread_of(std::vector<double> v); // empty: all 0
 
-// The CPU time this process has used so far, all threads (CLOCK_PROCESS_CPUTIME_ID).
-double process_cpu_seconds();
-
 // times[t][k]: tracer t's trace in timed round k. The order of the tracers rotates from
 // round to round (round k starts with tracer k mod n), so none always follows the same
 // one; `pause` passes before each trace so the workers of the trace before (oneTBB's
