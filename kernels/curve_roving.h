@@ -46,6 +46,7 @@
 // both), `masq stress` (curve cells for each), docs/robustness.md.
 #ifndef MASQ_KERNEL_CURVE_ROVING_H
 #define MASQ_KERNEL_CURVE_ROVING_H
+#include "curve_occlusion.h"
 #include "curve_subdiv.h"
 #include "curve_sieve_simd_cpp.h"
 
@@ -245,6 +246,13 @@ FN CurveRoot curve_roving(CurveFrame f, float zlo, float zmax, float tol, float 
     pc = curve_piece(f, a, nb);
   }
   if (missed != 0) return curve_root_none(0.0f);
+  // An occlusion query (zstop finite only where a point inside the solid in the window
+  // proves a crossing there, curve_occlusion.h): the curve point nearest the ray on
+  // what is left, before the search.
+  if (zstop >= zlo) {
+    CurveRoot wr = curve_line_witness(f, a, w, zlo, zstop, pad);
+    if (wr.found != 0) return wr;
+  }
   return curve_subdiv(f, a, w, zlo, zmax, tol, ttol, pad, maybe_inside, MASQ_ROVING_COARSE * f.r, zstop);
 }
 

@@ -4,6 +4,7 @@
 #include "bvh/bounds/clip_bounds.h"
 #include "bvh/twolevel/cluster_blas.h"
 #include "bvh/twolevel/masq_fits.h"
+#include "bvh/twolevel/entry_order.h"
 #include "bvh/nodes/compact_instance.h"
 #include "bvh/bounds/obb.h"
 #include "bvh/bounds/prim_bounds.h"
@@ -266,9 +267,11 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     BinaryBvh tlas = build_boxes_binary(inst_boxes, opt.sah, opt.builder);
     std::vector<std::int32_t> ids(inst_boxes.size()); // the leaves' references (entry e: tlas_ref(e))
     for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = ps.tlas_ref(i);
+    const std::size_t first_tlas_ref = ps.refs.size();
     WideBvhInfo info = append_bvh_nodes(tlas, ids, opt.nodes, ps);
     ps.tlas_root = info.root;
     ps.tlas_leaf_order.assign(tlas.order.begin(), tlas.order.end());
+    order_compact_entries_by_leaves(ps, first_tlas_ref);
     ps.stats.tlas_nodes = info.nodes;
     ps.stats.tlas_leaves = info.leaves;
     ps.stats.sah_cost = info.sah_cost;
