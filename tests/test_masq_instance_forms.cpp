@@ -9,8 +9,10 @@
 // next to compact ones; auto's per-cluster mix (cluster and BLAS instances; its planner
 // prices a transform at 10 node visits, so it keeps no masquerade entry on this scene)
 // must not change with the option either. And the memory target: masq within 1.5x ref
-// on generated hair.
+// on generated hair. And the compact entries' storage order: the order the TLAS leaves
+// name them (bvh/twolevel/entry_order.h).
 #include "bvh/twolevel/build_accel.h"
+#include "bvh/nodes/compact_instance.h"
 #include "host/backend.h"
 #include "scenes/generators.h"
 #include "scenes/strand_generators.h"
@@ -171,6 +173,50 @@ TEST(MasqInstanceMemory, HairWithinOneAndAHalfTimesRef) {
     EXPECT_EQ(masq.masq_instances.size(), s.primitive_count()) << prim_type_name(t);
     EXPECT_LE(ratio, 1.5) << prim_type_name(t);
     EXPECT_LT(ratio, ratio64) << prim_type_name(t);
+  }
+}
+
+// The compact entries are stored in the order the TLAS's leaves name them
+// (bvh/twolevel/entry_order.h): the first reference to each, in the refs array, names
+// entries 0, 1, 2, ... in turn; every primitive keeps exactly one entry; and each entry's
+// unit-box map (instance_object_to_world, which the rayquery backend and the cost model
+// read) moved with it: the entry's own world-to-unit map undoes it.
+TEST(MasqInstanceLayout, CompactEntriesLieInTheOrderTheTlasNamesThem) {
+  HairParams hp;
+  hp.strands = 600;
+  hp.type = PrimType::Curve;
+  Scene s = make_hair_scene(hp);
+  PackedScene ps = build_accel(s, Method::Masq);
+  ASSERT_EQ(ps.masq_instances.size(), s.primitive_count());
+  std::vector<char> seen(ps.masq_instances.size(), 0), prim_seen(s.primitive_count(), 0);
+  std::int32_t next = 0;
+  long out_of_order = 0;
+  for (std::int32_t ref : ps.refs) {
+    if (ref >= 0) continue;
+    const std::size_t e = std::size_t(~ref);
+    ASSERT_LT(e, seen.size());
+    if (seen[e]) continue;
+    seen[e] = 1;
+    out_of_order += std::int32_t(e) != next;
+    ++next;
+  }
+  EXPECT_EQ(out_of_order, 0) << "the first reference to each entry must come in entry order";
+  EXPECT_EQ(std::size_t(next), ps.masq_instances.size()) << "every entry is named by a TLAS leaf";
+  for (const kernel::MasqInstance& c : ps.masq_instances) {
+    ASSERT_LT(std::size_t(c.prim), prim_seen.size());
+    EXPECT_EQ(prim_seen[std::size_t(c.prim)]++, 0) << "primitive " << c.prim << " has two entries";
+  }
+  const std::size_t base = ps.instances.size();
+  for (std::size_t e = 0; e < ps.masq_instances.size(); e += 97) {
+    const kernel::Instance k = tlas_entry_instance(ps, base + e);
+    const Mat3x4f& u2w = ps.instance_object_to_world.at(base + e);
+    for (const glm::vec3 p : {glm::vec3(0, 0, 0), glm::vec3(1, 1, 1), glm::vec3(-1, 1, -1)}) {
+      glm::vec3 w, u;
+      for (int i = 0; i < 3; ++i) w[i] = u2w[4 * i] * p.x + u2w[4 * i + 1] * p.y + u2w[4 * i + 2] * p.z + u2w[4 * i + 3];
+      const float* m = k.world_to_object;
+      for (int i = 0; i < 3; ++i) u[i] = m[4 * i] * w.x + m[4 * i + 1] * w.y + m[4 * i + 2] * w.z + m[4 * i + 3];
+      EXPECT_LT(glm::length(u - p), 0.05f) << "entry " << e << ": its unit-box map did not move with it";
+    }
   }
 }
 
