@@ -46,17 +46,13 @@ ld distance_to_curve(const Hair& h, const Vld& p) {
 }
 
 struct OcclusionTally {
-  Tally hits;         // hit/miss against the oracle (compare's rule; t is not the nearest's)
+  // Hit/miss against the oracle (compare's rule). Its t, normal and u tallies are not
+  // read: an occlusion call's point need not be the nearest crossing.
+  Tally hits;
   long outside = 0;   // hits whose point lies outside the window or the solid
   long n_hits = 0;
   void check(const Hair& h, const KV::PrimHit& k, const PrimRay& ray, const PrimResult& ref) {
-    Tally one;
-    compare(k, ref, ray, h, one);
-    hits.n += one.n;
-    hits.amb += one.amb;
-    hits.flips += one.flips;
-    hits.flips_raw += one.flips_raw;
-    hits.flips_tight += one.flips_tight;
+    compare(k, ref, ray, h, hits);
     if (k.hit == 0) return;
     ++n_hits;
     const ld t = k.t;
