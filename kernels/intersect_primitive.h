@@ -14,14 +14,18 @@
 #include "intersect_triangle.h"
 
 KERNEL_NS_BEGIN
+// A curve record against the ray, with the run's mode, intersector and query (the cpu's
+// masquerade walk also calls it on its entry-ordered copy, kernels/traverse.h).
+FN PrimHit intersect_curve_record(Curve c, vec3 o, vec3 d, float tmin, float tmax) {
+  return curve_intersect_mode(c, o, d, tmin, tmax, MASQ_ROBUST ? 1 : 0, MASQ_CURVE_ISECT, MASQ_ANY_HIT ? 1 : 0);
+}
+
 FN PrimHit intersect_primitive(KD_PARAM Geometry g, int prim, vec3 o, vec3 d, float tmin, float tmax) {
   int i = g.first + prim;
   if (MASQ_HAVE_CAPSULES && g.type == MASQ_PRIM_CAPSULE)
     return MASQ_ROBUST ? intersect_capsule(KD(capsules)[i], o, d, tmin, tmax)
                        : intersect_capsule_fast(KD(capsules)[i], o, d, tmin, tmax);
-  if (MASQ_HAVE_CURVES && g.type == MASQ_PRIM_CURVE)
-    return curve_intersect_mode(KD(curves)[i], o, d, tmin, tmax, MASQ_ROBUST ? 1 : 0, MASQ_CURVE_ISECT,
-                                MASQ_ANY_HIT ? 1 : 0);
+  if (MASQ_HAVE_CURVES && g.type == MASQ_PRIM_CURVE) return intersect_curve_record(KD(curves)[i], o, d, tmin, tmax);
   if (MASQ_HAVE_ROUND_CONES && g.type == MASQ_PRIM_ROUND_CONE)
     return MASQ_ROBUST ? intersect_round_cone(KD(round_cones)[i], o, d, tmin, tmax)
                        : intersect_round_cone_fast(KD(round_cones)[i], o, d, tmin, tmax);

@@ -74,6 +74,9 @@ STRUCT_BEGIN(KernelData)
   // Outside the table, as no device kernel reads it and no backend but the cpu's builds it.
   const float* leaf_capsule_rows;
   int leaf_capsule_stride;
+  // The curves of the compact masquerade entries in entry order (host/cpu/entry_curves.h):
+  // entry k's curve at entry_curves[k]; null where the scene has no curves.
+  const Curve* entry_curves;
 #endif
 STRUCT_END(KernelData)
 LAYOUT_NS_END

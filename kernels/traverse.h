@@ -441,10 +441,14 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
       int i = co.slot[k];
       if (wh.count[i] <= 0 || wh.tnear[i] > best.t) continue;
 #if defined(MASQ_LANG_CPP)
-      // cpu: every entry of the leaf asked for at once, so their misses overlap.
+      // cpu: every entry of the leaf asked for at once, so their misses overlap; a compact
+      // entry's curve too (its copy in entry order needs no load of the entry first).
       for (int j = 0; j < wh.count[i]; ++j) {
         int ref = KD(refs)[wh.child[i] + j];
-        if (ref < 0) __builtin_prefetch(KD(masq_instances) + (-1 - ref));
+        if (ref < 0) {
+          __builtin_prefetch(KD(masq_instances) + (-1 - ref));
+          if (KD(entry_curves) != nullptr) __builtin_prefetch(KD(entry_curves) + (-1 - ref));
+        }
         else __builtin_prefetch(KD(instances) + ref);
       }
 #endif
@@ -515,7 +519,17 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
           Affine f = affine_from_frame(KD(frames)[scene_inst]);
           Geometry g = KD(geoms)[geom];
           if (MASQ_STATS) res.stats.isect_calls = res.stats.isect_calls + 1;
-          PrimHit ph = intersect_primitive(KD_ARG g, prim, affine_point(f, wo), affine_vector(f, wd), tmin, best.t);
+          vec3 po = affine_point(f, wo);
+          vec3 pd = affine_vector(f, wd);
+#if defined(MASQ_LANG_CPP)
+          // cpu: a compact entry's curve from the copy in entry order (host/cpu/entry_curves.h),
+          // whose line the leaf's prefetch above already asked for.
+          bool copied = MASQ_HAVE_CURVES && ref < 0 && g.type == MASQ_PRIM_CURVE && KD(entry_curves) != nullptr;
+          PrimHit ph = copied ? intersect_curve_record(KD(entry_curves)[-1 - ref], po, pd, tmin, best.t)
+                              : intersect_primitive(KD_ARG g, prim, po, pd, tmin, best.t);
+#else
+          PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, best.t);
+#endif
           best = nearest_take(best, ph, prim, geom, scene_inst);
           if (MASQ_ANY_HIT && best.prim >= 0) {
             done = true;

@@ -10,16 +10,19 @@
 // prices a transform at 10 node visits, so it keeps no masquerade entry on this scene)
 // must not change with the option either. And the memory target: masq within 1.5x ref
 // on generated hair. And the compact entries' storage order: the order the TLAS leaves
-// name them (bvh/twolevel/entry_order.h).
+// name them (bvh/twolevel/entry_order.h), and the cpu's copy of their curves in that
+// order (host/cpu/entry_curves.h).
 #include "bvh/twolevel/build_accel.h"
 #include "bvh/nodes/compact_instance.h"
 #include "host/backend.h"
+#include "host/cpu/entry_curves.h"
 #include "scenes/generators.h"
 #include "scenes/strand_generators.h"
 #include "tests/random_rays.h"
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <random>
 #include "tests/random_affine.h"
 #include "tests/test_env.h"
@@ -218,6 +221,36 @@ TEST(MasqInstanceLayout, CompactEntriesLieInTheOrderTheTlasNamesThem) {
       EXPECT_LT(glm::length(u - p), 0.05f) << "entry " << e << ": its unit-box map did not move with it";
     }
   }
+}
+
+// The cpu's entry-ordered curve copy: slot k is the curve entry k names (its owner's
+// geometry, its primitive), whatever scene instance the entry belongs to; entries of
+// other primitive types leave a zero record (radius 0: no call on it can hit). The
+// cross-backend bit tests catch a wrong copy through the hits; this names the slot.
+TEST(MasqInstanceLayout, EntryCurvesHoldEachEntrysCurve) {
+  const PackedScene ps = build_accel(every_primitive_scene(5), Method::Masq);
+  const std::vector<EntryCurve> copy = entry_curves(ps);
+  ASSERT_EQ(copy.size(), ps.masq_instances.size());
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(copy.data()) % 64, 0u) << "one cache line per curve";
+  long curves = 0, others = 0;
+  for (std::size_t k = 0; k < copy.size(); ++k) {
+    const kernel::MasqInstance& e = ps.masq_instances[k];
+    const kernel::MasqOwner& owner = ps.masq_owners.at(e.s2_owner & MASQ_OWNER_MASK);
+    const kernel::Geometry& g = ps.geoms.at(std::size_t(owner.geom));
+    const kernel::Curve& got = copy[k].curve;
+    if (g.type != MASQ_PRIM_CURVE) {
+      ++others;
+      EXPECT_EQ(got.radius, 0.0f) << "entry " << k << " names no curve";
+      continue;
+    }
+    ++curves;
+    const kernel::Curve& want = ps.curves.at(std::size_t(g.first + e.prim));
+    EXPECT_EQ(std::memcmp(&got, &want, sizeof want), 0) << "entry " << k << " holds another curve";
+  }
+  EXPECT_GT(curves, 0);
+  EXPECT_GT(others, 0);
+  EXPECT_TRUE(entry_curves(build_accel(make_default_scene(), Method::Masq)).empty())
+      << "no copy where the scene has no curves";
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 #include "host/cpu/cpu_backend.h"
 #include "cpu/trace_units.h"
 #include "host/cpu/cpu_units.h"
+#include "host/cpu/entry_curves.h"
 #include "host/cpu/leaf_capsules.h"
 #include "host/cpu/trace_threads.h"
 #include "host/device_fill.h"
@@ -37,6 +38,8 @@ class CpuBackend final : public Backend {
     kd_ = kernel_data(scene_array_data(scene_));
     kd_.leaf_capsule_rows = leaf_capsules_.rows.data();
     kd_.leaf_capsule_stride = leaf_capsules_.stride;
+    entry_curves_ = entry_curves(scene_);
+    kd_.entry_curves = entry_curves_.empty() ? nullptr : &entry_curves_.front().curve;
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     has_scene_ = true;
   }
@@ -64,7 +67,8 @@ class CpuBackend final : public Backend {
 
   TraceTiming timing() const override { return timing_; }
   std::size_t device_bytes() const override {
-    return scene_.acceleration_bytes() + scene_.primitive_bytes() + leaf_capsules_.rows.size() * sizeof(float);
+    return scene_.acceleration_bytes() + scene_.primitive_bytes() + leaf_capsules_.rows.size() * sizeof(float) +
+           entry_curves_.size() * sizeof(EntryCurve);
   }
   // Each thread takes kChunk rays at a time (trace above).
   std::size_t fill_rays() const override { return fill_rays_for(std::size_t(threads_.count()) * kChunk); }
@@ -74,6 +78,7 @@ class CpuBackend final : public Backend {
   cpu::TraceThreads threads_{thread_count()};
   PackedScene scene_;
   LeafCapsuleRows leaf_capsules_; // kd_.leaf_capsule_rows
+  std::vector<EntryCurve> entry_curves_; // kd_.entry_curves
   kernel::KernelData kd_{};
   bool has_scene_ = false;
   TraceTiming timing_;

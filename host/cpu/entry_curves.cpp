@@ -1,0 +1,26 @@
+#include "host/cpu/entry_curves.h"
+
+namespace masq {
+
+std::vector<EntryCurve> entry_curves(const PackedScene& ps) {
+  std::vector<EntryCurve> out;
+  if (ps.curves.empty()) return out;
+  out.assign(ps.masq_instances.size(), EntryCurve{});
+  for (std::size_t k = 0; k < ps.masq_instances.size(); ++k) {
+    const kernel::MasqInstance& e = ps.masq_instances[k];
+    // Entries that point outside the arrays keep a zero curve (radius 0: every call
+    // misses); the kernels' own checks decide what such a structure means.
+    const std::size_t owner = std::size_t(e.s2_owner & MASQ_OWNER_MASK);
+    if (owner >= ps.masq_owners.size()) continue;
+    const std::int32_t geom = ps.masq_owners[owner].geom;
+    if (geom < 0 || std::size_t(geom) >= ps.geoms.size()) continue;
+    const kernel::Geometry& g = ps.geoms[std::size_t(geom)];
+    if (g.type != MASQ_PRIM_CURVE) continue;
+    const std::int64_t prim = std::int64_t(g.first) + e.prim;
+    if (e.prim < 0 || prim >= std::int64_t(ps.curves.size())) continue;
+    out[k].curve = ps.curves[std::size_t(prim)];
+  }
+  return out;
+}
+
+} // namespace masq
