@@ -208,6 +208,10 @@ STRUCT_END(Triangle)
 // leaf-ordered copy (kernels/traverse.h's intersect_leaf, host/cpu/leaf_capsules.h): one
 // name for the kernel's test and the host's copy, which must agree.
 #define MASQ_CPU_LEAF_COPY_TYPE MASQ_PRIM_CAPSULE
+// The primitive type whose compact masquerade entries the cpu intersects from its own
+// entry-ordered copy (kernels/traverse.h's TLAS walk, host/cpu/entry_curves.h): one name
+// for the walk and the host's copy, which must agree.
+#define MASQ_CPU_ENTRY_COPY_TYPE MASQ_PRIM_CURVE
 
 // Constant-radius linear segment with spherical caps.
 STRUCT_BEGIN(Capsule)

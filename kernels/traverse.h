@@ -436,9 +436,21 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
     // nearest hit so far bounds t all the same (+inf before one: a rotated node would
     // then be entered by every ray, never missed).
     WideHits wh = node_hits(KD_ARG node, wo, wd, inv_d, 0, VEC3(0.0f, 0.0f, 0.0f), tmin, best.t, best.t);
-    ChildOrder co = order_children(wh, node_width());
-    for (int k = 0; k < co.n; ++k) {
-      int i = co.slot[k];
+    // The hit leaves nearest first, then the hit inner children pushed farthest first.
+#if defined(MASQ_LANG_CPP)
+    // cpu: each set sorted on its own, as traverse_blas does (the same two orders: a
+    // stable sort keeps a subset's order), so neither loop steps over the other's slots.
+    simd::SlotMasks hit = simd::slot_masks(wh.tnear, wh.count, node_width());
+    ChildOrder leaves;
+    leaves.n = simd::sorted_slots(wh.tnear, hit.leaves, leaves.slot);
+    ChildOrder inner;
+    inner.n = simd::sorted_slots(wh.tnear, hit.inner, inner.slot);
+#else
+    ChildOrder leaves = order_children(wh, node_width());
+    ChildOrder inner = leaves;
+#endif
+    for (int k = 0; k < leaves.n; ++k) {
+      int i = leaves.slot[k];
       if (wh.count[i] <= 0 || wh.tnear[i] > best.t) continue;
 #if defined(MASQ_LANG_CPP)
       // cpu: every entry of the leaf asked for at once, so their misses overlap; a compact
@@ -524,7 +536,7 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
 #if defined(MASQ_LANG_CPP)
           // cpu: a compact entry's curve from the copy in entry order (host/cpu/entry_curves.h),
           // whose line the leaf's prefetch above already asked for.
-          bool copied = MASQ_HAVE_CURVES && ref < 0 && g.type == MASQ_PRIM_CURVE && KD(entry_curves) != nullptr;
+          bool copied = MASQ_HAVE_CURVES && ref < 0 && g.type == MASQ_CPU_ENTRY_COPY_TYPE && KD(entry_curves) != nullptr;
           PrimHit ph = copied ? intersect_curve_record(KD(entry_curves)[-1 - ref], po, pd, tmin, best.t)
                               : intersect_primitive(KD_ARG g, prim, po, pd, tmin, best.t);
 #else
@@ -540,8 +552,8 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
       if (done) break;
     }
     if (done) break;
-    for (int k = co.n - 1; k >= 0; --k) {
-      int i = co.slot[k];
+    for (int k = inner.n - 1; k >= 0; --k) {
+      int i = inner.slot[k];
       if (wh.count[i] != 0) continue;
       if (held) {
         if (sp >= MASQ_TLAS_STACK) {

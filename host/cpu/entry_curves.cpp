@@ -15,7 +15,7 @@ std::vector<EntryCurve> entry_curves(const PackedScene& ps) {
     const std::int32_t geom = ps.masq_owners[owner].geom;
     if (geom < 0 || std::size_t(geom) >= ps.geoms.size()) continue;
     const kernel::Geometry& g = ps.geoms[std::size_t(geom)];
-    if (g.type != MASQ_PRIM_CURVE) continue;
+    if (g.type != MASQ_CPU_ENTRY_COPY_TYPE) continue;
     const std::int64_t prim = std::int64_t(g.first) + e.prim;
     if (e.prim < 0 || prim >= std::int64_t(ps.curves.size())) continue;
     out[k].curve = ps.curves[std::size_t(prim)];
