@@ -234,9 +234,8 @@ TEST(MasqInstanceLayout, EntryCurvesHoldEachEntrysCurve) {
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(copy.data()) % 64, 0u) << "one cache line per curve";
   long curves = 0, others = 0;
   for (std::size_t k = 0; k < copy.size(); ++k) {
-    const kernel::MasqInstance& e = ps.masq_instances[k];
-    const kernel::MasqOwner& owner = ps.masq_owners.at(e.s2_owner & MASQ_OWNER_MASK);
-    const kernel::Geometry& g = ps.geoms.at(std::size_t(owner.geom));
+    const kernel::Instance e = tlas_entry_instance(ps, ps.instances.size() + k);
+    const kernel::Geometry& g = ps.geoms.at(std::size_t(e.geom));
     const kernel::Curve& got = copy[k].curve;
     if (g.type != MASQ_PRIM_CURVE) {
       ++others;

@@ -123,6 +123,8 @@ void set_masq_owner(kernel::MasqInstance& c, std::uint32_t owner) {
   c.s2_owner = (c.s2_owner & 0xFFFF0000u) | owner;
 }
 
+std::uint32_t masq_owner(const kernel::MasqInstance& c) { return c.s2_owner & MASQ_OWNER_MASK; }
+
 std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size_t prim, const Affine3& xf,
                                                     CurveObb curve_obb) {
   BallHull h = ball_hull(g, prim);
@@ -201,7 +203,7 @@ kernel::Instance tlas_entry_instance(const PackedScene& s, std::size_t entry) {
   if (entry - s.instances.size() >= s.masq_instances.size())
     throw Error("scene: TLAS entry " + std::to_string(entry) + " of " + std::to_string(s.tlas_entry_count()));
   const kernel::MasqInstance& c = s.masq_instances[entry - s.instances.size()];
-  const std::size_t owner = c.s2_owner & MASQ_OWNER_MASK;
+  const std::size_t owner = masq_owner(c);
   if (owner >= s.masq_owners.size())
     throw Error("scene: compact masquerade entry " + std::to_string(entry - s.instances.size()) + " names owner " +
                 std::to_string(owner) + " of " + std::to_string(s.masq_owners.size()));

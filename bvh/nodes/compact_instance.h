@@ -37,8 +37,9 @@ std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size
 // of at most 31 bits times an 8-bit significand: exact in double) and t.
 Affine3 decode_masq_instance(const kernel::MasqInstance& c);
 
-// The owner index in the low 16 bits of s2_owner (owner < MASQ_MAX_OWNERS).
+// The owner index in the low 16 bits of s2_owner (owner < MASQ_MAX_OWNERS), written and read.
 void set_masq_owner(kernel::MasqInstance& c, std::uint32_t owner);
+std::uint32_t masq_owner(const kernel::MasqInstance& c);
 
 // TLAS entry `entry` of s (Instances, then compact entries; PackedScene::tlas_entry) as a
 // full Instance record: a compact entry with its decoded map rounded to fp32, geometry

@@ -1,4 +1,5 @@
 #include "host/cpu/entry_curves.h"
+#include "bvh/nodes/compact_instance.h"
 
 namespace masq {
 
@@ -10,7 +11,7 @@ std::vector<EntryCurve> entry_curves(const PackedScene& ps) {
     const kernel::MasqInstance& e = ps.masq_instances[k];
     // Entries that point outside the arrays keep a zero curve (radius 0: every call
     // misses); the kernels' own checks decide what such a structure means.
-    const std::size_t owner = std::size_t(e.s2_owner & MASQ_OWNER_MASK);
+    const std::size_t owner = masq_owner(e);
     if (owner >= ps.masq_owners.size()) continue;
     const std::int32_t geom = ps.masq_owners[owner].geom;
     if (geom < 0 || std::size_t(geom) >= ps.geoms.size()) continue;
