@@ -214,11 +214,12 @@ FN int curve_roving_sieve(CurveFrame f, float pad, float zlo) {
 }
 
 // The first boundary point of the solid at or after zlo, as curve_subdiv (same
-// arguments), searching only the part of the curve that step 1 leaves (if step 0 leaves any).
+// arguments), searching only the part of the curve that step 1 leaves. Step 0 is the
+// caller's (curve_intersect_mode): where maybe_inside, it runs the sieve before anything
+// else, the occlusion witness included, and calls this only when the sieve keeps a piece.
 // zstop: as curve_subdiv's (an occlusion query's early stop).
 FN CurveRoot curve_roving(CurveFrame f, float zlo, float zmax, float tol, float ttol, float pad, int maybe_inside,
                           float zstop) {
-  if (maybe_inside != 0 && curve_roving_sieve(f, pad, zlo) == 0) return curve_root_none(0.0f);
   float a = 0.0f; // the piece left: s in [a, a + w]
   float w = 1.0f;
   CurvePiece pc;
