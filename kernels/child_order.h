@@ -1,5 +1,7 @@
 // The order a node's hit children are visited in: by entry distance, nearest first,
 // ties in slot order (so every backend visits the same nodes in the same order).
+// Occlusion queries in a TLAS of masquerade entries take another order,
+// order_children_occlusion below.
 #ifndef MASQ_KERNEL_CHILD_ORDER_H
 #define MASQ_KERNEL_CHILD_ORDER_H
 #include "box.h"
@@ -114,6 +116,31 @@ FN ChildOrder order_children(const WideHits& wh, int width) {
 FN ChildOrder order_children(WideHits wh, int width) { return order_children_loop(wh, width); }
 #endif
 #endif
+
+// Occlusion queries (MASQ_ANY_HIT) end at any occluder, so their order only decides how
+// soon they meet one. In a TLAS of masquerade entries (MASQ_TLAS_STARTS_LAST,
+// kernels/traverse.h's order_tlas_children): the children the ray enters after tmin
+// first, then those it starts in (entry at tmin: the node tests clamp a hit's entry
+// there), each group in slot order. A secondary ray starts on a surface; there a box is
+// one primitive's, so the boxes around the origin hold the primitive the ray starts on
+// and its neighbours, which it mostly leaves without a hit. Taken nearest first, they
+// were all tested before any box farther along the ray (bear curve shadow rays: 1.73
+// curve calls a ray nearest first, 1.46 in this order; docs/results.md, eleventh round).
+// A BLAS's or a cluster's box around the origin holds the likely occluders as well (the
+// default bundle's shadow rays: 5-8% slower in this order), so they keep the nearest-
+// first order. As keys for the sorts above, ties in slot order: 0 (entered after tmin),
+// 1 (started in), +inf (missed).
+FN float occlusion_key(float tnear, float tmin) {
+  return tnear == inf_() ? inf_() : (tnear <= tmin ? 1.0f : 0.0f);
+}
+
+// The hit slots in an occlusion query's order (the cpu's traversal takes the same order
+// from simd::occlusion_slots).
+FN ChildOrder order_children_occlusion(WideHits wh, int width, float tmin) {
+  WideHits keyed = wh;
+  for (int i = 0; i < MASQ_WIDTH8; ++i) keyed.tnear[i] = occlusion_key(wh.tnear[i], tmin);
+  return order_children(keyed, width);
+}
 
 KERNEL_NS_END
 #endif

@@ -136,6 +136,25 @@ inline SlotMasks slot_masks(const float* tnear, const int* count, int width) {
   return SlotMasks{hit & leaf, hit & inner};
 }
 
+// The slots whose entry distance is at most tmin: the boxes the ray starts in (the node
+// tests clamp a hit's entry to tmin).
+inline unsigned start_slots(const float* tnear, float tmin, int width) {
+  const F4 t0 = tmin - F4{};
+  unsigned m = 0u;
+  for (int g = 0; g < width; g += 4) m |= lane_bits(load<F4>(tnear + g) <= t0) << g;
+  return m;
+}
+
+// The slots of `mask` in an occlusion query's order (child_order.h,
+// order_children_occlusion): those the ray enters after tmin, then those it starts in
+// (`starts`), each in slot order. No comparisons between slots: two bit scans.
+inline int occlusion_slots(unsigned mask, unsigned starts, int* out) {
+  int n = 0;
+  for (unsigned m = mask & ~starts; m != 0u; m &= m - 1u) out[n++] = __builtin_ctz(m);
+  for (unsigned m = mask & starts; m != 0u; m &= m - 1u) out[n++] = __builtin_ctz(m);
+  return n;
+}
+
 // The slots of `mask` in order of entry distance, ties in slot order: the order of
 // order_children's stable insertion sort. One or two slots (most visits) take no loop.
 inline int sorted_slots(const float* tnear, unsigned mask, int* out) {

@@ -13,6 +13,13 @@
 
 KERNEL_NS_BEGIN
 
+// A TLAS node's visit order for this kernel's query (child_order.h; MASQ_TLAS_STARTS_LAST:
+// a TLAS of masquerade entries). BLAS nodes: order_children.
+FN ChildOrder order_tlas_children(WideHits wh, int width, float tmin) {
+  if (MASQ_ANY_HIT && MASQ_TLAS_STARTS_LAST) return order_children_occlusion(wh, width, tmin);
+  return order_children(wh, width);
+}
+
 STRUCT_BEGIN(Nearest)
   float t;
   int prim;
@@ -436,17 +443,24 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
     // nearest hit so far bounds t all the same (+inf before one: a rotated node would
     // then be entered by every ray, never missed).
     WideHits wh = node_hits(KD_ARG node, wo, wd, inv_d, 0, VEC3(0.0f, 0.0f, 0.0f), tmin, best.t, best.t);
-    // The hit leaves nearest first, then the hit inner children pushed farthest first.
+    // The hit leaves nearest first, then the hit inner children pushed farthest first
+    // (occlusion queries over masquerade entries: order_tlas_children's order).
 #if defined(MASQ_LANG_CPP)
     // cpu: each set sorted on its own, as traverse_blas does (the same two orders: a
     // stable sort keeps a subset's order), so neither loop steps over the other's slots.
     simd::SlotMasks hit = simd::slot_masks(wh.tnear, wh.count, node_width());
     ChildOrder leaves;
-    leaves.n = simd::sorted_slots(wh.tnear, hit.leaves, leaves.slot);
     ChildOrder inner;
-    inner.n = simd::sorted_slots(wh.tnear, hit.inner, inner.slot);
+    if (MASQ_ANY_HIT && MASQ_TLAS_STARTS_LAST) {
+      unsigned starts = simd::start_slots(wh.tnear, tmin, node_width());
+      leaves.n = simd::occlusion_slots(hit.leaves, starts, leaves.slot);
+      inner.n = simd::occlusion_slots(hit.inner, starts, inner.slot);
+    } else {
+      leaves.n = simd::sorted_slots(wh.tnear, hit.leaves, leaves.slot);
+      inner.n = simd::sorted_slots(wh.tnear, hit.inner, inner.slot);
+    }
 #else
-    ChildOrder leaves = order_children(wh, node_width());
+    ChildOrder leaves = order_tlas_children(wh, node_width(), tmin);
     ChildOrder inner = leaves;
 #endif
     for (int k = 0; k < leaves.n; ++k) {

@@ -300,3 +300,46 @@ TEST(SlabSimd, SortedSlotsKeepOrderChildrensOrder) {
     }
   EXPECT_GT(ties, visits / 10); // the stable order was tested, not only distinct keys
 }
+
+// Occlusion queries visit a node's hit children entered after tmin first, then those the
+// ray starts in (entry clamped to tmin), each group in slot order (child_order.h). The
+// reference is that rule written out; the one-source order_children_occlusion (OpenCL's
+// and Vulkan's) and the cpu's bitmask form (simd::start_slots, simd::occlusion_slots)
+// must both give it.
+TEST(SlabSimd, OcclusionSlotsFollowTheOcclusionOrder) {
+  std::mt19937 rng(12);
+  std::uniform_int_distribution<int> pick_t(0, 4), pick_count(-1, 3);
+  const float tmin = 0.5f;
+  int starts = 0, after = 0;
+  for (int width : {4, 8})
+    for (int trial = 0; trial < 40000; ++trial) {
+      WideHits wh{};
+      for (int i = 0; i < 8; ++i) wh.tnear[i] = kInf, wh.count[i] = -1;
+      for (int i = 0; i < width; ++i) {
+        int k = pick_t(rng); // 0.5 is tmin: a box the ray starts in
+        wh.count[i] = pick_count(rng);
+        wh.tnear[i] = k == 4 || wh.count[i] < 0 ? kInf : 0.5f + 0.5f * float(k);
+      }
+      std::vector<int> want, want_leaves, want_inner;
+      for (int pass = 0; pass < 2; ++pass)
+        for (int i = 0; i < width; ++i)
+          if (wh.tnear[i] != kInf && (wh.tnear[i] <= tmin) == (pass == 1)) want.push_back(i);
+      for (int i : want) {
+        if (wh.count[i] > 0) want_leaves.push_back(i);
+        if (wh.count[i] == 0) want_inner.push_back(i);
+        (wh.tnear[i] <= tmin ? starts : after) += 1;
+      }
+      masq::kernel::v_default::ChildOrder co =
+          masq::kernel::v_default::order_children_occlusion(wh, width, tmin);
+      ASSERT_EQ(std::vector<int>(co.slot, co.slot + co.n), want) << "width " << width << " trial " << trial;
+      simd::SlotMasks m = simd::slot_masks(wh.tnear, wh.count, width);
+      unsigned in = simd::start_slots(wh.tnear, tmin, width);
+      int slot[8];
+      int n = simd::occlusion_slots(m.leaves, in, slot);
+      ASSERT_EQ(std::vector<int>(slot, slot + n), want_leaves) << "width " << width << " trial " << trial;
+      n = simd::occlusion_slots(m.inner, in, slot);
+      ASSERT_EQ(std::vector<int>(slot, slot + n), want_inner) << "width " << width << " trial " << trial;
+    }
+  EXPECT_GT(starts, 10000); // both groups were tested
+  EXPECT_GT(after, 10000);
+}

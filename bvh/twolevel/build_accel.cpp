@@ -286,6 +286,11 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   ps.features.single_blas = ps.instances.size() == 1 && ps.masq_instances.empty() && ps.instances[0].blas_root >= 0 &&
                             ps.instances[0].prim != MASQ_INST_CLUSTER && !blas_root_oriented &&
                             scene.instances[ps.instances[0].scene_inst].object_to_world.is_identity();
+  // Masquerade entries: a TLAS box is one primitive's, so the boxes an occlusion query
+  // starts in are the primitive it starts on and its neighbours, which it mostly leaves;
+  // it tests them last (kernels/child_order.h). Clusters and BLAS instances keep the
+  // nearest-first order: their box around the origin holds the likely occluders too.
+  ps.features.tlas_starts_last = !ps.masq_instances.empty();
   ps.stats.node_bytes = ps.node_bytes();
   if (price) {
     StructureCost sc = structure_cost(ps, opt.prices);
