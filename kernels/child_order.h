@@ -127,7 +127,7 @@ FN ChildOrder order_children(WideHits wh, int width) { return order_children_loo
 // were all tested before any box farther along the ray (bear curve shadow rays: 1.73
 // curve calls a ray nearest first, 1.46 in this order; docs/results.md, eleventh round).
 // A BLAS's or a cluster's box around the origin holds the likely occluders as well (the
-// default bundle's shadow rays: 5-8% slower in this order), so they keep the nearest-
+// default bundle's shadow rays: 5-13% slower in this order), so they keep the nearest-
 // first order. As keys for the sorts above, ties in slot order: 0 (entered after tmin),
 // 1 (started in), +inf (missed).
 FN float occlusion_key(float tnear, float tmin) {
