@@ -137,9 +137,8 @@ FN float occlusion_key(float tnear, float tmin) {
 // The hit slots in an occlusion query's order (the cpu's traversal takes the same order
 // from simd::occlusion_slots).
 FN ChildOrder order_children_occlusion(WideHits wh, int width, float tmin) {
-  WideHits keyed = wh;
-  for (int i = 0; i < MASQ_WIDTH8; ++i) keyed.tnear[i] = occlusion_key(wh.tnear[i], tmin);
-  return order_children(keyed, width);
+  for (int i = 0; i < MASQ_WIDTH8; ++i) wh.tnear[i] = occlusion_key(wh.tnear[i], tmin); // (a copy)
+  return order_children(wh, width);
 }
 
 KERNEL_NS_END

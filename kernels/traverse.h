@@ -446,8 +446,9 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
     // The hit leaves nearest first, then the hit inner children pushed farthest first
     // (occlusion queries over masquerade entries: order_tlas_children's order).
 #if defined(MASQ_LANG_CPP)
-    // cpu: each set sorted on its own, as traverse_blas does (the same two orders: a
-    // stable sort keeps a subset's order), so neither loop steps over the other's slots.
+    // cpu: each set ordered on its own, as traverse_blas does (the same two orders: a
+    // stable sort keeps a subset's order, and so do the occlusion order's two bit scans),
+    // so neither loop steps over the other's slots.
     simd::SlotMasks hit = simd::slot_masks(wh.tnear, wh.count, node_width());
     ChildOrder leaves;
     ChildOrder inner;
