@@ -33,6 +33,7 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
   curve_isect_table.row(options.curve_isect);
   builder_table.row(options.builder);
   node_format_table.row(options.nodes);
+  blas_occlusion_table.row(options.blas_occlusion);
   masq::AccelOptions ao;
   ao.mode = options.mode;
   ao.curve_isect = options.curve_isect;
@@ -40,6 +41,7 @@ Accel Accel::build(const Scene& scene, const AccelOptions& options) {
   ao.nodes = options.nodes;
   ao.masq_instances = options.compact_masquerade ? masq::MasqInstances::Compact : masq::MasqInstances::Full;
   ao.build_threads = options.build_threads;
+  ao.blas_occlusion = options.blas_occlusion;
   auto impl = std::make_shared<Impl>();
   impl->packed = build_accel(s, options.method, ao);
   impl->options = o;

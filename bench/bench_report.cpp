@@ -39,6 +39,7 @@ std::string method_label(const BenchRow& r) {
   std::string s = method_name(r.method);
   if (r.builder != Builder::Sah) s += fmt::format(" [{}]", builder_name(r.builder));
   if (r.curve_isect != CurveIsect::Phantom) s += fmt::format(" ({})", curve_isect_name(r.curve_isect));
+  if (r.query == Query::Any && r.blas_occlusion != BlasOcclusion::Nearest) s += std::string(" ") + blas_occlusion_name(r.blas_occlusion);
   return s;
 }
 
@@ -243,7 +244,8 @@ Table bench_headline(const std::vector<BenchRow>& rows) {
 
 nlohmann::json bench_row_json(const BenchRow& r) {
   nlohmann::json e = {{"backend", r.backend}, {"method", method_name(r.method)}, {"builder", builder_name(r.builder)},
-                      {"nodes", node_format_name(r.nodes)}, {"curve_isect", curve_isect_name(r.curve_isect)}, {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},
+                      {"nodes", node_format_name(r.nodes)}, {"curve_isect", curve_isect_name(r.curve_isect)}, {"blas_occlusion", blas_occlusion_name(r.blas_occlusion)},
+                      {"rays", ray_set_name(r.ray_set)}, {"query", query_name(r.query)},
                       {"device", r.device}};
   e["bytes"] = {{"acceleration", r.accel_bytes}, {"primitives", r.prim_bytes}, {"device", r.device_bytes}};
   e["primitives"] = r.primitives;

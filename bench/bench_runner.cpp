@@ -92,6 +92,7 @@ BenchRow lane_row(const Lane& lane, const std::string& backend, const RayBatch& 
   row.builder = ps.builder;
   row.nodes = ps.features.nodes;
   row.curve_isect = ps.features.curve_isect;
+  row.blas_occlusion = ps.features.blas_starts_last ? BlasOcclusion::StartsLast : BlasOcclusion::Nearest;
   row.ray_set = batch.set;
   row.query = batch_query(batch, *lane.opt);
   row.rays = double(batch.rays.size());

@@ -75,6 +75,7 @@ struct BenchRow {
   Builder builder = Builder::Sah;
   NodeFormat nodes = NodeFormat::W4;
   CurveIsect curve_isect = CurveIsect::Phantom;
+  BlasOcclusion blas_occlusion = BlasOcclusion::Nearest; // the structure's (occlusion queries' BLAS order)
   RaySet ray_set = RaySet::Primary;
   Query query = Query::Closest;
   std::string unavailable; // non-empty: the backend could not run (why)

@@ -4,6 +4,7 @@
 // masq's tracer is chosen on pilot rays of their own (a camera of another resolution),
 // never on the timed ones.
 #include "bench/bench_report.h"
+#include "bench/occlusion_pilot.h"
 #include "bench/peer_builds.h"
 #include "bench/peer_rounds.h"
 #include "bench/suite.h"
@@ -19,6 +20,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <fmt/format.h>
 
 namespace masq {
@@ -104,6 +106,10 @@ const PackedScene& row_structure(const BuiltMethods& built, const BenchRow& row)
 }
 
 constexpr int kSoloSlot = 3000; // bench/backend_pool.h: past the lanes' and pilots'
+// The occlusion order pilot: rounds of both orders, and how much faster starts-last must
+// be to be kept (within the noise, nearest: the order of every closest-hit query).
+constexpr int kOrderRounds = 5;
+constexpr double kOrderMargin = 0.02;
 
 // The fastest available pilot row of a ray set among masq's own tracers, by CPU time
 // (the figure the rounds decide by: PoCL's workers, say, can win by wall time and lose
@@ -116,6 +122,36 @@ const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set) {
     if (!best || cost(r) < cost(*best)) best = &r;
   }
   return best;
+}
+
+constexpr int kOrderSlot = kSoloSlot + 1; // the occlusion order pilot's second backend
+
+// A shadow row's structure in the BLAS occlusion order that traced the pilot's shadow
+// rays faster (bench/occlusion_pilot.h), timed on `be` and a second backend of its kind.
+struct Reordered {
+  PackedScene structure;
+  OcclusionOrderChoice choice;
+};
+Reordered occlusion_order_pilot(SuiteContext& ctx, const std::string& label, const BenchRun& run, const BenchRow& best,
+                                Backend& be, std::size_t sample_rays) {
+  const RayBatch* shadow = nullptr;
+  for (const RayBatch& b : run.batches)
+    if (b.set == RaySet::Shadow) shadow = &b;
+  if (!shadow) throw Error("peers: the pilot traced no shadow rays to choose an occlusion order on");
+  Backend* other = ctx.pool.get(best.backend, kOrderSlot);
+  if (!other) throw Error("occlusion order pilot: " + ctx.pool.why(best.backend));
+  const PackedScene& ps = row_structure(run.built_for(best), best);
+  ctx.say("peers " + label + ": the BLAS occlusion order, nearest against starts-last, on the pilot's shadow rays");
+  Reordered r;
+  try {
+    r.choice = choose_blas_occlusion(be, *other, ps, shadow->rays, sample_rays, kOrderRounds, kOrderMargin);
+  } catch (...) {
+    ctx.pool.close(best.backend, kOrderSlot);
+    throw;
+  }
+  ctx.pool.close(best.backend, kOrderSlot);
+  r.structure = with_blas_occlusion(ps, r.choice.order);
+  return r;
 }
 
 struct PeerScene {
@@ -381,6 +417,22 @@ SuiteResult run_peers(SuiteContext& ctx) {
       // 1.0-1.4 in their rounds), so their ratios measured wake-ups as much as tracing.
       const int passes = traces_per_sample(batch.rays.size(), std::size_t(side) * std::size_t(side));
       pj["traces_per_sample"] = passes;
+      // Occlusion queries: the chosen structure's BLAS order by a pilot of its own, on the
+      // pilot's shadow rays, where its BLAS have inner nodes (bench/occlusion_pilot.h).
+      std::optional<Reordered> reordered;
+      if (best->query == Query::Any && blas_order_matters(row_structure(run.built_for(*best), *best))) {
+        try {
+          reordered = occlusion_order_pilot(ctx, ps.label, run, *best, *be, pilot.sample_rays);
+        } catch (const std::exception& e) {
+          ctx.pool.close(best->backend, kSoloSlot);
+          line.push_back(std::string("unavailable: ") + e.what());
+          t.add(line);
+          continue;
+        }
+        const OcclusionOrderChoice& oc = reordered->choice;
+        if (oc.order == BlasOcclusion::StartsLast) line.back() += " starts-last";
+        pj["blas_occlusion"] = oc.json();
+      }
       std::vector<kernel::Hit> masq_hits(batch.rays.size());
       std::vector<std::function<void()>> tracers = {
           repeated([&] { be->trace(batch.rays, masq_hits, {}, best->query); }, passes)};
@@ -393,7 +445,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
       try {
         ctx.say(fmt::format("peers {}: {} rays, masq's {} and Embree, {} rounds", ps.label, set_label,
                             config_label(*best), rounds));
-        be->set_scene(row_structure(run.built_for(*best), *best));
+        be->set_scene(reordered ? reordered->structure : row_structure(run.built_for(*best), *best));
         times = time_round_by_round(tracers, warmup, rounds);
       } catch (const std::exception& e) {
         ctx.pool.close(best->backend, kSoloSlot);
@@ -567,6 +619,12 @@ SuiteResult run_peers(SuiteContext& ctx) {
                   quick ? "128 x 96" : "192 x 192", quick ? "ref, masq" : "ref, masq, cluster",
                   quick ? "w4, w8, o4" : "w4, w8, o4, q8", quick ? " (quick: roving curves)" : ", curves phantom and roving",
                   robust ? "set beside" : "off (its default) beside", mode_name(ctx.config.mode)),
+      fmt::format("starts-last: shadow rows whose structure has BLAS inner nodes (not masq's over thin primitives "
+                  "alone), its occlusion queries traced both ways on the pilot's shadow rays, {} rounds, and kept where "
+                  "faster by more than {:.0f}%: each BLAS node's inner children "
+                  "the ray enters after t_min first, those it starts in last (--blas-occlusion; the same rays occluded "
+                  "either way), against nearest first; blas_occlusion in the JSON",
+                  kOrderRounds, kOrderMargin * 100),
       fmt::format("oracle: of the differing rays (at most {}, evenly spread), how many masq and Embree answer as the "
                   "long-double oracle does",
                   oracle_cap),

@@ -5,7 +5,8 @@
 // "Bytes, instructions and branches per ray"). The rays are the bench's: camera rays of
 // width x width, and the shadow or diffuse rays from their hits.
 // FILE "bundle" is the embedded default scene (the peers suite's bundle row).
-//   masq_trace_probe FILE|bundle ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree] [width=256] [traces=4]
+//   masq_trace_probe FILE|bundle ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree] [width=256] [traces=4] [nearest|starts-last]
+// (the last: AccelOptions::blas_occlusion, the BLAS order of occlusion queries)
 //   valgrind --tool=callgrind --cache-sim=yes --branch-sim=yes --collect-atstart=no
 //     --toggle-collect='*probe_traces*' build/bench/masq_trace_probe ... (one line)
 #include "bench/backend_pool.h"
@@ -39,7 +40,7 @@ __attribute__((noinline)) void probe_traces(Backend* be, EmbreePeer* embree, con
 int main(int argc, char** argv) {
   try {
     if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE|bundle ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse "
-                                              "[capsule|curve] [masq|embree] [width=256] [traces=4]");
+                                              "[capsule|curve] [masq|embree] [width=256] [traces=4] [nearest|starts-last]");
     Scene scene = probe::scene(argv[1]);
     const Method method = probe::method(argv[2]);
     const NodeFormat nodes = probe::nodes(argv[3]);
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
     opt.node_formats = {nodes};
     opt.accel.nodes = nodes;
     if (curves) opt.accel.curve_isect = CurveIsect::Roving;
+    if (argc > 9) opt.accel.blas_occlusion = parse_blas_occlusion(argv[9]);
     BuiltMethods built = build_methods(scene, opt);
     BackendPool pool;
     const RayBatch b = make_ray_batches(scene, built, opt, pool).back();

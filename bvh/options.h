@@ -1,6 +1,7 @@
 // The options a structure is built with (method, builder, intersector mode, node format,
-// curve OBBs, masquerade instance form), each with its one name table (masq/names.h).
-// Method, Builder, Mode and NodeFormat are the public API's own enums and tables
+// curve OBBs, masquerade instance form, BLAS occlusion order), each with its one name
+// table (masq/names.h).
+// Method, Builder, Mode, NodeFormat and BlasOcclusion are the public API's own enums and tables
 // (include/masq/types.h), named here in namespace masq, so the API passes them through
 // as they are. A small header of its own: obb.h, prim_bounds.h and packed_scene.h all
 // need these types, and none of them needs the others for it.
@@ -31,6 +32,11 @@ using NodeFormat = api::NodeFormat;
 using api::node_format_table;
 inline const char* node_format_name(NodeFormat f) { return node_format_table.name(f); }
 inline NodeFormat parse_node_format(std::string_view name) { return node_format_table.parse(name); } // throws
+
+using BlasOcclusion = api::BlasOcclusion;
+using api::blas_occlusion_table;
+inline const char* blas_occlusion_name(BlasOcclusion b) { return blas_occlusion_table.name(b); }
+inline BlasOcclusion parse_blas_occlusion(std::string_view name) { return blas_occlusion_table.parse(name); } // throws
 
 // The binary-BVH builders (bvh/binary/builder.h, docs/builders.md); their parts are columns of
 // builder_table.

@@ -44,6 +44,9 @@ struct KernelFeatures {
   // Occlusion queries take the TLAS boxes the ray starts in last (kernels/child_order.h):
   // set where the TLAS holds masquerade entries, one primitive a box.
   bool tlas_starts_last = false;
+  // Occlusion queries take a BLAS node's hit inner children the ray starts in last
+  // (AccelOptions::blas_occlusion, BlasOcclusion::StartsLast).
+  bool blas_starts_last = false;
   NodeFormat nodes = NodeFormat::W4;
   StackNeed tlas_stack{MASQ_STACK_MAX, "TLAS"}; // the TLAS walk (trace_closest)
   StackNeed blas_stack{MASQ_STACK_MAX, "BLAS"}; // every BLAS walk (traverse_blas; the bv kernels' one tree)

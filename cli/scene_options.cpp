@@ -69,6 +69,11 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opt) {
                  "Masquerade TLAS entries: " + masq_instances_table.help() + "; docs/kernels.md")
       ->capture_default_str()
       ->check(CLI::IsMember(masq_instances_table.names()));
+  cmd.add_option("--blas-occlusion", opt.blas_occlusion,
+                 "Occlusion queries' order over a BLAS node's hit inner children: " + blas_occlusion_table.help() +
+                     "; the same rays occluded either way (docs/kernels.md, Occlusion order)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(blas_occlusion_table.names()));
   cmd.add_option("--prices", opt.prices, "Method auto: cost-model prices NODE TRANSFORM ISECT (default 1 1.5 2.5; docs/methods.md)")
       ->expected(3)
       ->check(CLI::PositiveNumber);
@@ -173,6 +178,7 @@ AccelOptions accel_options(const SceneOptions& opt) {
   a.curve_iters = opt.curve_iters;
   a.curve_isect = curve_isects(opt).front();
   a.masq_instances = parse_masq_instances(opt.masq_instance);
+  a.blas_occlusion = parse_blas_occlusion(opt.blas_occlusion);
   a.cluster.max_size = opt.cluster_size;
   a.cluster.classes = opt.cluster_classes;
   a.cluster.leaf_price = opt.cluster_leaf_price;

@@ -46,6 +46,7 @@ struct SceneOptions {
   // BVH node formats (docs/kernels.md): bench runs each side by side; the others take one.
   std::vector<std::string> nodes{"w4"};
   std::string masq_instance = "compact"; // masquerade entries: compact (32 B) or full (64 B)
+  std::string blas_occlusion = "nearest"; // occlusion queries' order over a BLAS node's inner children
   int build_threads = 0; // host build threads: 0 every hardware thread, 1 serial (same structure)
 };
 void add_scene_options(CLI::App& cmd, SceneOptions& opt);

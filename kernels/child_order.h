@@ -128,8 +128,12 @@ FN ChildOrder order_children(WideHits wh, int width) { return order_children_loo
 // curve calls a ray nearest first, 1.46 in this order; docs/results.md, eleventh round).
 // A BLAS's or a cluster's box around the origin holds the likely occluders as well (the
 // default bundle's shadow rays: 5-13% slower in this order), so they keep the nearest-
-// first order. As keys for the sorts above, ties in slot order: 0 (entered after tmin),
-// 1 (started in), +inf (missed).
+// first order, unless the structure asks for this one over a BLAS node's inner children
+// (MASQ_BLAS_STARTS_LAST, AccelOptions::blas_occlusion): over hair in one BLAS a shadow
+// ray mostly leaves the subtrees around its origin too (the bear's capsule shadow rays:
+// 8% faster), while the bundle's and clusters' lose 1-3% (docs/results.md, twelfth
+// round), so the peers pilot tries both. As keys for the sorts above, ties in slot
+// order: 0 (entered after tmin), 1 (started in), +inf (missed).
 FN float occlusion_key(float tnear, float tmin) {
   return tnear == inf_() ? inf_() : (tnear <= tmin ? 1.0f : 0.0f);
 }

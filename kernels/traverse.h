@@ -20,6 +20,14 @@ FN ChildOrder order_tlas_children(WideHits wh, int width, float tmin) {
   return order_children(wh, width);
 }
 
+// A BLAS node's visit order for its hit inner children, given the node's order `co`
+// (MASQ_BLAS_STARTS_LAST: occlusion queries take the children the ray starts in last,
+// child_order.h). Its hit leaves always go nearest first.
+FN ChildOrder order_blas_inner(WideHits wh, ChildOrder co, int width, float tmin) {
+  if (MASQ_ANY_HIT && MASQ_BLAS_STARTS_LAST) return order_children_occlusion(wh, width, tmin);
+  return co;
+}
+
 STRUCT_BEGIN(Nearest)
   float t;
   int prim;
@@ -255,7 +263,8 @@ FN_INLINED BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, ve
     {
       // cpu: the visits of the loops below, in their order, without their scan of every
       // slot: the leaves loop takes the hit leaves in entry order and the push loop the
-      // hit inner children, so each is sorted on its own (simd::sorted_slots).
+      // hit inner children, so each is sorted on its own (simd::sorted_slots; the inner
+      // children of MASQ_BLAS_STARTS_LAST's occlusion queries by two bit scans instead).
       simd::SlotMasks hit = simd::slot_masks(wh.tnear, wh.count, node_width());
       int slot[MASQ_WIDTH8];
       int n = simd::sorted_slots(wh.tnear, hit.leaves, slot);
@@ -274,7 +283,9 @@ FN_INLINED BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, ve
         if (MASQ_STATS) res.isect_calls = res.isect_calls + lo.isect_calls;
         if (MASQ_ANY_HIT && res.nearest.prim >= 0) return res;
       }
-      n = simd::sorted_slots(wh.tnear, hit.inner, slot);
+      n = MASQ_ANY_HIT && MASQ_BLAS_STARTS_LAST
+              ? simd::occlusion_slots(hit.inner, simd::start_slots(wh.tnear, tmin, node_width()), slot)
+              : simd::sorted_slots(wh.tnear, hit.inner, slot);
       for (int k = n - 1; k >= 0; --k) {
         if (held) {
           if (sp >= MASQ_BLAS_STACK) {
@@ -310,8 +321,10 @@ FN_INLINED BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, ve
       }
     }
     if (done) break;
-    for (int k = co.n - 1; k >= 0; --k) {
-      int i = co.slot[k];
+    // The inner children pushed last-visited first (order_blas_inner's order).
+    ChildOrder ci = order_blas_inner(wh, co, node_width(), tmin);
+    for (int k = ci.n - 1; k >= 0; --k) {
+      int i = ci.slot[k];
       if (wh.count[i] != 0) continue;
       if (held) {
         if (sp >= MASQ_BLAS_STACK) {

@@ -59,6 +59,7 @@
   X(MASQ_STEP_CHECK,     step_check,  bool, true,  15, 0, KNOBS(step_check)) /* step budget, full stack */ \
   X(MASQ_STACK_SIZED,    stack_sized, bool, false, 16, 1, KNOBS(stack_sized)) /* see MASQ_STACK_DIM */ \
   X(MASQ_HAVE_RIBBONS,   ribbons,     bool, true,  17, 1, FEATURES(prims[MASQ_PRIM_RIBBON]))                         \
-  X(MASQ_TLAS_STARTS_LAST, tlas_starts_last, bool, false, 18, 0, FEATURES(tlas_starts_last)) /* occlusion: child_order.h */
+  X(MASQ_TLAS_STARTS_LAST, tlas_starts_last, bool, false, 18, 0, FEATURES(tlas_starts_last)) /* occlusion: child_order.h */ \
+  X(MASQ_BLAS_STARTS_LAST, blas_starts_last, bool, false, 19, 0, FEATURES(blas_starts_last)) /* occlusion: child_order.h */
 
 #endif

@@ -309,8 +309,8 @@ TEST(CrossBackend, SingleIdentityInstanceSkipsTheTlas) {
 // in slot order (kernels/child_order.h: an insertion sort on cpu and OpenCL, a sorting
 // network on Vulkan), the nearest inner child held for the next visit (kernels/traverse.h).
 // So the compute backends' per-ray counters must equal the cpu's, ray by ray, for
-// closest-hit and occlusion queries, every node format and the methods with a TLAS,
-// masquerade instances and clusters.
+// closest-hit and occlusion queries (the latter in both BLAS occlusion orders), every
+// node format and the methods with a TLAS, masquerade instances and clusters.
 TEST(CrossBackend, ComputeBackendsVisitWhatTheCpuVisits) {
   Scene s = make_default_scene();
   std::vector<kernel::Ray> rays = make_camera_rays(s.camera, 48, 36);
@@ -319,40 +319,43 @@ TEST(CrossBackend, ComputeBackendsVisitWhatTheCpuVisits) {
   std::unique_ptr<Backend> cpu = make_backend("cpu");
   int compared = 0;
   for (NodeFormat f : node_format_table.values())
-    for (Method m : {Method::Ref, Method::Masq, Method::Cluster}) {
-      AccelOptions o;
-      o.nodes = f;
-      const PackedScene ps = build_accel(s, m, o);
-      for (Query q : {Query::Closest, Query::Any}) {
-        std::vector<kernel::Hit> want_hits(rays.size());
-        std::vector<kernel::RayStats> want(rays.size());
-        cpu->set_scene(ps);
-        cpu->trace(rays, want_hits, want, q);
-        for (const std::string& name : {std::string("vulkan"), std::string("opencl")}) {
-          std::unique_ptr<Backend> be = backend_or_fail(name);
-          if (!be) continue;
-          SCOPED_TRACE(name + " " + method_name(m) + " " + node_format_name(f) +
-                       (q == Query::Any ? " occlusion" : " closest"));
-          be->set_scene(ps);
-          std::vector<kernel::Hit> hits(rays.size());
-          std::vector<kernel::RayStats> got(rays.size());
-          be->trace(rays, hits, got, q);
-          int differ = 0;
-          for (std::size_t i = 0; i < rays.size(); ++i) {
-            const kernel::RayStats& a = got[i];
-            const kernel::RayStats& b = want[i];
-            if (a.tlas_nodes == b.tlas_nodes && a.blas_nodes == b.blas_nodes && a.transforms == b.transforms &&
-                a.isect_calls == b.isect_calls)
-              continue;
-            if (differ++ < 3)
-              ADD_FAILURE() << "ray " << i << ": tlas/blas/transforms/isect " << a.tlas_nodes << "/" << a.blas_nodes
-                            << "/" << a.transforms << "/" << a.isect_calls << ", cpu " << b.tlas_nodes << "/"
-                            << b.blas_nodes << "/" << b.transforms << "/" << b.isect_calls;
+    for (Method m : {Method::Ref, Method::Masq, Method::Cluster})
+      for (BlasOcclusion order : blas_occlusion_table.values()) {
+        AccelOptions o;
+        o.nodes = f;
+        o.blas_occlusion = order;
+        const PackedScene ps = build_accel(s, m, o);
+        for (Query q : {Query::Closest, Query::Any}) {
+          if (q == Query::Closest && order != BlasOcclusion::Nearest) continue; // the order is occlusion's alone
+          std::vector<kernel::Hit> want_hits(rays.size());
+          std::vector<kernel::RayStats> want(rays.size());
+          cpu->set_scene(ps);
+          cpu->trace(rays, want_hits, want, q);
+          for (const std::string& name : {std::string("vulkan"), std::string("opencl")}) {
+            std::unique_ptr<Backend> be = backend_or_fail(name);
+            if (!be) continue;
+            SCOPED_TRACE(name + " " + method_name(m) + " " + node_format_name(f) +
+                         (q == Query::Any ? std::string(" occlusion, BLAS ") + blas_occlusion_name(order) : " closest"));
+            be->set_scene(ps);
+            std::vector<kernel::Hit> hits(rays.size());
+            std::vector<kernel::RayStats> got(rays.size());
+            be->trace(rays, hits, got, q);
+            int differ = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+              const kernel::RayStats& a = got[i];
+              const kernel::RayStats& b = want[i];
+              if (a.tlas_nodes == b.tlas_nodes && a.blas_nodes == b.blas_nodes && a.transforms == b.transforms &&
+                  a.isect_calls == b.isect_calls)
+                continue;
+              if (differ++ < 3)
+                ADD_FAILURE() << "ray " << i << ": tlas/blas/transforms/isect " << a.tlas_nodes << "/" << a.blas_nodes
+                              << "/" << a.transforms << "/" << a.isect_calls << ", cpu " << b.tlas_nodes << "/"
+                              << b.blas_nodes << "/" << b.transforms << "/" << b.isect_calls;
+            }
+            EXPECT_EQ(differ, 0) << "rays whose counters differ from the cpu's";
+            ++compared;
           }
-          EXPECT_EQ(differ, 0) << "rays whose counters differ from the cpu's";
-          ++compared;
         }
       }
-    }
   if (compared == 0) GTEST_SKIP() << "no compute backend besides the cpu (MASQ_ALLOW_MISSING_BACKENDS=1)";
 }

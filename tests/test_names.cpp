@@ -58,6 +58,7 @@ TEST(Names, EveryTableRoundTripsInEnumOrder) {
   expect_table_of_enum(node_format_table);
   expect_table_of_enum(curve_obb_table);
   expect_table_of_enum(masq_instances_table);
+  expect_table_of_enum(blas_occlusion_table);
   expect_table_of_enum(prim_type_table);
   expect_table_of_enum(bv_type_table);
   expect_table_of_enum(bv_builder_table);

@@ -290,7 +290,9 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   // starts in are the primitive it starts on and its neighbours, which it mostly leaves;
   // it tests them last (kernels/child_order.h). Clusters and BLAS instances keep the
   // nearest-first order: their box around the origin holds the likely occluders too.
+  // Inside each BLAS the order is the caller's (AccelOptions::blas_occlusion).
   ps.features.tlas_starts_last = !ps.masq_instances.empty();
+  ps.features.blas_starts_last = opt.blas_occlusion == BlasOcclusion::StartsLast;
   ps.stats.node_bytes = ps.node_bytes();
   if (price) {
     StructureCost sc = structure_cost(ps, opt.prices);

@@ -40,6 +40,9 @@ struct AccelOptions {
   // children's SAH (bvh/nodes/node_frame.h); +inf rotates every node.
   double oriented_gain = kOrientedGain;
   MasqInstances masq_instances = MasqInstances::Compact;
+  // Occlusion queries' order over a BLAS node's hit inner children (KernelFeatures::
+  // blas_starts_last; kernels/child_order.h).
+  BlasOcclusion blas_occlusion = BlasOcclusion::Nearest;
   // Compact entries name their (geometry, scene instance) pair by a 16-bit owner index;
   // the masquerade primitives of pairs beyond this many get 64-byte Instances (tests
   // lower it; above MASQ_MAX_OWNERS it has no effect).

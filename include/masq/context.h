@@ -22,6 +22,9 @@ struct AccelOptions {
   /// Masquerade TLAS entries as 32-byte compact records (quaternion, bfloat16 scales;
   /// default) or, when false, as the 64-byte instances RT hardware stores (same hits).
   bool compact_masquerade = true;
+  /// How occlusion queries walk each BLAS (blas_occlusion_table): the same answers,
+  /// found sooner or later.
+  BlasOcclusion blas_occlusion = BlasOcclusion::Nearest;
   /// Threads of the host build: 0 every hardware thread, 1 serial. The structure is the
   /// same, bit for bit, with any count.
   int build_threads = 0;

@@ -90,6 +90,19 @@ inline constexpr NameRow<CurveIsect> curve_isect_rows[] = {
 };
 inline constexpr NameTable curve_isect_table{"curve intersector", curve_isect_rows};
 
+/// The order in which an occlusion query (Query::Any) takes a BLAS node's hit inner
+/// children. It decides only how soon the query meets an occluder: whether a ray is
+/// occluded is the same either way. Each value's meaning: blas_occlusion_table.
+enum class BlasOcclusion { Nearest, StartsLast };
+
+inline constexpr NameRow<BlasOcclusion> blas_occlusion_rows[] = {
+    {BlasOcclusion::Nearest, "nearest", "nearest first, as closest-hit queries take them"},
+    {BlasOcclusion::StartsLast, "starts-last",
+     "those the ray enters after t_min first, those it starts in last, each group in slot order (hair in one "
+     "BLAS: its shadow rays mostly leave the boxes around their origin)"},
+};
+inline constexpr NameTable blas_occlusion_table{"BLAS occlusion order", blas_occlusion_rows};
+
 /// How the BVH nodes of the TLAS and every BLAS are stored (same hits either way). Each
 /// value's name and layout: node_format_table.
 enum class NodeFormat { W4, W8, Q8, O4 };

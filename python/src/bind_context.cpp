@@ -26,7 +26,7 @@ auto option(const Table& table, const std::string& name, ArgName arg) {
 
 api::Accel build_accel(const api::Scene& scene, const std::string& method, const std::string& mode,
                        const std::string& builder, const std::string& nodes, const std::string& curve_isect,
-                       bool compact_masquerade, int build_threads) {
+                       bool compact_masquerade, int build_threads, const std::string& blas_occlusion) {
   api::AccelOptions o;
   o.method = option(api::method_table, method, {"Accel.build", "method"});
   o.mode = option(api::mode_table, mode, {"Accel.build", "mode"});
@@ -34,6 +34,7 @@ api::Accel build_accel(const api::Scene& scene, const std::string& method, const
   o.nodes = option(api::node_format_table, nodes, {"Accel.build", "nodes"});
   o.curve_isect = option(api::curve_isect_table, curve_isect, {"Accel.build", "curve_isect"});
   o.compact_masquerade = compact_masquerade;
+  o.blas_occlusion = option(api::blas_occlusion_table, blas_occlusion, {"Accel.build", "blas_occlusion"});
   if (build_threads < 0)
     throw pyb::value_error("Accel.build: build_threads: " + std::to_string(build_threads) +
                            " (0: every hardware thread, 1: serial, n: n threads)");
@@ -52,6 +53,7 @@ pyb::dict accel_options(const api::Accel& a) {
   d["curve_isect"] = api::curve_isect_table.name(o.curve_isect);
   d["compact_masquerade"] = o.compact_masquerade;
   d["build_threads"] = o.build_threads;
+  d["blas_occlusion"] = api::blas_occlusion_table.name(o.blas_occlusion);
   return d;
 }
 
@@ -167,9 +169,11 @@ void bind_context(pyb::module_& m) {
       .def_static("build", &build_accel, pyb::arg("scene"), pyb::arg("method") = "masq", pyb::arg("mode") = "robust",
                   pyb::arg("builder") = "sah", pyb::arg("nodes") = "w4", pyb::arg("curve_isect") = "phantom",
                   pyb::arg("compact_masquerade") = true, pyb::arg("build_threads") = 0,
+                  pyb::arg("blas_occlusion") = "nearest",
                   ("Builds the two-level BVH on the host (the GIL is released). method: " + api::method_table.choices() +
                    "; mode: " + api::mode_table.choices() + "; builder: " + api::builder_table.choices() +
                    "; nodes: " + api::node_format_table.choices() + "; curve_isect: " + api::curve_isect_table.choices() +
+                   "; blas_occlusion: " + api::blas_occlusion_table.choices() +
                    " (masq.options lists each with its meaning).")
                       .c_str())
       .def_property_readonly("stats", &api::Accel::stats)

@@ -53,6 +53,7 @@ PYBIND11_MODULE(_masq, m) {
   options["builder"] = py::option_rows(api::builder_table);
   options["nodes"] = py::option_rows(api::node_format_table);
   options["curve_isect"] = py::option_rows(api::curve_isect_table);
+  options["blas_occlusion"] = py::option_rows(api::blas_occlusion_table);
   m.attr("options") = options;
   m.def("backends", &api::Context::backends, "Every backend compiled in.");
   m.def("available_backends", &api::Context::available_backends, "The backends that open on this machine.");
