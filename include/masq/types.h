@@ -98,8 +98,8 @@ enum class BlasOcclusion { Nearest, StartsLast };
 inline constexpr NameRow<BlasOcclusion> blas_occlusion_rows[] = {
     {BlasOcclusion::Nearest, "nearest", "nearest first, as closest-hit queries take them"},
     {BlasOcclusion::StartsLast, "starts-last",
-     "those the ray enters after t_min first, those it starts in last, each group in slot order (hair in one "
-     "BLAS: its shadow rays mostly leave the boxes around their origin)"},
+     "those the ray enters after t_min first, those it starts in last, each group in slot order; faster on thin "
+     "hair in one BLAS, whose shadow rays mostly leave the boxes around their origin"},
 };
 inline constexpr NameTable blas_occlusion_table{"BLAS occlusion order", blas_occlusion_rows};
 
