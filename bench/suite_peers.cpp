@@ -106,6 +106,7 @@ const PackedScene& row_structure(const BuiltMethods& built, const BenchRow& row)
 }
 
 constexpr int kSoloSlot = 3000; // bench/backend_pool.h: past the lanes' and pilots'
+constexpr int kOrderSlot = kSoloSlot + 1; // the occlusion order pilot's second backend
 // The occlusion order pilot: rounds of both orders, and how much faster starts-last must
 // be to be kept (within the noise, nearest: the order of every closest-hit query).
 constexpr int kOrderRounds = 5;
@@ -123,8 +124,6 @@ const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set) {
   }
   return best;
 }
-
-constexpr int kOrderSlot = kSoloSlot + 1; // the occlusion order pilot's second backend
 
 // A shadow row's structure in the BLAS occlusion order that traced the pilot's shadow
 // rays faster (bench/occlusion_pilot.h), timed on `be` and a second backend of its kind.
