@@ -7,20 +7,16 @@
 #include "bench/occlusion_pilot.h"
 #include "bench/peer_builds.h"
 #include "bench/peer_rounds.h"
+#include "bench/peer_scenes.h"
 #include "bench/suite.h"
 #include "oracle/oracle.h"
 #include "peers/embree_peer.h"
 #include "masq/error.h"
-#include "scenes/curve_tools.h"
 #include "scenes/prim_table.h"
-#include "scenes/generators.h"
-#include "scenes/loaders/load_any.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <functional>
-#include <optional>
 #include <fmt/format.h>
 
 namespace masq {
@@ -125,106 +121,27 @@ const BenchRow* fastest_row(const std::vector<BenchRow>& rows, RaySet set) {
   return best;
 }
 
-// A shadow row's structure in the BLAS occlusion order that traced the pilot's shadow
-// rays faster (bench/occlusion_pilot.h), timed on `be` and a second backend of its kind.
-struct Reordered {
-  PackedScene structure;
-  OcclusionOrderChoice choice;
-};
-Reordered occlusion_order_pilot(SuiteContext& ctx, const std::string& label, const BenchRun& run, const BenchRow& best,
-                                Backend& be, std::size_t sample_rays) {
+// The BLAS occlusion order that traced the pilot's shadow rays through `structure` faster
+// (bench/occlusion_pilot.h), timed on `be` and a second backend of its kind.
+OcclusionOrderChoice occlusion_order_pilot(SuiteContext& ctx, const std::string& label, const BenchRun& run,
+                                           const std::string& backend, const PackedScene& structure, Backend& be,
+                                           std::size_t sample_rays) {
   const RayBatch* shadow = nullptr;
   for (const RayBatch& b : run.batches)
     if (b.set == RaySet::Shadow) shadow = &b;
   if (!shadow) throw Error("peers: the pilot traced no shadow rays to choose an occlusion order on");
-  Backend* other = ctx.pool.get(best.backend, kOrderSlot);
-  if (!other) throw Error("occlusion order pilot: " + ctx.pool.why(best.backend));
-  const PackedScene& ps = row_structure(run.built_for(best), best);
+  Backend* other = ctx.pool.get(backend, kOrderSlot);
+  if (!other) throw Error("occlusion order pilot: " + ctx.pool.why(backend));
   ctx.say("peers " + label + ": the BLAS occlusion order, nearest against starts-last, on the pilot's shadow rays");
-  Reordered r;
   try {
-    r.choice = choose_blas_occlusion(be, *other, ps, shadow->rays, sample_rays, kOrderRounds, kOrderMargin);
+    OcclusionOrderChoice c = choose_blas_occlusion(be, *other, structure, shadow->rays, sample_rays, kOrderRounds,
+                                                   kOrderMargin);
+    ctx.pool.close(backend, kOrderSlot);
+    return c;
   } catch (...) {
-    ctx.pool.close(best.backend, kOrderSlot);
+    ctx.pool.close(backend, kOrderSlot);
     throw;
   }
-  ctx.pool.close(best.backend, kOrderSlot);
-  r.structure = with_blas_occlusion(ps, r.choice.order);
-  return r;
-}
-
-struct PeerScene {
-  std::string label;
-  std::string file;    // under data_dir; empty: the embedded default bundle
-  bool curves = false; // the strands as table1's cubic curves instead of as loaded
-  bool thick = false;  // every radius set to kThickRadius x the mean segment length
-};
-
-// The thicker variant's radius, in mean segment lengths: hair files' own radii are a few
-// percent of a segment or less, so this shows what a thicker strand does to both tracers.
-constexpr double kThickRadius = 0.05;
-
-// The scenes: bear fur (TressFX 3, 144,339 segments) and Ratboy's mohawk (TressFX 4,
-// 69,068), each as capsules and as cubic curves, at the file's radius and thick, and the
-// default bundle. Quick: the bear at its own radius and the bundle.
-std::vector<PeerScene> peer_scenes(bool quick) {
-  std::vector<PeerScene> out;
-  const std::pair<const char*, const char*> hair[] = {{"bear fur (TressFX 3)", "hair/tressfx3_bear.tfx"},
-                                                      {"Ratboy mohawk (TressFX 4)", "hair/tressfx4_Ratboy_mohawk.tfx"}};
-  for (const auto& [name, file] : hair) {
-    if (quick && out.size() >= 2) break;
-    for (bool curves : {false, true})
-      for (bool thick : {false, true}) {
-        if (quick && thick) continue;
-        out.push_back({fmt::format("{}, {}{}", name, curves ? "curves" : "capsules",
-                                   thick ? fmt::format(", r = {} x mean segment", kThickRadius) : ""),
-                       file, curves, thick});
-      }
-  }
-  out.push_back({"default bundle (N=1000 r=0.002 tilt 45 + ground)", ""});
-  return out;
-}
-
-// Every capsule's and round cone's radius set to kThickRadius x the scene's mean segment
-// length.
-void thicken(Scene& scene) {
-  double length = 0;
-  std::size_t n = 0;
-  for (const Geometry& g : scene.geometries) {
-    for (const CapsulePrim& c : g.capsules) length += glm::length(glm::dvec3(c.b) - glm::dvec3(c.a)), ++n;
-    for (const RoundConePrim& c : g.round_cones) length += glm::length(glm::dvec3(c.b) - glm::dvec3(c.a)), ++n;
-  }
-  if (n == 0) throw Error("peers: a scene to thicken has no segments");
-  const float r = float(kThickRadius * length / double(n));
-  for (Geometry& g : scene.geometries) {
-    for (CapsulePrim& c : g.capsules) c.radius = r;
-    for (RoundConePrim& c : g.round_cones) c.ra = c.rb = r;
-  }
-}
-
-// The mean radius of the scene's round primitives (capsules, round cones, curves).
-double mean_radius(const Scene& scene) {
-  double sum = 0;
-  std::size_t n = 0;
-  for (const Geometry& g : scene.geometries) {
-    for (const CapsulePrim& c : g.capsules) sum += c.radius, ++n;
-    for (const RoundConePrim& c : g.round_cones) sum += 0.5 * (double(c.ra) + double(c.rb)), ++n;
-    for (const CurvePrim& c : g.curves) sum += c.radius, ++n;
-  }
-  return n ? sum / double(n) : 0.0;
-}
-
-Scene load_peer_scene(const SuiteConfig& cfg, const PeerScene& ps) {
-  if (ps.file.empty()) return make_default_scene();
-  std::string path = (std::filesystem::path(cfg.data_dir) / ps.file).string();
-  // The cubics of table1's phantom x1 (bench/suite_hair.cpp make_case): the strands as
-  // round cones, chained into Catmull-Rom curves through their points, one Bezier piece
-  // per segment. Embree gets these very fp32 control points (embree_peer.cpp).
-  LoadOptions lo;
-  if (ps.curves) lo.strand_type = PrimType::RoundCone;
-  Scene scene = load_scene_file(path, lo);
-  if (ps.thick) thicken(scene);
-  return ps.curves ? segments_to_curves(scene) : scene;
 }
 
 // masq's candidate tracers: its CPU-side backends of the run (cpu, and OpenCL: PoCL here;
@@ -418,19 +335,22 @@ SuiteResult run_peers(SuiteContext& ctx) {
       pj["traces_per_sample"] = passes;
       // Occlusion queries: the chosen structure's BLAS order by a pilot of its own, on the
       // pilot's shadow rays, where its BLAS have inner nodes (bench/occlusion_pilot.h).
-      std::optional<Reordered> reordered;
-      if (best->query == Query::Any && blas_order_matters(row_structure(run.built_for(*best), *best))) {
+      const PackedScene& structure = row_structure(run.built_for(*best), *best);
+      const BlasOcclusion own = structure.features.blas_starts_last ? BlasOcclusion::StartsLast : BlasOcclusion::Nearest;
+      BlasOcclusion order = own;
+      if (best->query == Query::Any && blas_order_matters(structure)) {
         try {
-          reordered = occlusion_order_pilot(ctx, ps.label, run, *best, *be, pilot.sample_rays);
+          const OcclusionOrderChoice oc =
+              occlusion_order_pilot(ctx, ps.label, run, best->backend, structure, *be, pilot.sample_rays);
+          order = oc.order;
+          pj["blas_occlusion"] = oc.json();
         } catch (const std::exception& e) {
           ctx.pool.close(best->backend, kSoloSlot);
           line.push_back(std::string("unavailable: ") + e.what());
           t.add(line);
           continue;
         }
-        const OcclusionOrderChoice& oc = reordered->choice;
-        if (oc.order == BlasOcclusion::StartsLast) line.back() += " starts-last";
-        pj["blas_occlusion"] = oc.json();
+        if (order == BlasOcclusion::StartsLast) line.back() += " starts-last";
       }
       std::vector<kernel::Hit> masq_hits(batch.rays.size());
       std::vector<std::function<void()>> tracers = {
@@ -444,7 +364,8 @@ SuiteResult run_peers(SuiteContext& ctx) {
       try {
         ctx.say(fmt::format("peers {}: {} rays, masq's {} and Embree, {} rounds", ps.label, set_label,
                             config_label(*best), rounds));
-        be->set_scene(reordered ? reordered->structure : row_structure(run.built_for(*best), *best));
+        if (order == own) be->set_scene(structure);
+        else be->set_scene(with_blas_occlusion(structure, order));
         times = time_round_by_round(tracers, warmup, rounds);
       } catch (const std::exception& e) {
         ctx.pool.close(best->backend, kSoloSlot);

@@ -70,23 +70,26 @@ Scene curtain_of_curves() {
   return s;
 }
 
+// Shadow rays from the scene's primary hits (96 x 96 camera rays, traced on the cpu).
+std::vector<kernel::Ray> shadow_rays(const Scene& scene, const AccelOptions& opt) {
+  std::unique_ptr<Backend> cpu = make_backend("cpu");
+  cpu->set_scene(build_accel(scene, Method::Ref, opt));
+  std::vector<kernel::Ray> primary = make_camera_rays(scene.camera, 96, 96);
+  std::vector<kernel::Hit> primary_hits(primary.size());
+  cpu->trace(primary, primary_hits, {});
+  return make_secondary_rays(RaySet::Shadow, scene, primary, primary_hits);
+}
+
 class Occlusion : public ::testing::TestWithParam<Case> {};
 
 TEST_P(Occlusion, AgreesWithTheOracleAndStopsEarly) {
   const Case& c = GetParam();
   std::unique_ptr<Backend> be = backend_or_fail(c.backend);
   if (!be) GTEST_SKIP() << c.backend << " unavailable";
-  // Shadow rays from the scene's primary hits.
   Scene scene = c.scene == SceneKind::Default ? make_default_scene() : curtain_of_curves();
   AccelOptions opt;
   opt.curve_isect = c.scene == SceneKind::HairPhantom ? CurveIsect::Phantom : CurveIsect::Roving;
-  std::unique_ptr<Backend> cpu = make_backend("cpu");
-  PackedScene ref = build_accel(scene, Method::Ref, opt);
-  cpu->set_scene(ref);
-  std::vector<kernel::Ray> primary = make_camera_rays(scene.camera, 96, 96);
-  std::vector<kernel::Hit> primary_hits(primary.size());
-  cpu->trace(primary, primary_hits, {});
-  std::vector<kernel::Ray> rays = make_secondary_rays(RaySet::Shadow, scene, primary, primary_hits);
+  std::vector<kernel::Ray> rays = shadow_rays(scene, opt);
   ASSERT_GT(rays.size(), 1000u);
 
   be->set_scene(build_accel(scene, c.method, opt));
@@ -132,12 +135,7 @@ TEST(OcclusionOrder, StartsLastOccludesTheRaysNearestFirstDoes) {
     Scene scene = k == SceneKind::Default ? make_default_scene() : curtain_of_curves();
     AccelOptions opt;
     opt.curve_isect = CurveIsect::Roving;
-    std::unique_ptr<Backend> cpu = make_backend("cpu");
-    cpu->set_scene(build_accel(scene, Method::Ref, opt));
-    std::vector<kernel::Ray> primary = make_camera_rays(scene.camera, 96, 96);
-    std::vector<kernel::Hit> primary_hits(primary.size());
-    cpu->trace(primary, primary_hits, {});
-    std::vector<kernel::Ray> rays = make_secondary_rays(RaySet::Shadow, scene, primary, primary_hits);
+    std::vector<kernel::Ray> rays = shadow_rays(scene, opt);
     ASSERT_GT(rays.size(), 1000u);
     for (Method m : {Method::Ref, Method::Cluster}) {
       opt.blas_occlusion = BlasOcclusion::Nearest;
