@@ -5,11 +5,15 @@
 //   masq_build_probe FILE|bundle ref|masq|cluster|auto [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]
 //   valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*probe_builds*'
 //     build/bench/masq_build_probe ... (one line)
+// It prints the structure's digest (FNV-1a over every array the kernels read): two builds of masq that print the same digest made the same structure,
+// byte for byte.
 #include "bench/probe_args.h"
 #include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
+#include "kernels/scene_array_table.h"
 #include "scenes/curve_tools.h"
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -23,6 +27,32 @@ namespace {
 __attribute__((noinline)) void probe_builds(const Scene& scene, Method method, const AccelOptions& accel, Backend& cpu,
                                             int builds) {
   for (int i = 0; i < builds; ++i) cpu.set_scene(build_accel(scene, method, accel));
+}
+
+// FNV-1a (64 bits) over the structure's arrays in the kernels' table order
+// (kernels/scene_array_table.h: the rows the backends upload), each array's length first.
+std::uint64_t structure_digest(const PackedScene& scene) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](const void* data, std::size_t n) {
+    const std::uint64_t len = n;
+    const auto* l = reinterpret_cast<const unsigned char*>(&len);
+    for (std::size_t i = 0; i < sizeof len; ++i) h = (h ^ l[i]) * 1099511628211ull;
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  auto mix_vector = [&](const auto& v) { mix(v.data(), v.size() * sizeof(v[0])); };
+#define MASQ_DIGEST_SCENE(name) mix_vector(scene.name);
+#define MASQ_DIGEST_PRIM(name) mix_vector(scene.name);
+#define MASQ_DIGEST_NODES(name) mix(scene.node_data(), scene.node_bytes());
+#define MASQ_DIGEST_BV(name)
+#define MASQ_DIGEST_ROW(T, name, b, kernels, source) MASQ_DIGEST_##source(name)
+  MASQ_SCENE_ARRAYS(MASQ_DIGEST_ROW)
+#undef MASQ_DIGEST_ROW
+#undef MASQ_DIGEST_BV
+#undef MASQ_DIGEST_NODES
+#undef MASQ_DIGEST_PRIM
+#undef MASQ_DIGEST_SCENE
+  return h;
 }
 
 } // namespace
@@ -47,7 +77,8 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     probe_builds(scene, method, accel, *cpu, builds);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("%d builds: %.2f ms each (wall)\n", builds, 1e3 * s / builds);
+    std::printf("%d builds: %.2f ms each (wall); structure digest %016llx\n", builds, 1e3 * s / builds,
+                (unsigned long long)structure_digest(build_accel(scene, method, accel)));
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "masq_build_probe: %s\n", e.what());

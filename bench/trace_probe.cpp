@@ -1,5 +1,5 @@
 // masq_trace_probe: one ray set of a scene file traced on the cpu backend (one thread:
-// MASQ_CPU_THREADS=1) or through Embree, in a function of its own, probe_traces, for
+// MASQ_CPU_THREADS=1) or through Embree (on as many threads as the cpu backend), in a function of its own, probe_traces, for
 // valgrind's callgrind to count alone: instructions, cache misses (--cache-sim=yes) and
 // branch mispredictions (--branch-sim=yes) per ray and per node visit (docs/results.md,
 // "Bytes, instructions and branches per ray"). The rays are the bench's: camera rays of
@@ -12,13 +12,19 @@
 #include "bench/backend_pool.h"
 #include "bench/bench_runner.h"
 #include "bench/probe_args.h"
+#include "bench/process_clock.h"
 #include "host/backend.h"
+#include "masq/knobs.h"
 #include "peers/embree_peer.h"
 #include "scenes/curve_tools.h"
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace masq;
@@ -76,7 +82,10 @@ int main(int argc, char** argv) {
     for (const kernel::RayStats& s : stats) tlas += s.tlas_nodes, blas += s.blas_nodes, transforms += s.transforms, calls += s.isect_calls;
     std::unique_ptr<EmbreePeer> embree;
     if (embree_side) {
-      embree = std::make_unique<EmbreePeer>(1);
+      // Embree's threads: the cpu backend's count (MASQ_CPU_THREADS, else every hardware
+      // thread), so that the two sides' CPU times compare as the peers suite's do.
+      const std::uint64_t threads = knob_integer(Knob::CpuThreads, "cpu").value_or(std::thread::hardware_concurrency());
+      embree = std::make_unique<EmbreePeer>(int(std::clamp<std::uint64_t>(threads, 1, 1024)));
       embree->set_scene(scene, true);
     }
     std::vector<std::uint8_t> occluded(b.rays.size());
@@ -85,12 +94,17 @@ int main(int argc, char** argv) {
     if (embree_side && q == Query::Any) embree->occluded(b.rays, occluded);
     else if (embree_side) embree->trace(b.rays, hits);
     else be->trace(b.rays, hits, {}, q);
+    const double cpu0 = process_cpu_seconds();
+    const auto wall0 = std::chrono::steady_clock::now();
     probe_traces(masq_side, embree.get(), b, q, traces, hits, occluded);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    const double cpu = process_cpu_seconds() - cpu0;
     const double n = double(b.rays.size());
     std::printf("%s: %zu rays x %d traces counted (%zu rays); masq's counters per ray: tlas %.2f blas %.2f "
                 "transforms %.2f isect %.2f\n",
                 embree_side ? "embree" : "masq", b.rays.size(), traces, b.rays.size() * std::size_t(traces), tlas / n,
                 blas / n, transforms / n, calls / n);
+    std::printf("traces counted: %.1f ms wall, %.1f ms CPU time (every thread)\n", 1e3 * wall, 1e3 * cpu);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "masq_trace_probe: %s\n", e.what());

@@ -10,6 +10,7 @@
 #include "intersect_primitive.h"
 #include "masq_instance.h"
 #include "capsule_simd_cpp.h"
+#include "masq_entry_simd_cpp.h"
 
 KERNEL_NS_BEGIN
 
@@ -392,6 +393,27 @@ FN Hit hit_fault(KD_PARAM float tmax, int fault, int node, int depth) {
   return h;
 }
 
+// A masquerade entry whose unit box the ray enters (ref < 0: compact entry -1 - ref, else
+// a full instance): its primitive's intersector on the world ray taken into the scene
+// instance's frame, within the nearest hit so far.
+FN Nearest masquerade_hit(KD_PARAM int ref, int geom, int prim, int scene_inst, vec3 wo, vec3 wd, float tmin,
+                          Nearest best) {
+  Affine f = affine_from_frame(KD(frames)[scene_inst]);
+  Geometry g = KD(geoms)[geom];
+  vec3 po = affine_point(f, wo);
+  vec3 pd = affine_vector(f, wd);
+#if defined(MASQ_LANG_CPP)
+  // cpu: a compact entry's curve from the copy in entry order (host/cpu/entry_curves.h),
+  // whose line the leaf's prefetch already asked for.
+  bool copied = MASQ_HAVE_CURVES && ref < 0 && g.type == MASQ_CPU_ENTRY_COPY_TYPE && KD(entry_curves) != nullptr;
+  PrimHit ph = copied ? intersect_curve_record(KD(entry_curves)[-1 - ref], po, pd, tmin, best.t)
+                      : intersect_primitive(KD_ARG g, prim, po, pd, tmin, best.t);
+#else
+  PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, best.t);
+#endif
+  return nearest_take(best, ph, prim, geom, scene_inst);
+}
+
 // budget: TraceParams::step_budget, for the TLAS walk and each BLAS walk alike.
 // Inlined into the cpu unit's loop over its rays: returned from a call, the hit was
 // stored in small pieces and read back as 32-byte words (a failed store forward per ray).
@@ -491,6 +513,34 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
         }
         else __builtin_prefetch(KD(instances) + ref);
       }
+      // cpu: a leaf of at most four compact entries alone has their unit boxes tested at
+      // once (masq_entry_simd_cpp.h, the scalar test's bits); each is then taken in
+      // order against the nearest hit so far, as below.
+      bool lanes = wh.count[i] <= 4;
+      for (int j = 0; j < wh.count[i] && lanes; ++j) lanes = KD(refs)[wh.child[i] + j] < 0;
+      if (lanes) {
+        const int* leaf_refs = KD(refs) + wh.child[i];
+        simd::EntryBoxes4 eb =
+            simd::entry_boxes4(KD(masq_instances), leaf_refs, wh.count[i], wo, wd, wh.tfar[i], MASQ_ROBUST != 0);
+        for (int j = 0; j < wh.count[i]; ++j) {
+          int ref = leaf_refs[j];
+          if (MASQ_STATS) {
+            res.stats.transforms = res.stats.transforms + 1;
+            res.stats.blas_nodes = res.stats.blas_nodes + 1;
+          }
+          if (!simd::entry_in_box(eb, j, tmin, best.t)) continue;
+          MasqInstance c = KD(masq_instances)[-1 - ref];
+          MasqOwner owner = KD(masq_owners)[masq_owner_index(c)];
+          if (MASQ_STATS) res.stats.isect_calls = res.stats.isect_calls + 1;
+          best = masquerade_hit(KD_ARG ref, owner.geom, c.prim, owner.scene_inst, wo, wd, tmin, best);
+          if (MASQ_ANY_HIT && best.prim >= 0) {
+            done = true;
+            break;
+          }
+        }
+        if (done) break;
+        continue;
+      }
 #endif
       for (int j = 0; j < wh.count[i]; ++j) {
         // ref >= 0: an Instance; ref < 0: compact masquerade entry ~ref (same branch).
@@ -556,21 +606,8 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
           bool in_box = MASQ_ROBUST ? hit_unit_box_padded(m, wo, wd, oo, od, tmin, best.t, wh.tfar[i])
                                     : hit_unit_box(oo, od, tmin, best.t);
           if (!in_box) continue;
-          Affine f = affine_from_frame(KD(frames)[scene_inst]);
-          Geometry g = KD(geoms)[geom];
           if (MASQ_STATS) res.stats.isect_calls = res.stats.isect_calls + 1;
-          vec3 po = affine_point(f, wo);
-          vec3 pd = affine_vector(f, wd);
-#if defined(MASQ_LANG_CPP)
-          // cpu: a compact entry's curve from the copy in entry order (host/cpu/entry_curves.h),
-          // whose line the leaf's prefetch above already asked for.
-          bool copied = MASQ_HAVE_CURVES && ref < 0 && g.type == MASQ_CPU_ENTRY_COPY_TYPE && KD(entry_curves) != nullptr;
-          PrimHit ph = copied ? intersect_curve_record(KD(entry_curves)[-1 - ref], po, pd, tmin, best.t)
-                              : intersect_primitive(KD_ARG g, prim, po, pd, tmin, best.t);
-#else
-          PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, best.t);
-#endif
-          best = nearest_take(best, ph, prim, geom, scene_inst);
+          best = masquerade_hit(KD_ARG ref, geom, prim, scene_inst, wo, wd, tmin, best);
           if (MASQ_ANY_HIT && best.prim >= 0) {
             done = true;
             break;
