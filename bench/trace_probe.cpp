@@ -5,7 +5,7 @@
 // "Bytes, instructions and branches per ray"). The rays are the bench's: camera rays of
 // width x width, and the shadow or diffuse rays from their hits.
 // FILE "bundle" is the embedded default scene (the peers suite's bundle row).
-//   masq_trace_probe FILE|bundle ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree] [width=256] [traces=4] [nearest|starts-last]
+//   masq_trace_probe FILE|bundle ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last]
 // (the last: AccelOptions::blas_occlusion, the BLAS order of occlusion queries)
 //   valgrind --tool=callgrind --cache-sim=yes --branch-sim=yes --collect-atstart=no
 //     --toggle-collect='*probe_traces*' build/bench/masq_trace_probe ... (one line)
@@ -32,12 +32,12 @@ using namespace masq;
 namespace {
 
 // The traces counted: traces x the ray set, through masq's backend or Embree.
-__attribute__((noinline)) void probe_traces(Backend* be, EmbreePeer* embree, const RayBatch& b, Query q, int traces,
-                                            std::vector<kernel::Hit>& hits, std::vector<std::uint8_t>& occluded) {
+__attribute__((noinline)) void probe_traces(Backend* be, EmbreePeer* embree, EmbreeTrace how, const RayBatch& b, Query q,
+                                            int traces, std::vector<kernel::Hit>& hits, std::vector<std::uint8_t>& occluded) {
   for (int i = 0; i < traces; ++i) {
     if (be) be->trace(b.rays, hits, {}, q);
-    else if (q == Query::Any) embree->occluded(b.rays, occluded);
-    else embree->trace(b.rays, hits);
+    else if (q == Query::Any) embree->occluded(b.rays, occluded, how);
+    else embree->trace(b.rays, hits, how);
   }
 }
 
@@ -46,14 +46,18 @@ __attribute__((noinline)) void probe_traces(Backend* be, EmbreePeer* embree, con
 int main(int argc, char** argv) {
   try {
     if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE|bundle ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse "
-                                              "[capsule|curve] [masq|embree] [width=256] [traces=4] [nearest|starts-last]");
+                                              "[capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last]");
     Scene scene = probe::scene(argv[1]);
     const Method method = probe::method(argv[2]);
     const NodeFormat nodes = probe::nodes(argv[3]);
     const RaySet set = probe::pick<RaySet>("ray set", argv[4],
                                     {{"primary", RaySet::Primary}, {"shadow", RaySet::Shadow}, {"diffuse", RaySet::Diffuse}});
     const bool curves = argc > 5 && probe::pick<bool>("primitive", argv[5], {{"capsule", false}, {"curve", true}});
-    const bool embree_side = argc > 6 && probe::pick<bool>("tracer", argv[6], {{"masq", false}, {"embree", true}});
+    // embree: rtcIntersect1 / rtcOccluded1 per ray; embree1m: the stream API, with the
+    // coherent hint on camera rays (the peers suite times both and keeps the faster).
+    const int tracer = argc > 6 ? probe::pick<int>("tracer", argv[6], {{"masq", 0}, {"embree", 1}, {"embree1m", 2}}) : 0;
+    const bool embree_side = tracer != 0;
+    const EmbreeTrace how{tracer == 2 ? EmbreeApi::Stream : EmbreeApi::PerRay, tracer == 2 && set == RaySet::Primary};
     const int width = argc > 7 ? std::atoi(argv[7]) : 256;
     const int traces = argc > 8 ? std::atoi(argv[8]) : 4;
     if (width < 1 || traces < 1) throw std::invalid_argument("width and traces must be at least 1");
@@ -91,12 +95,12 @@ int main(int argc, char** argv) {
     std::vector<std::uint8_t> occluded(b.rays.size());
     Backend* masq_side = embree_side ? nullptr : be.get();
     // One warm-up trace first, outside probe_traces (not counted).
-    if (embree_side && q == Query::Any) embree->occluded(b.rays, occluded);
-    else if (embree_side) embree->trace(b.rays, hits);
+    if (embree_side && q == Query::Any) embree->occluded(b.rays, occluded, how);
+    else if (embree_side) embree->trace(b.rays, hits, how);
     else be->trace(b.rays, hits, {}, q);
     const double cpu0 = process_cpu_seconds();
     const auto wall0 = std::chrono::steady_clock::now();
-    probe_traces(masq_side, embree.get(), b, q, traces, hits, occluded);
+    probe_traces(masq_side, embree.get(), how, b, q, traces, hits, occluded);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     const double cpu = process_cpu_seconds() - cpu0;
     const double n = double(b.rays.size());

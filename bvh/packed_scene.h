@@ -94,16 +94,18 @@ struct BuildStats {
 struct PackedScene : KernelPrimArrays {
   Method method = Method::Ref;
   Builder builder = Builder::Sah;
+  // The arrays that grow with the scene are HugePageVectors (scenes/huge_page_vector.h:
+  // on huge pages from 2 MiB, which a build of the bear halves the page faults of).
   // TLAS and all BLAS nodes: one of the four arrays, by features.nodes (the others empty).
-  std::vector<kernel::WideNode> nodes;        // w4
-  std::vector<kernel::WideNode8> nodes8;      // w8
-  std::vector<kernel::QuantNode8> qnodes;     // q8
-  std::vector<kernel::OrientedNode4> onodes;  // o4
+  HugePageVector<kernel::WideNode> nodes;        // w4
+  HugePageVector<kernel::WideNode8> nodes8;      // w8
+  HugePageVector<kernel::QuantNode8> qnodes;     // q8
+  HugePageVector<kernel::OrientedNode4> onodes;  // o4
   // Leaf references: prim ids (BLAS); TLAS entries: r >= 0 is instances[r], r < 0 the
   // compact masquerade entry masq_instances[~r] (kernels/layout.h, MasqInstance).
-  std::vector<std::int32_t> refs;
-  std::vector<kernel::Instance> instances;
-  std::vector<kernel::MasqInstance> masq_instances; // AccelOptions::masq_instances == compact
+  HugePageVector<std::int32_t> refs;
+  HugePageVector<kernel::Instance> instances;
+  HugePageVector<kernel::MasqInstance> masq_instances; // AccelOptions::masq_instances == compact
   std::vector<kernel::MasqOwner> masq_owners;       // their (geometry, scene instance) pairs
   std::vector<kernel::Frame> frames;     // one per scene instance
   std::vector<kernel::Geometry> geoms;
@@ -113,8 +115,8 @@ struct PackedScene : KernelPrimArrays {
   // For the rayquery backend and the host's own walks. TLAS entry ids: e < instances.size()
   // is instances[e], the others masq_instances[e - instances.size()] (see tlas_ref).
   std::vector<Mat3x4f> frame_object_to_world;    // per scene instance
-  std::vector<Mat3x4f> instance_object_to_world; // per TLAS entry (masquerade: unit box -> world)
-  std::vector<std::int32_t> tlas_leaf_order;     // TLAS entry ids in leaf order (submission order)
+  HugePageVector<Mat3x4f> instance_object_to_world; // per TLAS entry (masquerade: unit box -> world)
+  HugePageVector<std::int32_t> tlas_leaf_order;     // TLAS entry ids in leaf order (submission order)
   // Per geometry: its primitive ids in BLAS leaf order (submission order for the driver).
   std::vector<std::vector<std::int32_t>> geometry_leaf_order;
 

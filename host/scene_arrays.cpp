@@ -20,8 +20,8 @@ constexpr bool bindings_valid() {
 static_assert(bindings_valid(), "kernels/scene_array_table.h: a binding is repeated, reserved or not below "
                                 "MASQ_ADDRESS_SLOTS");
 
-template <class T>
-ArrayBytes bytes_of(const std::vector<T>& v) {
+template <class T, class Allocator>
+ArrayBytes bytes_of(const std::vector<T, Allocator>& v) {
   return {v.data(), v.size() * sizeof(T)};
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 #include "kernels/layout.h"
 #include "kernels/scene_array_table.h"
+#include "scenes/huge_page_vector.h"
 #include <vector>
 
 namespace masq {
@@ -13,7 +14,7 @@ struct KernelPrimArrays {
 #define MASQ_PRIM_ARRAY_SCENE(T, name)
 #define MASQ_PRIM_ARRAY_NODES(T, name)
 #define MASQ_PRIM_ARRAY_BV(T, name)
-#define MASQ_PRIM_ARRAY_PRIM(T, name) std::vector<kernel::T> name;
+#define MASQ_PRIM_ARRAY_PRIM(T, name) HugePageVector<kernel::T> name; /* scenes/huge_page_vector.h */
 #define MASQ_PRIM_ARRAY_ROW(T, name, binding, kernels, source) MASQ_PRIM_ARRAY_##source(T, name)
   MASQ_SCENE_ARRAYS(MASQ_PRIM_ARRAY_ROW)
 #undef MASQ_PRIM_ARRAY_ROW

@@ -193,6 +193,13 @@ Geometry random_mesh(int count, float, float, double extent, std::uint64_t seed)
 
 // ---- the kernels' arrays (fp32 copies; the values the kernels and the bvh see)
 
+// Room for n more elements, at least doubling: a scene of many geometries packs them one
+// by one into the same array, and a fresh scene's growth by push_back copied each array
+// about twice over.
+template <class Array> void reserve_more(Array& a, std::size_t n) {
+  if (a.capacity() - a.size() < n) a.reserve(std::max(a.size() + n, 2 * a.capacity()));
+}
+
 void copy3(float* dst, const glm::vec3& v) {
   for (int k = 0; k < 3; ++k) dst[k] = v[k];
 }
@@ -200,6 +207,7 @@ glm::vec3 v3(const float* p) { return {p[0], p[1], p[2]}; }
 
 int pack_triangles(const Geometry& g, KernelPrimArrays& ps) {
   const int first = int(ps.triangles.size());
+  reserve_more(ps.triangles, g.triangles.size());
   for (const glm::uvec3& t : g.triangles) {
     kernel::Triangle kt{};
     copy3(kt.v0, g.vertices[t.x]);
@@ -211,6 +219,7 @@ int pack_triangles(const Geometry& g, KernelPrimArrays& ps) {
 }
 int pack_capsules(const Geometry& g, KernelPrimArrays& ps) {
   const int first = int(ps.capsules.size());
+  reserve_more(ps.capsules, g.capsules.size());
   for (const CapsulePrim& c : g.capsules) {
     kernel::Capsule kc{};
     copy3(kc.a, c.a);
@@ -222,6 +231,7 @@ int pack_capsules(const Geometry& g, KernelPrimArrays& ps) {
 }
 int pack_round_cones(const Geometry& g, KernelPrimArrays& ps) {
   const int first = int(ps.round_cones.size());
+  reserve_more(ps.round_cones, g.round_cones.size());
   for (const RoundConePrim& c : g.round_cones) {
     kernel::RoundCone kc{};
     copy3(kc.a, c.a);
@@ -234,6 +244,7 @@ int pack_round_cones(const Geometry& g, KernelPrimArrays& ps) {
 }
 int pack_spheres(const Geometry& g, KernelPrimArrays& ps) {
   const int first = int(ps.spheres.size());
+  reserve_more(ps.spheres, g.spheres.size());
   for (const SpherePrim& sp : g.spheres) {
     kernel::Sphere ks{};
     copy3(ks.center, sp.center);
@@ -244,6 +255,7 @@ int pack_spheres(const Geometry& g, KernelPrimArrays& ps) {
 }
 int pack_curves(const Geometry& g, KernelPrimArrays& ps) {
   const int first = int(ps.curves.size());
+  reserve_more(ps.curves, g.curves.size());
   for (const CurvePrim& c : g.curves) {
     kernel::Curve kc{};
     copy3(kc.p0, c.p[0]);
@@ -260,6 +272,7 @@ int pack_curves(const Geometry& g, KernelPrimArrays& ps) {
 // products stay of the size of the ribbon whatever |n| the user gave; a zero n stays 0.
 int pack_ribbons(const Geometry& g, KernelPrimArrays& ps) {
   const int first = int(ps.ribbons.size());
+  reserve_more(ps.ribbons, g.ribbons.size());
   for (const RibbonPrim& r : g.ribbons) {
     kernel::Ribbon kr{};
     copy3(kr.p0, r.p0);

@@ -82,8 +82,8 @@ TEST(Bvh, CoincidentPrimitivesStillSplitIntoSmallLeaves) {
       EXPECT_LE(n.count, 4);
     }
   }
-  std::vector<kernel::WideNode> nodes;
-  std::vector<std::int32_t> refs;
+  HugePageVector<kernel::WideNode> nodes;
+  HugePageVector<std::int32_t> refs;
   std::vector<std::int32_t> ids(1000);
   for (int i = 0; i < 1000; ++i) ids[i] = i;
   WideBvhInfo info = append_wide_bvh(bvh, ids, nodes, refs);

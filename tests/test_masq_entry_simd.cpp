@@ -43,7 +43,7 @@ std::vector<kernel::MasqInstance> compact_entries(PrimType type, std::uint64_t s
   std::mt19937_64 rng(seed);
   s.instances.at(0).object_to_world = masq::test::random_affine(rng);
   PackedScene ps = build_accel(s, Method::Masq);
-  return ps.masq_instances;
+  return {ps.masq_instances.begin(), ps.masq_instances.end()};
 }
 
 } // namespace

@@ -229,7 +229,7 @@ TEST(MasqInstanceLayout, CompactEntriesLieInTheOrderTheTlasNamesThem) {
 // cross-backend bit tests catch a wrong copy through the hits; this names the slot.
 TEST(MasqInstanceLayout, EntryCurvesHoldEachEntrysCurve) {
   const PackedScene ps = build_accel(every_primitive_scene(5), Method::Masq);
-  const std::vector<EntryCurve> copy = entry_curves(ps);
+  const HugePageVector<EntryCurve> copy = entry_curves(ps);
   ASSERT_EQ(copy.size(), ps.masq_instances.size());
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(copy.data()) % 64, 0u) << "one cache line per curve";
   long curves = 0, others = 0;

@@ -25,8 +25,8 @@ namespace {
 const int kThreadCounts[] = {2, 3, 8};
 
 // Bytes of a vector of trivially copyable records.
-template <class T>
-std::string bytes_of(const std::vector<T>& v) {
+template <class T, class Allocator>
+std::string bytes_of(const std::vector<T, Allocator>& v) {
   return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 

@@ -152,7 +152,7 @@ void for_chunks(int first, int count, Body body) {
   });
 }
 
-void bounds_of(const std::vector<Ref>& order, int first, int count, Box4& box, Box4& cbox) {
+void bounds_of(const HugePageVector<Ref>& order, int first, int count, Box4& box, Box4& cbox) {
   auto pass = [&](int lo, int hi, Box4& b, Box4& c) {
     for (int i = lo; i < hi; ++i) {
       const Ref& r = order[std::size_t(i)];
@@ -173,7 +173,7 @@ void bounds_of(const std::vector<Ref>& order, int first, int count, Box4& box, B
 // in one pass over them (each bin grows in primitive order, as three passes would). The
 // three axes' bin indices are one vector division; they are kept in the reference for
 // the partition.
-void bin_range(const Input& in, std::vector<Ref>& order, int first, int count, const Box4& cbox, Bins& bins) {
+void bin_range(const Input& in, HugePageVector<Ref>& order, int first, int count, const Box4& cbox, Bins& bins) {
   const int nb = in.opt.bins;
   int axes[3], n_axes = 0;
   for (int axis = 0; axis < 3; ++axis)
@@ -252,7 +252,7 @@ struct NodeSplit {
   int mid = -1;
 };
 
-NodeSplit split_node(const Input& in, std::vector<Ref>& order, int first, int count, Bins& bins) {
+NodeSplit split_node(const Input& in, HugePageVector<Ref>& order, int first, int count, Bins& bins) {
   const SahOptions& opt = in.opt;
   NodeSplit out;
   Box4 box, cbox;
@@ -286,11 +286,11 @@ NodeSplit split_node(const Input& in, std::vector<Ref>& order, int first, int co
 // The serial build of one subtree: nodes[0] is its root, the rest in the order the
 // serial builder allocates them (both children of a node at once, when the node is
 // split; the right subtree is finished before the left one is started).
-std::vector<BinaryNode> build_serial(const Input& in, std::vector<Ref>& order, int first, int count) {
+HugePageVector<BinaryNode> build_serial(const Input& in, HugePageVector<Ref>& order, int first, int count) {
   struct Job {
     int node, first, count;
   };
-  std::vector<BinaryNode> nodes(1);
+  HugePageVector<BinaryNode> nodes(1);
   nodes.reserve(2 * std::size_t(count));
   std::vector<Job> jobs{{0, first, count}};
   Bins bins(in.opt.bins);
@@ -318,12 +318,12 @@ std::vector<BinaryNode> build_serial(const Input& in, std::vector<Ref>& order, i
 // A subtree built by tasks: either serial (nodes as build_serial gives them) or a split
 // root (nodes = {root}) whose children were built as separate tasks.
 struct Subtree {
-  std::vector<BinaryNode> nodes;
+  HugePageVector<BinaryNode> nodes;
   std::unique_ptr<Subtree> left, right;
   std::size_t size = 0; // nodes in the whole subtree
 };
 
-Subtree build_tasks(const Input& in, std::vector<Ref>& order, int first, int count) {
+Subtree build_tasks(const Input& in, HugePageVector<Ref>& order, int first, int count) {
   Subtree t;
   if (count < kSubtreeTask) {
     t.nodes = build_serial(in, order, first, count);
@@ -351,7 +351,7 @@ Subtree build_tasks(const Input& in, std::vector<Ref>& order, int first, int cou
 // Writes subtree t with its root at out[at] and the nodes below it from out[below] on,
 // numbered as the serial builder numbers them: a split root's children at below and
 // below + 1, then the right child's subtree, then the left child's.
-void place(const Subtree& t, std::vector<BinaryNode>& out, std::size_t at, std::size_t below) {
+void place(const Subtree& t, HugePageVector<BinaryNode>& out, std::size_t at, std::size_t below) {
   if (!t.left) {
     auto moved = [&](BinaryNode n) {
       if (!n.is_leaf()) {
@@ -374,7 +374,7 @@ void place(const Subtree& t, std::vector<BinaryNode>& out, std::size_t at, std::
 
 } // namespace
 
-BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt) {
+BinaryBvh build_binned_sah(std::span<const Aabb> boxes, const SahOptions& opt) {
   if (opt.leaf_block < 1) throw Error("bvh: SAH leaf block " + std::to_string(opt.leaf_block) + " (must be >= 1)");
   // A reference keeps its bin on each axis in a byte (Ref::bin).
   if (opt.bins < 1 || opt.bins > 256) throw Error("bvh: SAH bins " + std::to_string(opt.bins) + " (must be 1-256)");
@@ -386,7 +386,7 @@ BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt
     for (int k = 0; k < 3; ++k)
       if (!(boxes[i].lo[k] <= boxes[i].hi[k]) || !std::isfinite(boxes[i].lo[k]) || !std::isfinite(boxes[i].hi[k]))
         throw Error("bvh: box " + std::to_string(i) + " of " + std::to_string(n) + " is empty or not finite");
-  std::vector<Ref> refs(boxes.size());
+  HugePageVector<Ref> refs(boxes.size());
   const Input in{opt, block_shift_of(opt.leaf_block)};
   parallel_chunks(boxes.size(), 8192, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {

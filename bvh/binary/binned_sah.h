@@ -1,6 +1,8 @@
 // Binary BVH by binned SAH (Wald 2007): centroid bins per axis, best of the bin planes.
 #pragma once
 #include "bvh/bounds/aabb.h"
+#include "scenes/huge_page_vector.h"
+#include <span>
 #include <vector>
 
 namespace masq {
@@ -26,10 +28,11 @@ struct BinaryNode {
 };
 
 struct BinaryBvh {
-  std::vector<BinaryNode> nodes; // nodes[0] is the root (when any)
-  std::vector<int> order;        // primitive ids in leaf order
+  // (On huge pages when large: scenes/huge_page_vector.h.)
+  HugePageVector<BinaryNode> nodes; // nodes[0] is the root (when any)
+  HugePageVector<int> order;        // primitive ids in leaf order
 };
 
-BinaryBvh build_binned_sah(const std::vector<Aabb>& boxes, const SahOptions& opt = {});
+BinaryBvh build_binned_sah(std::span<const Aabb> boxes, const SahOptions& opt = {});
 
 } // namespace masq

@@ -3,7 +3,7 @@
 
 namespace masq {
 
-BinaryBvh build_blas_binary(const std::vector<Aabb>& boxes, const PrimClipper& clip, const SahOptions& sah,
+BinaryBvh build_blas_binary(std::span<const Aabb> boxes, const PrimClipper& clip, const SahOptions& sah,
                             const BuilderOptions& opt, std::size_t* references) {
   SahOptions blas_sah = sah;
   blas_sah.leaf_block = builder_leaf_block(opt.kind);
@@ -14,7 +14,7 @@ BinaryBvh build_blas_binary(const std::vector<Aabb>& boxes, const PrimClipper& c
   return bvh;
 }
 
-BinaryBvh build_boxes_binary(const std::vector<Aabb>& boxes, const SahOptions& sah, const BuilderOptions& opt) {
+BinaryBvh build_boxes_binary(std::span<const Aabb> boxes, const SahOptions& sah, const BuilderOptions& opt) {
   BinaryBvh bvh = build_binned_sah(boxes, sah);
   if (builder_reinserts(opt.kind)) bvh = reinsert_optimize(bvh, sah, opt.reinsert);
   return bvh;

@@ -28,10 +28,10 @@ struct BuilderOptions {
 // A BLAS over primitives: spatial splits where the builder has them (clip bounds the
 // pieces), then reinsertion where it has that. `references` gets the leaf reference
 // count (>= boxes.size() with spatial splits).
-BinaryBvh build_blas_binary(const std::vector<Aabb>& boxes, const PrimClipper& clip, const SahOptions& sah,
+BinaryBvh build_blas_binary(std::span<const Aabb> boxes, const PrimClipper& clip, const SahOptions& sah,
                             const BuilderOptions& opt, std::size_t* references = nullptr);
 // A TLAS over instance boxes, or a BLAS without a clipper (clusters): binned SAH, then
 // reinsertion where the builder has it.
-BinaryBvh build_boxes_binary(const std::vector<Aabb>& boxes, const SahOptions& sah, const BuilderOptions& opt);
+BinaryBvh build_boxes_binary(std::span<const Aabb> boxes, const SahOptions& sah, const BuilderOptions& opt);
 
 } // namespace masq

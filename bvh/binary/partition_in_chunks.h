@@ -18,8 +18,8 @@ namespace masq {
 // crossed: exactly the elements that go right in [first, mid) in ascending order with
 // those that go left in [mid, end) in descending order, pair by pair. Those pairs are
 // found by counts per chunk and swapped.
-template <class T, class GoesLeft>
-int partition_in_chunks(std::vector<T>& order, int first, int count, int chunk, GoesLeft goes_left) {
+template <class Array, class GoesLeft> // Array: a std::vector (any allocator)
+int partition_in_chunks(Array& order, int first, int count, int chunk, GoesLeft goes_left) {
   if (count <= 0) return first;
   const int chunks = (count + chunk - 1) / chunk;
   // body(lo, hi, c) on chunk c = [lo, hi), possibly at once.

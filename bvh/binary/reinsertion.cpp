@@ -18,7 +18,7 @@ double binary_sah_cost(const BinaryBvh& bvh, const SahOptions& sah) {
 namespace {
 
 struct Tree {
-  std::vector<BinaryNode> nodes;
+  HugePageVector<BinaryNode> nodes;
   std::vector<int> parent;
   int root = 0;
   double total = 0; // summed area of the inner nodes, kept up to date by every edit

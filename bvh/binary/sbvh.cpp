@@ -144,7 +144,7 @@ SpatialSplit best_spatial_split(const std::vector<Ref>& refs, const Aabb& box, i
 }
 
 struct SbvhBuilder {
-  const std::vector<Aabb>& boxes;
+  std::span<const Aabb> boxes;
   const PrimClipper& clip;
   const SahOptions& sah;
   const SbvhOptions& opt;
@@ -299,7 +299,7 @@ struct SbvhBuilder {
 
 } // namespace
 
-BinaryBvh build_sbvh(const std::vector<Aabb>& boxes, const PrimClipper& clip, const SahOptions& sah,
+BinaryBvh build_sbvh(std::span<const Aabb> boxes, const PrimClipper& clip, const SahOptions& sah,
                      const SbvhOptions& opt, SbvhStats* stats) {
   if (!(opt.max_refs >= 1.0)) throw Error("sbvh: reference budget " + std::to_string(opt.max_refs) + " is below 1");
   if (!(opt.alpha >= 0.0)) throw Error("sbvh: alpha " + std::to_string(opt.alpha) + " is negative");

@@ -26,7 +26,7 @@ struct SbvhStats {
 
 // boxes[i] is the AABB of item i; clip(i, axis, lo, hi) bounds its part inside a slab
 // and must be conservative. Throws masq::Error on a bad box or option.
-BinaryBvh build_sbvh(const std::vector<Aabb>& boxes, const PrimClipper& clip, const SahOptions& sah = {},
+BinaryBvh build_sbvh(std::span<const Aabb> boxes, const PrimClipper& clip, const SahOptions& sah = {},
                      const SbvhOptions& opt = {}, SbvhStats* stats = nullptr);
 
 } // namespace masq

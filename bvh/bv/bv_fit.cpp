@@ -75,7 +75,7 @@ void link(N& node, const FlatTree::Node& t) {
 
 FlatTree flatten(const BinaryBvh& bvh) {
   FlatTree t;
-  t.order = bvh.order;
+  t.order.assign(bvh.order.begin(), bvh.order.end());
   if (bvh.nodes.empty()) return t;
   // Subtree ranges (post-order over the source tree).
   std::vector<std::pair<int, int>> range(bvh.nodes.size());

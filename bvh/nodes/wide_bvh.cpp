@@ -57,7 +57,7 @@ struct Common {
   const BinaryBvh& bvh;
   int max_inner; // inner children per node (gather)
   const std::vector<std::int32_t>& ref_ids;
-  std::vector<std::int32_t>& refs;
+  HugePageVector<std::int32_t>& refs;
   WideBvhInfo info;
   double root_area = 0;
 
@@ -91,7 +91,7 @@ void set_frame(kernel::OrientedNode4& w, const NodeFrame& f) {
 // take the framer's choice; without a framer every o4 node is axis aligned.
 template <class Node, int Width>
 struct FloatCollapser : Common {
-  std::vector<Node>& nodes;
+  HugePageVector<Node>& nodes;
   const NodeFramer* framer = nullptr;
 
   template <class Boxes>
@@ -148,7 +148,7 @@ struct FloatCollapser : Common {
 // q8: a node's inner children are allocated side by side before any is filled, and its
 // leaves' references side by side, so one base index each addresses them.
 struct QuantCollapser : Common {
-  std::vector<kernel::QuantNode8>& nodes;
+  HugePageVector<kernel::QuantNode8>& nodes;
 
   // Fills node `index` (already allocated); returns its stack need.
   StackNeedOf fill(int index, const std::vector<int>& kids, int depth) {
@@ -194,8 +194,8 @@ void check_stack(WideBvhInfo& info, StackNeedOf need) {
 
 // One collapse with at most max_inner inner children per node; {info, stack need}.
 template <class Node, int Width>
-WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
-                           std::vector<std::int32_t>& refs, int max_inner, StackNeedOf& need,
+WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, HugePageVector<Node>& nodes,
+                           HugePageVector<std::int32_t>& refs, int max_inner, StackNeedOf& need,
                            const NodeFramer* framer = nullptr) {
   FloatCollapser<Node, Width> c{{bvh, max_inner, ref_ids, refs, {}}, nodes, framer};
   const BinaryNode& root = bvh.nodes[0];
@@ -209,7 +209,7 @@ WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>
 }
 
 WideBvhInfo collapse_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
-                           std::vector<kernel::QuantNode8>& nodes, std::vector<std::int32_t>& refs, int max_inner,
+                           HugePageVector<kernel::QuantNode8>& nodes, HugePageVector<std::int32_t>& refs, int max_inner,
                            StackNeedOf& need) {
   QuantCollapser c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
   const BinaryNode& root = bvh.nodes[0];
@@ -227,8 +227,8 @@ WideBvhInfo collapse_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>
 // exceeds the kernels' stack, the collapse is redone with fewer inner children per node
 // (6, then 4 like w4, 3, 2: leaf slots stay free); the node arrays are rolled back.
 template <class Node, class Collapse>
-WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, std::vector<Node>& nodes,
-                                  std::vector<std::int32_t>& refs, Collapse collapse) {
+WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, HugePageVector<Node>& nodes,
+                                  HugePageVector<std::int32_t>& refs, Collapse collapse) {
   if (bvh.nodes.empty()) return {};
   const std::size_t nodes0 = nodes.size(), refs0 = refs.size();
   StackNeedOf need;
@@ -246,8 +246,8 @@ WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, std::vector<N
 }
 
 template <class Node, int Width>
-WideBvhInfo append_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, std::vector<Node>& nodes,
-                         std::vector<std::int32_t>& refs, const NodeFramer* framer = nullptr) {
+WideBvhInfo append_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, HugePageVector<Node>& nodes,
+                         HugePageVector<std::int32_t>& refs, const NodeFramer* framer = nullptr) {
   return collapse_within_stack(bvh, Width, nodes, refs, [&](int max_inner, StackNeedOf& need) {
     return collapse_float<Node, Width>(bvh, ref_ids, nodes, refs, max_inner, need, framer);
   });
@@ -262,7 +262,7 @@ WideBvhInfo append_oriented(const BinaryBvh& bvh, const std::vector<std::int32_t
 }
 
 WideBvhInfo append_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
-                         std::vector<kernel::QuantNode8>& nodes, std::vector<std::int32_t>& refs) {
+                         HugePageVector<kernel::QuantNode8>& nodes, HugePageVector<std::int32_t>& refs) {
   return collapse_within_stack(bvh, 8, nodes, refs, [&](int max_inner, StackNeedOf& need) {
     return collapse_quant(bvh, ref_ids, nodes, refs, max_inner, need);
   });
@@ -284,7 +284,7 @@ void float_slots(const Node& n, NodeSlots& out, const NodeFrame& frame = {}) {
 } // namespace
 
 WideBvhInfo append_wide_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
-                            std::vector<kernel::WideNode>& nodes, std::vector<std::int32_t>& refs) {
+                            HugePageVector<kernel::WideNode>& nodes, HugePageVector<std::int32_t>& refs) {
   return append_float<kernel::WideNode, MASQ_WIDTH>(bvh, ref_ids, nodes, refs);
 }
 

@@ -36,7 +36,7 @@ WideBvhInfo append_bvh_nodes(const BinaryBvh& bvh, const std::vector<std::int32_
 
 // The w4 case on bare arrays.
 WideBvhInfo append_wide_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
-                            std::vector<kernel::WideNode>& nodes, std::vector<std::int32_t>& refs);
+                            HugePageVector<kernel::WideNode>& nodes, HugePageVector<std::int32_t>& refs);
 
 // One slot of a node of any format, decoded as the kernels decode it (host walks:
 // the rayquery backend's cluster members, tests). count > 0: leaf of count references

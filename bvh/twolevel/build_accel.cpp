@@ -63,7 +63,7 @@ void pack_primitives(const Scene& scene, PackedScene& ps) {
 void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids, const AccelOptions& opt,
                          BinaryBvh& bvh, std::size_t& references) {
   if (ids.empty()) return;
-  std::vector<Aabb> boxes(ids.size());
+  HugePageVector<Aabb> boxes(ids.size());
   parallel_chunks(ids.size(), 4096, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       std::size_t p = std::size_t(ids[i]);
@@ -184,9 +184,9 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   // TLAS entries: per scene instance its BLAS and masquerade instances, then per
   // geometry its cluster instances (their BLAS are shared by the scene instances); the
   // compact masquerade entries come last (entry ids: PackedScene::tlas_ref).
-  std::vector<Aabb> inst_boxes;
-  std::vector<Aabb> compact_boxes;
-  std::vector<Mat3x4f> compact_unit_to_world;
+  HugePageVector<Aabb> inst_boxes;
+  HugePageVector<Aabb> compact_boxes;
+  HugePageVector<Mat3x4f> compact_unit_to_world;
   std::map<std::pair<int, int>, std::uint32_t> owner_of; // (geometry, scene instance) -> owner
   // Room for every entry at once: growing arrays of a million masquerade entries by
   // doubling cost as much as filling them.
@@ -202,6 +202,10 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     ps.instances.reserve(entries);
   }
   const std::size_t owner_limit = std::size_t(std::clamp(opt.masq_owner_limit, 0, MASQ_MAX_OWNERS));
+  // The fits in blocks (computed on all threads), appended in primitive order; one
+  // block's buffer for them all (bvh/twolevel/masq_fits.h).
+  constexpr std::size_t kFitBlock = 4096;
+  std::vector<MasqFit> fits;
   for (std::size_t si = 0; si < scene.instances.size(); ++si) {
     const Instance& inst = scene.instances[si];
     const Geometry& g = scene.geometries[inst.geometry];
@@ -226,11 +230,11 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
       }
       if (it != owner_of.end()) owner = it->second;
     }
-    // The fits in blocks (computed on all threads), appended in primitive order.
-    constexpr std::size_t kFitBlock = 16384;
     for (std::size_t b = 0; b < masq_prims.size(); b += kFitBlock) {
       std::span<const std::int32_t> block(masq_prims.data() + b, std::min(kFitBlock, masq_prims.size() - b));
-      std::vector<MasqFit> fits = fit_masquerades(g, block, inst.object_to_world, opt.curve_obb, owner.has_value());
+      fits.resize(std::max(fits.size(), block.size()));
+      fit_masquerades(g, block, inst.object_to_world, opt.curve_obb, owner.has_value(),
+                      std::span<MasqFit>(fits).first(block.size()));
       for (std::size_t i = 0; i < block.size(); ++i) {
         std::int32_t p = block[i];
         if (std::optional<CompactMasquerade>& cm = fits[i].compact) { // else: a 64-byte Instance below

@@ -86,7 +86,7 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
 
 void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
                               const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
-                              const BuilderOptions& builder, PackedScene& ps, std::vector<Aabb>& inst_boxes) {
+                              const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes) {
   const Geometry& g = scene.geometries.at(std::size_t(geom));
   for (const Cluster& c : clusters)
     if (c.members.empty()) throw Error("cluster: an empty cluster in geometry " + std::to_string(geom));

@@ -27,6 +27,6 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
 // `leaf_price`: ClusterOptions::leaf_price.
 void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
                               const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
-                              const BuilderOptions& builder, PackedScene& ps, std::vector<Aabb>& inst_boxes);
+                              const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes);
 
 } // namespace masq

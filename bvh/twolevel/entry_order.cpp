@@ -29,7 +29,7 @@ void order_compact_entries_by_leaves(PackedScene& ps, std::size_t first_tlas_ref
     if (ps.refs[r] < 0) ps.refs[r] = ~new_of[std::size_t(~ps.refs[r])];
 
   const std::size_t base = ps.instances.size(); // compact entry e is TLAS entry base + e
-  std::vector<kernel::MasqInstance> entries(n);
+  HugePageVector<kernel::MasqInstance> entries(n);
   std::vector<Mat3x4f> unit_to_world(n);
   for (std::size_t old = 0; old < n; ++old) {
     entries[std::size_t(new_of[old])] = ps.masq_instances[old];

@@ -1,21 +1,23 @@
 #include "bvh/twolevel/masq_fits.h"
 #include "bvh/binary/parallel.h"
+#include "masq/error.h"
+#include <string>
 
 namespace masq {
 
-std::vector<MasqFit> fit_masquerades(const Geometry& g, std::span<const std::int32_t> prims,
-                                     const Affine3& object_to_world, CurveObb curve_obb, bool try_compact) {
-  std::vector<MasqFit> fits(prims.size());
+void fit_masquerades(const Geometry& g, std::span<const std::int32_t> prims, const Affine3& object_to_world,
+                     CurveObb curve_obb, bool try_compact, std::span<MasqFit> fits) {
+  if (fits.size() != prims.size()) throw Error("fit_masquerades: " + std::to_string(fits.size()) + " fits for " +
+                                               std::to_string(prims.size()) + " primitives");
   // A fit is a few microseconds (an OBB in double, a verified fp32 map): chunks of 256 keep
   // the task overhead small and still spread the bear's 144K primitives evenly.
   parallel_chunks(prims.size(), 256, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       std::size_t p = std::size_t(prims[i]);
-      if (try_compact) fits[i].compact = compact_masquerade(g, p, object_to_world, curve_obb);
+      fits[i].compact = try_compact ? compact_masquerade(g, p, object_to_world, curve_obb) : std::nullopt;
       if (!fits[i].compact) fits[i].full = masquerade_box(g, p, object_to_world, curve_obb);
     }
   });
-  return fits;
 }
 
 } // namespace masq

@@ -16,9 +16,11 @@ struct MasqFit {
   MasqueradeBox full;                       // the 64-byte Instance's fit, when compact is empty
 };
 
-// fits[i] for prims[i] of g under object_to_world: the compact entry when try_compact
-// and compact_masquerade gives one, else masquerade_box's fit.
-std::vector<MasqFit> fit_masquerades(const Geometry& g, std::span<const std::int32_t> prims,
-                                     const Affine3& object_to_world, CurveObb curve_obb, bool try_compact);
+// fits[i] for prims[i] of g under object_to_world (fits.size() == prims.size()): the
+// compact entry when try_compact and compact_masquerade gives one, else masquerade_box's
+// fit. The caller's buffer is reused block after block: a fresh one per block was as
+// much of the build as the fits' own arithmetic (zeroing and faulting 6 MiB a block).
+void fit_masquerades(const Geometry& g, std::span<const std::int32_t> prims, const Affine3& object_to_world,
+                     CurveObb curve_obb, bool try_compact, std::span<MasqFit> fits);
 
 } // namespace masq

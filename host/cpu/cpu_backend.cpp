@@ -78,7 +78,7 @@ class CpuBackend final : public Backend {
   cpu::TraceThreads threads_{thread_count()};
   PackedScene scene_;
   LeafCapsuleRows leaf_capsules_; // kd_.leaf_capsule_rows
-  std::vector<EntryCurve> entry_curves_; // kd_.entry_curves
+  HugePageVector<EntryCurve> entry_curves_; // kd_.entry_curves
   kernel::KernelData kd_{};
   bool has_scene_ = false;
   TraceTiming timing_;

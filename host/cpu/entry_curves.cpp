@@ -3,8 +3,8 @@
 
 namespace masq {
 
-std::vector<EntryCurve> entry_curves(const PackedScene& ps) {
-  std::vector<EntryCurve> out;
+HugePageVector<EntryCurve> entry_curves(const PackedScene& ps) {
+  HugePageVector<EntryCurve> out;
   if (ps.curves.empty()) return out;
   out.assign(ps.masq_instances.size(), EntryCurve{});
   for (std::size_t k = 0; k < ps.masq_instances.size(); ++k) {

@@ -18,6 +18,6 @@ struct alignas(64) EntryCurve {
 };
 static_assert(sizeof(EntryCurve) == sizeof(kernel::Curve), "entry curves are read as a Curve array");
 
-std::vector<EntryCurve> entry_curves(const PackedScene& ps);
+HugePageVector<EntryCurve> entry_curves(const PackedScene& ps); // scenes/huge_page_vector.h
 
 } // namespace masq

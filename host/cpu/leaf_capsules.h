@@ -17,7 +17,7 @@ namespace masq {
 
 struct LeafCapsuleRows {
   static constexpr int kRows = 7;
-  std::vector<float> rows; // kRows x stride
+  HugePageVector<float> rows; // kRows x stride (scenes/huge_page_vector.h)
   int stride = 0;
 };
 

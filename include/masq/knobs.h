@@ -23,6 +23,7 @@ namespace masq {
 enum class Knob {
   Data,
   CpuThreads,
+  HugePages,
   StepCheck,
   StackForm,
   Diagnose,
@@ -91,6 +92,10 @@ inline constexpr KnobRow knob_rows[] = {
     {Knob::CpuThreads, "MASQ_CPU_THREADS", KnobType::Integer, nullptr, 1, kNoKnobMax,
      "the hardware's thread count", "Threads of the cpu backend and the cpu bv tracer",
      "host/cpu/cpu_backend.cpp, host/cpu/cpu_bv_tracer.cpp"},
+    {Knob::HugePages, "MASQ_HUGE_PAGES", KnobType::Choice, "on|off", 0, 0, "on",
+     "on: the host's arrays of 2 MiB or more (BVH builds, packed scenes) are mapped on their own and advised "
+     "transparent huge pages (scenes/huge_page_vector.h); off: the C++ allocator's ordinary pages. Read once per process",
+     "scenes/huge_page_vector.cpp"},
     {Knob::StepCheck, "MASQ_STEP_CHECK", KnobType::Choice, "on|off", 0, 0, "on",
      "The traversal's step budget and full-stack faults (docs/kernels.md, \"Traversal that cannot hang\"); "
      "off compiles the check out",
