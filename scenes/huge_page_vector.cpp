@@ -43,8 +43,8 @@ void* fresh_mapping(std::size_t size) {
 
 // Mappings a finished build freed, kept for the next one: a scene's arrays have the same
 // sizes build after build, and a kept mapping is neither faulted nor zeroed again (the
-// kernel zeroes every fresh huge page: 6% of the peers suite's time went there, most of
-// it in the cpu backend's copy of each scene). A kept mapping serves a request of at
+// kernel zeroes every fresh huge page: 6.6% of the quick peers suite's samples, most of
+// them in the cpu backend's copy of each scene). A kept mapping serves a request of at
 // least half its size. At most kKeptBytes are kept: freeing one more gives back the
 // longest-kept ones first, so the kept sizes follow what the process builds now. Never
 // destroyed (arrays of static storage may be freed after it would be).
@@ -84,8 +84,12 @@ class KeptMappings {
       kept_bytes_ -= kept_.front().size;
       kept_.pop_front();
     }
-    kept_.push_back(m);
-    kept_bytes_ += m.size;
+    try {
+      kept_.push_back(m);
+      kept_bytes_ += m.size;
+    } catch (...) { // no room to remember it: give it back instead
+      munmap(m.start, m.size);
+    }
   }
 
  private:
