@@ -18,10 +18,10 @@ namespace masq {
 
 inline constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
 
-// At least bytes (>= kHugePageBytes), 2 MiB aligned: a mapping an earlier array freed
-// (up to 256 MiB of them are kept, scenes/huge_page_vector.cpp), else a fresh one of
-// whole huge pages; throws std::bad_alloc when the system refuses. unmap_huge_pages takes
-// what map_huge_pages gave.
+// bytes (>= kHugePageBytes) rounded up to whole huge pages, 2 MiB aligned: a mapping an
+// earlier array of that size freed (up to 256 MiB of them are kept,
+// scenes/huge_page_vector.cpp), else a fresh one; throws std::bad_alloc when the system
+// refuses. unmap_huge_pages takes the same bytes.
 void* map_huge_pages(std::size_t bytes);
 void unmap_huge_pages(void* p, std::size_t bytes) noexcept;
 // MASQ_HUGE_PAGES (on unless set to off), read once per process: an array is freed the
