@@ -185,10 +185,12 @@ TEST(AutoSelect, SharedClusteringsGiveEachCandidateItsOwnBuild) {
   hp.strands = 600;
   hp.points = 8;
   hp.type = PrimType::Capsule;
+  int mixes_as_ref = 0; // mixes that chose ref everywhere: auto reuses ref's structure for them
   for (const Scene& s : {bundle(400, 0.002f, 45.0), make_hair_scene(hp)}) {
     AutoCandidates c = build_auto_candidates(s, {});
     ASSERT_EQ(c.built.size(), 4u);
     for (const PackedScene& cand : c.built) {
+      if (cand.method == Method::Auto && cand.stats.masq_prims == 0 && cand.stats.clusters == 0) ++mixes_as_ref;
       AccelOptions o;
       o.cluster.max_size = cand.stats.cluster_size;
       o.cluster.leaf_price = cand.stats.cluster_leaf_price;
@@ -207,4 +209,5 @@ TEST(AutoSelect, SharedClusteringsGiveEachCandidateItsOwnBuild) {
       EXPECT_EQ(alone.tlas_leaf_order, cand.tlas_leaf_order);
     }
   }
+  EXPECT_GE(mixes_as_ref, 1); // the hair's mix: the reused structure is checked above too
 }

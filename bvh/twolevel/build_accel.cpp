@@ -87,34 +87,29 @@ struct SharedClusterings {
   std::map<std::pair<int, int>, std::vector<std::optional<std::vector<Cluster>>>> by_shape;
 };
 
+// Whether every geometry's plan keeps all its primitives in its BLAS, as Method::Ref's
+// plan does (a mix that chose ref everywhere: the bear's capsules, for one).
+bool plans_are_ref(const Scene& scene, const std::vector<GeometryPlan>& plans) {
+  for (std::size_t gi = 0; gi < plans.size(); ++gi) {
+    const GeometryPlan& p = plans[gi];
+    if (!p.masq_prims.empty() || !p.clusters.empty()) return false;
+    if (!p.blas_prims.empty() && p.blas_prims.size() != scene.geometries[gi].primitive_count()) return false;
+  }
+  return true;
+}
+
 // One method's structure; for Method::Auto the per-cluster mix of bvh/twolevel/method_plan.cpp.
 // shared (auto's candidates): clusterings to reuse, and to add this build's to.
 // price: fill stats.model_cost and model_triangles (auto's candidates, which are chosen by
 // them); a plain build skips the walk (a tenth of the bear's masquerade build).
+// same_as_ref (auto's mix): Method::Ref's structure of the same options, returned (as
+// Method::Auto) when the mix's plan turns out to be ref's, instead of building it again.
 PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt, bool price,
-                          SharedClusterings* shared = nullptr) {
+                          SharedClusterings* shared = nullptr, const PackedScene* same_as_ref = nullptr) {
   auto start = std::chrono::steady_clock::now();
-  PackedScene ps;
-  ps.method = method;
-  ps.builder = opt.builder.kind;
-  pack_primitives(scene, ps);
-  ps.features.mode = opt.mode;
-  ps.features.curve_iters = opt.curve_iters;
-  ps.features.curve_isect = opt.curve_isect;
-  ps.features.nodes = opt.nodes; // before any node is appended (cluster BLAS read it)
-  ps.features.tlas_stack.entries = 0; // the trees' needs, as they are appended
-  ps.features.blas_stack.entries = 0;
-  ps.stats.cluster_size = opt.cluster.max_size;
-  ps.stats.cluster_leaf_price = opt.cluster.leaf_price;
-  for (const Instance& inst : scene.instances) {
-    ps.features.prims[std::size_t(scene_prim_row(scene.geometries[inst.geometry].type).kernel_type)] = true;
-    Affine3 w2o = inverse(inst.object_to_world);
-    kernel::Frame f{};
-    Mat3x4f m = to_mat3x4f(w2o);
-    std::memcpy(f.world_to_object, m.data(), sizeof(f.world_to_object));
-    ps.frames.push_back(f);
-    ps.frame_object_to_world.push_back(to_mat3x4f(inst.object_to_world));
-  }
+  auto seconds_since_start = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
 
   // What goes where, per geometry (bvh/twolevel/method_plan.h).
   PlanOptions plan_opt;
@@ -139,6 +134,34 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
       if (known && !*known && method == Method::Cluster && !plans[gi].clusters.empty()) *known = plans[gi].clusters;
     }
   });
+  if (method == Method::Auto && same_as_ref && plans_are_ref(scene, plans)) {
+    PackedScene ps = *same_as_ref;
+    ps.method = Method::Auto;
+    ps.stats.build_seconds = seconds_since_start();
+    return ps;
+  }
+
+  PackedScene ps;
+  ps.method = method;
+  ps.builder = opt.builder.kind;
+  pack_primitives(scene, ps);
+  ps.features.mode = opt.mode;
+  ps.features.curve_iters = opt.curve_iters;
+  ps.features.curve_isect = opt.curve_isect;
+  ps.features.nodes = opt.nodes; // before any node is appended (cluster BLAS read it)
+  ps.features.tlas_stack.entries = 0; // the trees' needs, as they are appended
+  ps.features.blas_stack.entries = 0;
+  ps.stats.cluster_size = opt.cluster.max_size;
+  ps.stats.cluster_leaf_price = opt.cluster.leaf_price;
+  for (const Instance& inst : scene.instances) {
+    ps.features.prims[std::size_t(scene_prim_row(scene.geometries[inst.geometry].type).kernel_type)] = true;
+    Affine3 w2o = inverse(inst.object_to_world);
+    kernel::Frame f{};
+    Mat3x4f m = to_mat3x4f(w2o);
+    std::memcpy(f.world_to_object, m.data(), sizeof(f.world_to_object));
+    ps.frames.push_back(f);
+    ps.frame_object_to_world.push_back(to_mat3x4f(inst.object_to_world));
+  }
 
   // The ordinary BLAS of each geometry over the primitives its plan keeps there.
   std::vector<int> blas_root(scene.geometries.size(), -1);
@@ -303,7 +326,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     ps.stats.model_cost = sc.total;
     ps.stats.model_triangles = sc.triangles;
   }
-  ps.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ps.stats.build_seconds = seconds_since_start();
   return ps;
 }
 
@@ -341,10 +364,11 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
   check_accel_input(scene, opt);
   auto start = std::chrono::steady_clock::now();
   AutoCandidates out;
-  auto build = [&](Method m, const ClusterOptions& shape, SharedClusterings* shared) {
+  auto build = [&](Method m, const ClusterOptions& shape, SharedClusterings* shared,
+                   const PackedScene* same_as_ref = nullptr) {
     AccelOptions one = opt;
     one.cluster = shape;
-    return build_planned(scene, m, one, true, shared);
+    return build_planned(scene, m, one, true, shared, same_as_ref);
   };
   // Triangles stay in a BLAS under every method: a mesh has one candidate, ref's.
   bool thin = std::any_of(scene.geometries.begin(), scene.geometries.end(),
@@ -364,10 +388,11 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     // The candidates build in two groups at once (each build is parallel inside too, but
     // keeps about 1.3 of two threads busy: its serial stretches). A clustering is made by
     // the first shape of its size and reused by the rest, so each size's shapes stay in
-    // one group, in order: the given size's with the mix, which reuses that clustering,
-    // and the others with ref and masq. Every size's slots exist before the groups start,
-    // so the groups only look them up. Each candidate is the one a serial build makes,
-    // and the choice below reads them in the serial order.
+    // one group, in order: the given size's, then ref, then the mix, which reuses that
+    // clustering (and ref's structure, where its plan is ref's); the others with masq.
+    // Every size's slots exist before the groups start, so the groups only look them up.
+    // Each candidate is the one a serial build makes, and the choice below reads them in
+    // the serial order.
     SharedClusterings shared;
     for (const ClusterOptions& c : shapes) shared.by_shape[{c.max_size, c.classes}].resize(scene.geometries.size());
     auto given_size = [&](const ClusterOptions& c) {
@@ -377,10 +402,10 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
         [&] {
           for (std::size_t k = 0; k < shapes.size(); ++k)
             if (given_size(shapes[k])) shaped[k] = build(Method::Cluster, shapes[k], &shared);
-          mix = build(Method::Auto, opt.cluster, &shared);
+          ref = build(Method::Ref, opt.cluster, &shared);
+          mix = build(Method::Auto, opt.cluster, &shared, &ref);
         },
         [&] {
-          ref = build(Method::Ref, opt.cluster, &shared);
           masq = build(Method::Masq, opt.cluster, &shared);
           for (std::size_t k = 0; k < shapes.size(); ++k)
             if (!given_size(shapes[k])) shaped[k] = build(Method::Cluster, shapes[k], &shared);

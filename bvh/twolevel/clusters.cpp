@@ -1,4 +1,5 @@
 #include "bvh/twolevel/clusters.h"
+#include "bvh/binary/parallel.h"
 #include "bvh/bounds/obb.h"
 #include "masq/error.h"
 #include "scenes/prim_table.h"
@@ -62,67 +63,85 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
   if (!scene_prim_row(g.type).oriented)
     throw Error(std::string("cluster: a ") + prim_type_name(g.type) + " geometry has no orientation to cluster by");
   const std::vector<glm::dvec3> dirs = orientation_classes(opt.classes);
-  std::vector<std::vector<std::int32_t>> by_class(dirs.size());
+  // Each primitive's axis and class on all threads, then the classes filled in the
+  // order of prims (as one pass would fill them).
   std::vector<glm::dvec3> axis(g.primitive_count(), glm::dvec3(0.0));
-  for (std::int32_t p : prims) {
-    glm::dvec3 w = primitive_axis(g, std::size_t(p));
-    axis[std::size_t(p)] = w;
-    std::size_t best = 0;
-    double best_dot = -1.0;
-    for (std::size_t c = 0; c < dirs.size(); ++c) {
-      double d = std::abs(glm::dot(w, dirs[c])); // antipodal axes are the same orientation
-      if (d > best_dot) best_dot = d, best = c;
+  std::vector<std::uint32_t> class_of(prims.size());
+  parallel_chunks(prims.size(), 1024, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      const std::size_t p = std::size_t(prims[i]);
+      glm::dvec3 w = primitive_axis(g, p);
+      axis[p] = w;
+      std::size_t best = 0;
+      double best_dot = -1.0;
+      for (std::size_t c = 0; c < dirs.size(); ++c) {
+        double d = std::abs(glm::dot(w, dirs[c])); // antipodal axes are the same orientation
+        if (d > best_dot) best_dot = d, best = c;
+      }
+      class_of[i] = std::uint32_t(best);
     }
-    by_class[best].push_back(p);
-  }
+  });
+  std::vector<std::vector<std::int32_t>> by_class(dirs.size());
+  for (std::size_t i = 0; i < prims.size(); ++i) by_class[class_of[i]].push_back(prims[i]);
 
-  std::vector<Cluster> out;
-  for (std::size_t c = 0; c < dirs.size(); ++c) {
-    if (by_class[c].empty()) continue;
-    glm::dmat3 class_axes = frame_along(dirs[c]);
-    // Top-down k-d split of the class at the centroids' widest extent (in the class's
-    // frame), at a multiple of max_size nearest the middle: every cluster but one per
-    // class is full, which keeps the per-cluster instance cost (64 B + a TLAS entry)
-    // spread over max_size members.
-    std::vector<glm::dvec3> centroid(g.primitive_count());
-    for (std::int32_t p : by_class[c]) centroid[std::size_t(p)] = box_in_frame(ball_hull(g, std::size_t(p)), class_axes).center();
-    std::vector<std::vector<std::int32_t>> parts{by_class[c]};
-    while (!parts.empty()) {
-      std::vector<std::int32_t> part = std::move(parts.back());
-      parts.pop_back();
-      if (int(part.size()) > opt.max_size) {
-        Aabb cb;
-        for (std::int32_t p : part) cb.grow(centroid[std::size_t(p)]);
-        glm::dvec3 ext = cb.hi - cb.lo;
-        int split_axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-        std::size_t k = std::size_t(opt.max_size);
-        std::size_t mid = std::max<std::size_t>(1, (part.size() / 2 + k / 2) / k) * k;
-        std::nth_element(part.begin(), part.begin() + std::ptrdiff_t(mid), part.end(), [&](std::int32_t a, std::int32_t b) {
-          return centroid[std::size_t(a)][split_axis] < centroid[std::size_t(b)][split_axis];
-        });
-        parts.emplace_back(part.begin(), part.begin() + std::ptrdiff_t(mid));
-        parts.emplace_back(part.begin() + std::ptrdiff_t(mid), part.end());
-        continue;
+  // The classes are split on all threads, each into its own list, joined in class order.
+  // A primitive's centroid in its class's frame: each primitive is in one class, so one
+  // array serves every class.
+  std::vector<glm::dvec3> centroid(g.primitive_count());
+  std::vector<std::vector<Cluster>> of_class(dirs.size());
+  parallel_chunks(dirs.size(), 1, [&](std::size_t c0, std::size_t c1) {
+    for (std::size_t c = c0; c < c1; ++c) {
+      if (by_class[c].empty()) continue;
+      std::vector<Cluster>& out = of_class[c];
+      glm::dmat3 class_axes = frame_along(dirs[c]);
+      // Top-down k-d split of the class at the centroids' widest extent (in the class's
+      // frame), at a multiple of max_size nearest the middle: every cluster but one per
+      // class is full, which keeps the per-cluster instance cost (64 B + a TLAS entry)
+      // spread over max_size members.
+      for (std::int32_t p : by_class[c])
+        centroid[std::size_t(p)] = box_in_frame(ball_hull(g, std::size_t(p)), class_axes).center();
+      std::vector<std::vector<std::int32_t>> parts{by_class[c]};
+      while (!parts.empty()) {
+        std::vector<std::int32_t> part = std::move(parts.back());
+        parts.pop_back();
+        if (int(part.size()) > opt.max_size) {
+          Aabb cb;
+          for (std::int32_t p : part) cb.grow(centroid[std::size_t(p)]);
+          glm::dvec3 ext = cb.hi - cb.lo;
+          int split_axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+          std::size_t k = std::size_t(opt.max_size);
+          std::size_t mid = std::max<std::size_t>(1, (part.size() / 2 + k / 2) / k) * k;
+          std::nth_element(part.begin(), part.begin() + std::ptrdiff_t(mid), part.end(),
+                           [&](std::int32_t a, std::int32_t b) {
+                             return centroid[std::size_t(a)][split_axis] < centroid[std::size_t(b)][split_axis];
+                           });
+          parts.emplace_back(part.begin(), part.begin() + std::ptrdiff_t(mid));
+          parts.emplace_back(part.begin() + std::ptrdiff_t(mid), part.end());
+          continue;
+        }
+        Cluster cl;
+        cl.members = std::move(part);
+        // Dominant axis: the members' axes summed with their signs aligned to the class.
+        glm::dvec3 sum(0.0);
+        for (std::int32_t p : cl.members) {
+          const glm::dvec3& w = axis[std::size_t(p)];
+          sum += glm::dot(w, dirs[c]) < 0.0 ? -w : w;
+        }
+        double l = glm::length(sum);
+        cl.axes = frame_along(l > 1e-12 ? sum / l : dirs[c]);
+        Aabb about_origin;
+        for (std::int32_t p : cl.members) about_origin.grow(box_in_frame(ball_hull(g, std::size_t(p)), cl.axes));
+        glm::dvec3 mid_pt = about_origin.center();
+        cl.centre = cl.axes * mid_pt;
+        cl.local_box.lo = about_origin.lo - mid_pt;
+        cl.local_box.hi = about_origin.hi - mid_pt;
+        out.push_back(std::move(cl));
       }
-      Cluster cl;
-      cl.members = std::move(part);
-      // Dominant axis: the members' axes summed with their signs aligned to the class.
-      glm::dvec3 sum(0.0);
-      for (std::int32_t p : cl.members) {
-        const glm::dvec3& w = axis[std::size_t(p)];
-        sum += glm::dot(w, dirs[c]) < 0.0 ? -w : w;
-      }
-      double l = glm::length(sum);
-      cl.axes = frame_along(l > 1e-12 ? sum / l : dirs[c]);
-      Aabb about_origin;
-      for (std::int32_t p : cl.members) about_origin.grow(box_in_frame(ball_hull(g, std::size_t(p)), cl.axes));
-      glm::dvec3 mid_pt = about_origin.center();
-      cl.centre = cl.axes * mid_pt;
-      cl.local_box.lo = about_origin.lo - mid_pt;
-      cl.local_box.hi = about_origin.hi - mid_pt;
-      out.push_back(std::move(cl));
     }
-  }
+  });
+  std::vector<Cluster> out;
+  for (std::vector<Cluster>& part : of_class)
+    for (Cluster& cl : part) out.push_back(std::move(cl));
   return out;
 }
 

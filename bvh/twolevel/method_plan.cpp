@@ -1,4 +1,5 @@
 #include "bvh/twolevel/method_plan.h"
+#include "bvh/binary/parallel.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "masq/error.h"
 #include "scenes/prim_table.h"
@@ -18,15 +19,27 @@ bool has_surface(const Geometry& g, std::size_t p) { return hull_max_radius(ball
 //   cluster:     TLAS leaf test and transform for the cluster's box, then per member a
 //                node-share test and the intersector on its local (oriented) box:
 //                (node + transform) A_cluster + sum (node + isect) A_local
+// One primitive's two prices, from one look at its hull.
+struct PrimPrices {
+  double ref = 0, masq = 0;
+  bool surface = false; // a masquerade has something to box (else masq = ref)
+};
+
 struct Model {
   const Geometry& g;
   const PlanOptions& opt;
-  double aabb(std::int32_t p) const { return hull_box(ball_hull(g, std::size_t(p))).area(); }
-  double ref(std::int32_t p) const { return (opt.prices.node + opt.prices.isect) * aabb(p); }
-  double masq(std::int32_t p) const {
-    if (!has_surface(g, std::size_t(p))) return ref(p);
-    double obb = primitive_obb(g, std::size_t(p), opt.curve_obb).area();
-    return (opt.prices.node + opt.prices.transform) * aabb(p) + opt.prices.isect * obb;
+  PrimPrices prices(std::int32_t p) const {
+    const BallHull h = ball_hull(g, std::size_t(p));
+    const double aabb = hull_box(h).area();
+    PrimPrices out;
+    out.ref = (opt.prices.node + opt.prices.isect) * aabb;
+    out.surface = hull_max_radius(h) > 0.0;
+    out.masq = out.ref;
+    if (out.surface) {
+      double obb = primitive_obb(g, std::size_t(p), opt.curve_obb).area();
+      out.masq = (opt.prices.node + opt.prices.transform) * aabb + opt.prices.isect * obb;
+    }
+    return out;
   }
   double cluster(const Cluster& c) const {
     // What the TLAS sees: the members' AABBs together.
@@ -70,7 +83,8 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
   Model model{g, opt};
   if (!clusterable(g.type)) { // spheres: no orientation
     for (std::int32_t p : all_prims(g)) {
-      if (method == Method::Auto && model.masq(p) < model.ref(p))
+      const PrimPrices pp = model.prices(p);
+      if (method == Method::Auto && pp.masq < pp.ref)
         plan.masq_prims.push_back(p);
       else
         plan.blas_prims.push_back(p);
@@ -82,19 +96,37 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
     plan.clusters = std::move(clusters);
     return plan;
   }
-  for (Cluster& c : clusters) {
-    double alone = 0;
-    for (std::int32_t p : c.members) alone += std::min(model.ref(p), model.masq(p));
-    if (c.members.size() > 1 && model.cluster(c) < alone) {
-      plan.clusters.push_back(std::move(c));
+  // Each cluster's verdict on all threads (each member's two prices found once), then
+  // the plan assembled in cluster order.
+  enum Verdict : char { kBlas, kMasq };
+  std::vector<char> whole(clusters.size(), 0);       // the cluster kept as one instance
+  std::vector<std::vector<char>> member(clusters.size()); // else per member: kBlas or kMasq
+  parallel_chunks(clusters.size(), 16, [&](std::size_t c0, std::size_t c1) {
+    std::vector<PrimPrices> pp;
+    for (std::size_t ci = c0; ci < c1; ++ci) {
+      const Cluster& c = clusters[ci];
+      pp.resize(c.members.size());
+      double alone = 0;
+      for (std::size_t j = 0; j < c.members.size(); ++j) {
+        pp[j] = model.prices(c.members[j]);
+        alone += std::min(pp[j].ref, pp[j].masq);
+      }
+      if (c.members.size() > 1 && model.cluster(c) < alone) {
+        whole[ci] = 1;
+        continue;
+      }
+      member[ci].resize(c.members.size());
+      for (std::size_t j = 0; j < c.members.size(); ++j)
+        member[ci][j] = pp[j].masq < pp[j].ref && pp[j].surface ? kMasq : kBlas;
+    }
+  });
+  for (std::size_t ci = 0; ci < clusters.size(); ++ci) {
+    if (whole[ci]) {
+      plan.clusters.push_back(std::move(clusters[ci]));
       continue;
     }
-    for (std::int32_t p : c.members) {
-      if (model.masq(p) < model.ref(p) && has_surface(g, std::size_t(p)))
-        plan.masq_prims.push_back(p);
-      else
-        plan.blas_prims.push_back(p);
-    }
+    for (std::size_t j = 0; j < clusters[ci].members.size(); ++j)
+      (member[ci][j] == kMasq ? plan.masq_prims : plan.blas_prims).push_back(clusters[ci].members[j]);
   }
   std::sort(plan.blas_prims.begin(), plan.blas_prims.end());
   return plan;
@@ -107,9 +139,10 @@ PlanCosts plan_costs(const Geometry& g, const PlanOptions& opt) {
   for (const Cluster& c : make_clusters(g, all_prims(g), opt.cluster)) {
     double alone = 0;
     for (std::int32_t p : c.members) {
-      pc.ref += model.ref(p);
-      pc.masq += model.masq(p);
-      alone += std::min(model.ref(p), model.masq(p));
+      const PrimPrices pp = model.prices(p);
+      pc.ref += pp.ref;
+      pc.masq += pp.masq;
+      alone += std::min(pp.ref, pp.masq);
     }
     double cl = model.cluster(c);
     pc.cluster += cl;
