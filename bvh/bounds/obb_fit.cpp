@@ -79,15 +79,49 @@ ObbFrame obb_in_frame(std::span<const BallHull> hulls, const glm::dmat3& axes) {
   return f;
 }
 
+namespace {
+
+// hull_extent along every one of `axes` in one pass over the balls (each axis's
+// minimum and maximum taken in the same order and with the same operations as
+// hull_extent's own pass): a set of hulls larger than the cache is read once, not once
+// an axis.
+template <std::size_t N>
+void hull_extents(std::span<const BallHull> hulls, const std::array<glm::dvec3, N>& axes, std::size_t n,
+                  std::array<Interval, N>& out) {
+  std::array<double, N> len{};
+  for (std::size_t a = 0; a < n; ++a) len[a] = glm::length(axes[a]), out[a] = Interval{};
+  for (const BallHull& h : hulls)
+    for (int i = 0; i < h.count; ++i)
+      for (std::size_t a = 0; a < n; ++a) {
+        double s = glm::dot(axes[a], h.centre[i]);
+        out[a].lo = std::min(out[a].lo, s - h.radius[i] * len[a]);
+        out[a].hi = std::max(out[a].hi, s + h.radius[i] * len[a]);
+      }
+}
+
+} // namespace
+
 ObbFrame fit_obb(std::span<const BallHull> hulls) {
   std::vector<glm::dmat3> candidates = {glm::dmat3(1.0)};
-  // Principal axes of the ball centres.
+  // One pass: the mean of the ball centres, and (DiTO) the extremal centres along 7
+  // directions.
   glm::dvec3 mean{0.0};
   std::size_t n = 0;
+  std::array<double, kObbDirs.size()> lo, hi;
+  std::array<glm::dvec3, kObbDirs.size()> plo, phi;
+  lo.fill(INFINITY), hi.fill(-INFINITY), plo.fill(glm::dvec3{0.0}), phi.fill(glm::dvec3{0.0});
   for (const BallHull& h : hulls)
-    for (int i = 0; i < h.count; ++i) mean += h.centre[i], ++n;
+    for (int i = 0; i < h.count; ++i) {
+      mean += h.centre[i], ++n;
+      for (std::size_t d = 0; d < kObbDirs.size(); ++d) {
+        double s = glm::dot(kObbDirs[d], h.centre[i]);
+        if (s < lo[d]) lo[d] = s, plo[d] = h.centre[i];
+        if (s > hi[d]) hi[d] = s, phi[d] = h.centre[i];
+      }
+    }
   if (n == 0) return ObbFrame{};
   mean /= double(n);
+  // Principal axes of the ball centres.
   glm::dmat3 cov(0.0);
   for (const BallHull& h : hulls)
     for (int i = 0; i < h.count; ++i) {
@@ -95,20 +129,12 @@ ObbFrame fit_obb(std::span<const BallHull> hulls) {
       cov += glm::outerProduct(d, d);
     }
   candidates.push_back(symmetric_eigenvectors(cov));
-  // DiTO: extremal centres along 7 directions; the farthest pair and the point farthest
-  // from its line span a triangle whose edges (with its normal) give three frames.
+  // DiTO: the farthest pair of extremal centres and the point farthest from its line
+  // span a triangle whose edges (with its normal) give three frames.
   std::vector<glm::dvec3> ext;
-  for (const glm::dvec3& d : kObbDirs) {
-    double lo = INFINITY, hi = -INFINITY;
-    glm::dvec3 plo{0.0}, phi{0.0};
-    for (const BallHull& h : hulls)
-      for (int i = 0; i < h.count; ++i) {
-        double s = glm::dot(d, h.centre[i]);
-        if (s < lo) lo = s, plo = h.centre[i];
-        if (s > hi) hi = s, phi = h.centre[i];
-      }
-    ext.push_back(plo);
-    ext.push_back(phi);
+  for (std::size_t d = 0; d < kObbDirs.size(); ++d) {
+    ext.push_back(plo[d]);
+    ext.push_back(phi[d]);
   }
   std::size_t a = 0, b = 0;
   double best = -1;
@@ -132,10 +158,29 @@ ObbFrame fit_obb(std::span<const BallHull> hulls) {
     for (glm::dvec3 e : {e0, ext[c] - ext[b], ext[a] - ext[c]})
       if (frame_from(e, glm::length(nrm) > 0 ? glm::cross(nrm, e) : glm::dvec3(0.0), f)) candidates.push_back(f);
   }
+  // Every candidate's box (obb_in_frame's), their 3 axes each in one pass; the least
+  // area wins, the earlier candidate on a tie.
+  constexpr std::size_t kMaxAxes = 3 * 5; // identity, PCA and up to three DiTO frames
+  std::array<glm::dvec3, kMaxAxes> axes{};
+  std::array<Interval, kMaxAxes> extent{};
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    for (int j = 0; j < 3; ++j) axes[3 * k + std::size_t(j)] = candidates[k][j];
+  hull_extents(hulls, axes, 3 * candidates.size(), extent);
   ObbFrame out;
   double area = INFINITY;
-  for (const glm::dmat3& axes : candidates) {
-    ObbFrame f = obb_in_frame(hulls, axes);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    ObbFrame f;
+    f.axes = candidates[k];
+    glm::dvec3 mid{0.0};
+    bool empty = false;
+    for (int j = 0; j < 3 && !empty; ++j) {
+      const Interval& iv = extent[3 * k + std::size_t(j)];
+      empty = !(iv.lo <= iv.hi);
+      mid[j] = 0.5 * (iv.lo + iv.hi);
+      f.half[j] = 0.5 * (iv.hi - iv.lo);
+    }
+    if (empty) f = ObbFrame{};
+    else f.centre = f.axes * mid;
     if (f.area() < area) area = f.area(), out = f;
   }
   return out;

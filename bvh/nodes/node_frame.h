@@ -32,6 +32,10 @@ NodeFrame quantised_frame(const glm::dmat3& axes);
 // widened by the double evaluation's own rounding bound (then rounded outward to fp32 by
 // whoever stores it, so the stored box contains the exact one).
 Aabb frame_box(std::span<const BallHull> hulls, const NodeFrame& f);
+// frame_box in each of up to kMaxFrameBoxes frames (out[i]: frames[i]'s), the same bits,
+// from one pass over the hulls; throws masq::Error for more frames or a size mismatch.
+inline constexpr std::size_t kMaxFrameBoxes = 3; // a node's two candidates and its parent's
+void frame_boxes(std::span<const BallHull> hulls, std::span<const NodeFrame> frames, std::span<Aabb> out);
 
 // The hull of reference `ref` (a primitive id for a BLAS) in the space its tree's
 // boxes are in.
