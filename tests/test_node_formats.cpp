@@ -445,10 +445,16 @@ TEST(NodeFormats, EightWideNodesHoldUpToEightChildren) {
 // The framer offers each o4 node its parent's frame (NodeFramer::choose, kFrameReuse),
 // so that the cpu walk reuses the ray it already rotated (O4RayCache): over the default
 // bundle's nearly parallel strands most rotated nodes under a rotated parent keep its
-// nine bytes (167 of 169; 91 when each takes its own best candidate).
-TEST(NodeFormats, O4NodesOverParallelStrandsKeepTheirParentsFrame) {
+// nine bytes (167 of 169; 91 when each takes its own best candidate). The bundle of
+// 8,000 strands also has nodes over enough references for the framer to plan sibling
+// subtrees at once (bvh/nodes/wide_bvh.cpp, plan_frames): those must hand each child
+// its parent's frame too.
+class O4ParentFrames : public ::testing::TestWithParam<int> {};
+TEST_P(O4ParentFrames, NodesOverParallelStrandsKeepTheirParentsFrame) {
+  BundleParams bp;
+  bp.count = GetParam();
   Scene s;
-  s.geometries.push_back(make_bundle(BundleParams{}));
+  s.geometries.push_back(make_bundle(bp));
   s.instances.push_back({0, {}});
   AccelOptions opt;
   opt.nodes = NodeFormat::O4;
@@ -468,6 +474,7 @@ TEST(NodeFormats, O4NodesOverParallelStrandsKeepTheirParentsFrame) {
   EXPECT_GT(pairs, 50);
   EXPECT_GT(kept * 4, pairs * 3) << kept << " of " << pairs << " rotated children keep the parent's frame";
 }
+INSTANTIATE_TEST_SUITE_P(NodeFormats, O4ParentFrames, ::testing::Values(1000, 8000));
 
 TEST(NodeFormats, NamesParseAndBadOnesAreRejected) {
   for (NodeFormat f : node_format_table.values()) EXPECT_EQ(parse_node_format(node_format_name(f)), f);

@@ -38,6 +38,7 @@ std::vector<std::pair<std::string, std::string>> arrays_of(const PackedScene& ps
       {"nodes", bytes_of(ps.nodes)},
       {"nodes8", bytes_of(ps.nodes8)},
       {"qnodes", bytes_of(ps.qnodes)},
+      {"onodes", bytes_of(ps.onodes)},
       {"refs", bytes_of(ps.refs)},
       {"instances", bytes_of(ps.instances)},
       {"masq_instances", bytes_of(ps.masq_instances)},
@@ -121,6 +122,16 @@ TEST(ParallelBuild, HairEveryMethodSameBytes) {
   for (Method m : kAllMethods) expect_same_at_every_thread_count(s, m, {});
 }
 
+// o4: the frames of sibling subtrees are chosen at once (bvh/nodes/wide_bvh.cpp,
+// plan_frames), here above its threshold of references per node.
+TEST(ParallelBuild, OrientedNodesSameBytes) {
+  Scene s = capsule_hair();
+  AccelOptions o4;
+  o4.nodes = NodeFormat::O4;
+  PackedScene ps = expect_same_at_every_thread_count(s, Method::Ref, o4);
+  EXPECT_GT(ps.stats.oriented_nodes, 0u); // rotated nodes were chosen, not only axis-aligned ones
+}
+
 TEST(ParallelBuild, MeshSameBytes) {
   Scene s;
   s.geometries.push_back(make_random_mesh(40000, 1.0, 3));
@@ -148,7 +159,7 @@ TEST(ParallelBuild, MixedSceneEveryMethodAndBuilderSameBytes) {
   AccelOptions few_owners;
   few_owners.masq_owner_limit = 3;
   expect_same_at_every_thread_count(s, Method::Masq, few_owners);
-  for (NodeFormat f : {NodeFormat::W8, NodeFormat::Q8}) {
+  for (NodeFormat f : {NodeFormat::W8, NodeFormat::Q8, NodeFormat::O4}) {
     AccelOptions nodes;
     nodes.nodes = f;
     expect_same_at_every_thread_count(s, Method::Auto, nodes);

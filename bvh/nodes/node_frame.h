@@ -81,6 +81,10 @@ public:
   // above (null at the root), is taken instead when it passes the same gain test and
   // costs at most kFrameReuse times that choice.
   Choice choose(const std::vector<int>& kids, const NodeFrame* parent = nullptr) const;
+  // The references under binary node `node`.
+  std::size_t references(int node) const {
+    return std::size_t(range_[std::size_t(node)].second - range_[std::size_t(node)].first);
+  }
 
 private:
   std::span<const BallHull> subtree(int node) const;

@@ -1,9 +1,11 @@
 #include "bvh/nodes/wide_bvh.h"
+#include "bvh/binary/parallel.h"
 #include "bvh/nodes/node_frame.h"
 #include "bvh/nodes/quant_node.h"
 #include "kernels/variants.h"
 #include "masq/error.h"
 #include <algorithm>
+#include <memory>
 #include <optional>
 #include <type_traits>
 
@@ -75,6 +77,46 @@ struct Common {
   }
 };
 
+// o4: a wide node's children and frame, chosen before any node is emitted. A node's
+// frame depends only on its children and its parent's frame, so sibling subtrees are
+// planned at once; the emission that follows is the serial depth-first one, and each
+// frame is the one a serial collapse chooses.
+struct FramePlan {
+  std::vector<int> kids;
+  NodeFramer::Choice choice;
+  std::vector<std::unique_ptr<FramePlan>> child; // per slot: an inner child's plan (else null)
+};
+
+// A node over fewer references than this plans its subtrees on one thread: a task per
+// node of a few dozen hulls cost more than its frame choice.
+constexpr std::size_t kParallelFramePlan = 2048;
+
+std::unique_ptr<FramePlan> plan_frames(const NodeFramer& framer, const BinaryBvh& bvh, std::vector<int> kids,
+                                       const NodeFrame* parent, int width, int max_inner) {
+  auto p = std::make_unique<FramePlan>();
+  p->kids = std::move(kids);
+  p->choice = framer.choose(p->kids, parent);
+  p->child.resize(p->kids.size());
+  std::vector<int> inner;
+  std::size_t references = 0;
+  for (int s = 0; s < int(p->kids.size()); ++s) {
+    references += framer.references(p->kids[std::size_t(s)]);
+    if (!bvh.nodes[std::size_t(p->kids[std::size_t(s)])].is_leaf()) inner.push_back(s);
+  }
+  auto plan_slot = [&](int s) {
+    p->child[std::size_t(s)] = plan_frames(framer, bvh, gather(bvh, p->kids[std::size_t(s)], width, max_inner),
+                                           &p->choice.frame, width, max_inner);
+  };
+  if (references >= kParallelFramePlan && inner.size() > 1) {
+    parallel_chunks(inner.size(), 1, [&](std::size_t a, std::size_t b) {
+      for (std::size_t i = a; i < b; ++i) plan_slot(inner[i]);
+    });
+  } else {
+    for (int s : inner) plan_slot(s);
+  }
+  return p;
+}
+
 // The float boxes of a node: the node itself (w4, w8) or, for o4, its WideNode part.
 kernel::WideNode& boxes_of(kernel::WideNode& n) { return n; }
 kernel::WideNode8& boxes_of(kernel::WideNode8& n) { return n; }
@@ -92,7 +134,6 @@ void set_frame(kernel::OrientedNode4& w, const NodeFrame& f) {
 template <class Node, int Width>
 struct FloatCollapser : Common {
   HugePageVector<Node>& nodes;
-  const NodeFramer* framer = nullptr;
 
   template <class Boxes>
   static void set_box(Boxes& w, int slot, const Aabb& b) {
@@ -105,17 +146,17 @@ struct FloatCollapser : Common {
   }
 
   // Emits the wide node for a list of binary children; returns {index, stack need}.
-  // parent: the frame of the node above (o4; null at the root).
+  // plan: the node's frame plan (o4 with a framer; else null, and every o4 node is
+  // axis aligned).
   std::pair<int, StackNeedOf> emit(const std::vector<int>& kids, const Aabb& box, int depth,
-                                   const NodeFrame* parent = nullptr) {
+                                   const FramePlan* plan = nullptr) {
     int index = int(nodes.size());
     nodes.push_back({});
     count_node(box, depth);
     Node node{};
     auto& w = boxes_of(node);
-    std::optional<NodeFramer::Choice> framed;
+    const NodeFramer::Choice* framed = plan ? &plan->choice : nullptr;
     if constexpr (std::is_same_v<Node, kernel::OrientedNode4>) {
-      if (framer) framed = framer->choose(kids, parent);
       if (framed) set_frame(node, framed->frame);
       if (framed && framed->frame.oriented) {
         ++info.oriented;
@@ -132,8 +173,9 @@ struct FloatCollapser : Common {
         w.child[s] = emit_leaf_refs(c);
         w.count[s] = c.count;
       } else {
-        auto [child, need] = emit(gather(bvh, kids[s], Width, max_inner), c.box, depth + 1,
-                                  framed ? &framed->frame : nullptr);
+        const FramePlan* sub = plan ? plan->child[std::size_t(s)].get() : nullptr;
+        auto [child, need] =
+            sub ? emit(sub->kids, c.box, depth + 1, sub) : emit(gather(bvh, kids[s], Width, max_inner), c.box, depth + 1);
         w.child[s] = child;
         w.count[s] = 0;
         ++inner;
@@ -197,12 +239,13 @@ template <class Node, int Width>
 WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, HugePageVector<Node>& nodes,
                            HugePageVector<std::int32_t>& refs, int max_inner, StackNeedOf& need,
                            const NodeFramer* framer = nullptr) {
-  FloatCollapser<Node, Width> c{{bvh, max_inner, ref_ids, refs, {}}, nodes, framer};
+  FloatCollapser<Node, Width> c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
   const BinaryNode& root = bvh.nodes[0];
   c.root_area = std::max(root.box.area(), 1e-300);
   // A root that is itself a leaf becomes a wide node with one leaf slot.
   std::vector<int> kids = root.is_leaf() ? std::vector<int>{0} : gather(bvh, 0, Width, max_inner);
-  auto [index, n] = c.emit(kids, root.box, 1);
+  std::unique_ptr<FramePlan> plan = framer ? plan_frames(*framer, bvh, kids, nullptr, Width, max_inner) : nullptr;
+  auto [index, n] = c.emit(kids, root.box, 1, plan.get());
   c.info.root = index;
   need = n;
   return c.info;
