@@ -14,7 +14,9 @@
 #include "tests/test_env.h"
 #include "tests/random_rays.h"
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 using namespace masq;
@@ -470,3 +472,39 @@ TEST_P(EveryBuilder, SameHitsAsTheDefaultBuilderOnEveryBackend) {
 
 INSTANTIATE_TEST_SUITE_P(Types, EveryBuilder, ::testing::ValuesIn(kAllTypes),
                          [](const auto& param_info) { return std::string(prim_type_key(param_info.param)); });
+
+// build_binned_sah_costs: each tree is, byte for byte, the one build_binned_sah builds with
+// that traversal cost alone (auto's cluster shapes of one size take their BLAS from it).
+TEST(BinnedSahCosts, EachTreeIsItsOwnBuild) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), w(0.0, 0.05);
+  for (int n : {1, 2, 5, 37, 300, 5000}) {
+    for (int coarse : {0, 1}) { // coarse: coordinates on a grid of 1/8, many equal and coincident
+      std::vector<Aabb> boxes(static_cast<std::size_t>(n));
+      for (Aabb& b : boxes) {
+        glm::dvec3 c(u(rng), u(rng), u(rng)), e(w(rng), w(rng), w(rng));
+        if (coarse) c = glm::round(c * 8.0) / 8.0, e = glm::dvec3(0.0625);
+        b.lo = c - e;
+        b.hi = c + e;
+      }
+      for (int block : {1, 4}) {
+        SahOptions opt;
+        opt.leaf_block = block;
+        const std::vector<double> costs = {4.0, 1.0, 2.5};
+        std::vector<BinaryBvh> trees = build_binned_sah_costs(boxes, opt, costs);
+        ASSERT_EQ(trees.size(), costs.size());
+        for (std::size_t t = 0; t < costs.size(); ++t) {
+          SCOPED_TRACE("n " + std::to_string(n) + (coarse ? " coarse" : "") + " block " + std::to_string(block) +
+                       " cost " + std::to_string(costs[t]));
+          SahOptions one = opt;
+          one.traversal_cost = costs[t];
+          BinaryBvh alone = build_binned_sah(boxes, one);
+          ASSERT_EQ(trees[t].nodes.size(), alone.nodes.size());
+          EXPECT_EQ(std::memcmp(trees[t].nodes.data(), alone.nodes.data(), alone.nodes.size() * sizeof(BinaryNode)), 0);
+          EXPECT_TRUE(std::equal(alone.order.begin(), alone.order.end(), trees[t].order.begin(), trees[t].order.end()));
+        }
+        EXPECT_LE(trees[0].nodes.size(), trees[1].nodes.size()); // a dearer step stops splitting sooner
+      }
+    }
+  }
+}

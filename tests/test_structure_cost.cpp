@@ -211,3 +211,30 @@ TEST(AutoSelect, SharedClusteringsGiveEachCandidateItsOwnBuild) {
   }
   EXPECT_GE(mixes_as_ref, 1); // the hair's mix: the reused structure is checked above too
 }
+
+// The cluster shapes of one size take their BLAS from one build for every leaf price
+// (bvh/twolevel/cluster_blas.h, build_cluster_blases): each shape's model cost, kept or
+// not, must be the one its build alone prices, to the bit.
+TEST(AutoSelect, EveryClusterShapeIsItsOwnBuild) {
+  HairParams hp;
+  hp.strands = 600;
+  hp.points = 8;
+  hp.type = PrimType::Capsule;
+  for (const Scene& s : {bundle(400, 0.002f, 45.0), make_hair_scene(hp)})
+    for (Builder b : all_builders()) {
+      if (b != Builder::Sah && !builder_reinserts(b)) continue; // the plain trees, and the refined ones
+      AccelOptions given;
+      given.builder.kind = b;
+      AutoCandidates c = build_auto_candidates(s, given);
+      const std::vector<ClusterOptions> shapes = auto_cluster_shapes(given.cluster);
+      ASSERT_EQ(c.cluster_shape_costs.size(), shapes.size());
+      for (std::size_t k = 0; k < shapes.size(); ++k) {
+        AccelOptions o = given;
+        o.cluster = shapes[k];
+        const double alone = priced(build_accel(s, Method::Cluster, o), o);
+        SCOPED_TRACE(s.name + " " + builder_name(b) + " shape " + std::to_string(shapes[k].max_size) + "/" +
+                     std::to_string(shapes[k].leaf_price));
+        EXPECT_EQ(std::memcmp(&alone, &c.cluster_shape_costs[k], sizeof(double)), 0);
+      }
+    }
+}

@@ -246,6 +246,58 @@ Split find_split(const Input& in, Bins& bins, const Box4& cbox) {
   return best;
 }
 
+// A node's best bin plane and what decides between splitting there and a leaf.
+struct NodeChoice {
+  Aabb box;
+  int count = 0;
+  Split s;            // s.axis < 0: no bin plane (one primitive, or coincident centroids)
+  double area = 0;    // the node box's
+  double leaf_cost = 0;
+};
+
+NodeChoice choose_split(const Input& in, HugePageVector<Ref>& order, int first, int count, Bins& bins) {
+  NodeChoice c;
+  c.count = count;
+  Box4 box, cbox;
+  bounds_of(order, first, count, box, cbox);
+  c.box = box.aabb();
+  if (count <= 1) return c;
+  bin_range(in, order, first, count, cbox, bins);
+  c.s = find_split(in, bins, cbox);
+  c.area = c.box.area();
+  c.leaf_cost = in.opt.intersection_cost * blocks(count, in);
+  return c;
+}
+
+// Whether the node splits under traversal cost C_t. SAH in units of this node's area:
+// leaf = C_i * b(n), split = C_t + C_i * (A_l b(n_l) + A_r b(n_r)) / A, b(n) the leaf's
+// blocks (n itself with the default block of 1). A bin plane is taken when it is cheaper
+// or the node is over max_leaf_size; without one, such a node splits by count.
+bool splits(const Input& in, const NodeChoice& c, double traversal_cost) {
+  if (c.count <= 1) return false;
+  const SahOptions& opt = in.opt;
+  if (c.count > opt.max_leaf_size) return true;
+  if (c.s.axis < 0) return false;
+  double split_cost = c.area > 0.0 ? traversal_cost + opt.intersection_cost * c.s.cost / c.area : c.leaf_cost;
+  return split_cost < c.leaf_cost;
+}
+
+// Splits the node's range at its bin plane (or, without one, by count); returns the
+// first index that goes right.
+int partition_node(HugePageVector<Ref>& order, int first, const NodeChoice& c) {
+  const int count = c.count;
+  if (c.s.axis < 0) return first + count / 2; // coincident centroids: no plane separates them
+  const int axis = c.s.axis, bin = c.s.bin;
+  auto goes_left = [&](const Ref& p) { return p.bin(axis) <= bin; };
+  // std::partition's own (unstable) order decides the leaf order: a long range gets the
+  // same order from partition_in_chunks.
+  if (count < 2 * kChunk) {
+    auto begin = order.begin() + first;
+    return int(std::partition(begin, begin + count, goes_left) - order.begin());
+  }
+  return partition_in_chunks(order, first, count, kChunk, goes_left);
+}
+
 // One node's decision: its box, and where its range splits (mid < 0: a leaf).
 struct NodeSplit {
   Aabb box;
@@ -253,33 +305,10 @@ struct NodeSplit {
 };
 
 NodeSplit split_node(const Input& in, HugePageVector<Ref>& order, int first, int count, Bins& bins) {
-  const SahOptions& opt = in.opt;
+  NodeChoice c = choose_split(in, order, first, count, bins);
   NodeSplit out;
-  Box4 box, cbox;
-  bounds_of(order, first, count, box, cbox);
-  out.box = box.aabb();
-  if (count <= 1) return out;
-  bin_range(in, order, first, count, cbox, bins);
-  Split s = find_split(in, bins, cbox);
-  // SAH in units of this node's area: leaf = C_i * b(n), split = C_t + C_i * (A_l b(n_l) + A_r b(n_r)) / A,
-  // b(n) the leaf's blocks (n itself with the default block of 1).
-  double area = out.box.area();
-  double leaf_cost = opt.intersection_cost * blocks(count, in);
-  double split_cost = area > 0.0 ? opt.traversal_cost + opt.intersection_cost * s.cost / area : leaf_cost;
-  if (s.axis >= 0 && (split_cost < leaf_cost || count > opt.max_leaf_size)) {
-    const int axis = s.axis;
-    auto goes_left = [&](const Ref& p) { return p.bin(axis) <= s.bin; };
-    // std::partition's own (unstable) order decides the leaf order: a long range gets the
-    // same order from partition_in_chunks.
-    if (count < 2 * kChunk) {
-      auto begin = order.begin() + first;
-      out.mid = int(std::partition(begin, begin + count, goes_left) - order.begin());
-    } else {
-      out.mid = partition_in_chunks(order, first, count, kChunk, goes_left);
-    }
-  } else if (count > opt.max_leaf_size) {
-    out.mid = first + count / 2; // coincident centroids: no plane separates them, split by count
-  }
+  out.box = c.box;
+  if (splits(in, c, in.opt.traversal_cost)) out.mid = partition_node(order, first, c);
   return out;
 }
 
@@ -372,22 +401,18 @@ void place(const Subtree& t, HugePageVector<BinaryNode>& out, std::size_t at, st
                 [&] { place(*t.left, out, below, left_below); });
 }
 
-} // namespace
-
-BinaryBvh build_binned_sah(std::span<const Aabb> boxes, const SahOptions& opt) {
+// The checked options, and the boxes as references (ids in order).
+HugePageVector<Ref> references_of(std::span<const Aabb> boxes, const SahOptions& opt) {
   if (opt.leaf_block < 1) throw Error("bvh: SAH leaf block " + std::to_string(opt.leaf_block) + " (must be >= 1)");
   // A reference keeps its bin on each axis in a byte (Ref::bin).
   if (opt.bins < 1 || opt.bins > 256) throw Error("bvh: SAH bins " + std::to_string(opt.bins) + " (must be 1-256)");
-  BinaryBvh bvh;
   const int n = int(boxes.size());
-  if (n == 0) return bvh;
   // A NaN or empty box would give a NaN centroid and an out-of-range bin below.
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k)
       if (!(boxes[i].lo[k] <= boxes[i].hi[k]) || !std::isfinite(boxes[i].lo[k]) || !std::isfinite(boxes[i].hi[k]))
         throw Error("bvh: box " + std::to_string(i) + " of " + std::to_string(n) + " is empty or not finite");
   HugePageVector<Ref> refs(boxes.size());
-  const Input in{opt, block_shift_of(opt.leaf_block)};
   parallel_chunks(boxes.size(), 8192, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       const Aabb& b = boxes[i];
@@ -395,6 +420,17 @@ BinaryBvh build_binned_sah(std::span<const Aabb> boxes, const SahOptions& opt) {
       refs[i].box.hi = D4{b.hi.x, b.hi.y, b.hi.z, 0.0};
     }
   });
+  return refs;
+}
+
+} // namespace
+
+BinaryBvh build_binned_sah(std::span<const Aabb> boxes, const SahOptions& opt) {
+  HugePageVector<Ref> refs = references_of(boxes, opt);
+  BinaryBvh bvh;
+  const int n = int(boxes.size());
+  if (n == 0) return bvh;
+  const Input in{opt, block_shift_of(opt.leaf_block)};
   if (build_concurrency() == 1 || n < kSubtreeTask) {
     bvh.nodes = build_serial(in, refs, 0, n);
   } else {
@@ -407,6 +443,67 @@ BinaryBvh build_binned_sah(std::span<const Aabb> boxes, const SahOptions& opt) {
     for (std::size_t i = lo; i < hi; ++i) bvh.order[i] = refs[i].id();
   });
   return bvh;
+}
+
+std::vector<BinaryBvh> build_binned_sah_costs(std::span<const Aabb> boxes, const SahOptions& opt,
+                                              std::span<const double> traversal_costs) {
+  HugePageVector<Ref> refs = references_of(boxes, opt);
+  const std::size_t trees = traversal_costs.size();
+  std::vector<BinaryBvh> out(trees);
+  const int n = int(boxes.size());
+  if (n == 0) return out;
+  const Input in{opt, block_shift_of(opt.leaf_block)};
+  for (BinaryBvh& t : out) {
+    t.nodes.resize(1);
+    t.order.resize(boxes.size());
+  }
+  // build_serial's walk, once for every tree: a job's node in each tree, or -1 in a tree
+  // that made a leaf above it. A tree's nodes are allocated in the order of its own
+  // serial build (its nodes are visited in the same relative order), and a tree that
+  // makes a leaf of a range takes the range's order then, as its own build leaves it.
+  struct Job {
+    int first, count;
+    std::vector<int> node; // per tree
+  };
+  std::vector<Job> jobs{{0, n, std::vector<int>(trees, 0)}};
+  Bins bins(opt.bins);
+  std::vector<char> split(trees, 0);
+  while (!jobs.empty()) {
+    Job job = std::move(jobs.back());
+    jobs.pop_back();
+    const NodeChoice c = choose_split(in, refs, job.first, job.count, bins);
+    bool any = false;
+    for (std::size_t t = 0; t < trees; ++t) {
+      split[t] = 0;
+      if (job.node[t] < 0) continue;
+      BinaryNode& node = out[t].nodes[std::size_t(job.node[t])];
+      node.box = c.box;
+      split[t] = splits(in, c, traversal_costs[t]) ? 1 : 0;
+      any = any || split[t] != 0;
+      if (split[t]) continue;
+      node.first = job.first;
+      node.count = job.count;
+      for (int i = job.first; i < job.first + job.count; ++i) out[t].order[std::size_t(i)] = refs[std::size_t(i)].id();
+    }
+    if (!any) continue;
+    const int mid = partition_node(refs, job.first, c);
+    Job left{job.first, mid - job.first, std::vector<int>(trees, -1)};
+    Job right{mid, job.first + job.count - mid, std::vector<int>(trees, -1)};
+    for (std::size_t t = 0; t < trees; ++t) {
+      if (!split[t]) continue;
+      HugePageVector<BinaryNode>& nodes = out[t].nodes;
+      const int l = int(nodes.size());
+      nodes.push_back({});
+      nodes.push_back({});
+      nodes[std::size_t(job.node[t])].left = l;
+      nodes[std::size_t(job.node[t])].right = l + 1;
+      left.node[t] = l;
+      right.node[t] = l + 1;
+    }
+    jobs.push_back(std::move(left));
+    jobs.push_back(std::move(right));
+  }
+  return out;
 }
 
 } // namespace masq

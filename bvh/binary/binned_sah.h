@@ -35,4 +35,12 @@ struct BinaryBvh {
 
 BinaryBvh build_binned_sah(std::span<const Aabb> boxes, const SahOptions& opt = {});
 
+// The trees build_binned_sah builds with each of traversal_costs in place of
+// opt.traversal_cost (out[i]: traversal_costs[i]'s, the same bytes), from one binning of
+// each node: the bin planes do not depend on C_t, only where a tree stops splitting does,
+// so the trees share every node above their leaves. On one thread (auto's cluster
+// shapes, whose BLAS differ in the leaf price alone: bvh/twolevel/cluster_blas.h).
+std::vector<BinaryBvh> build_binned_sah_costs(std::span<const Aabb> boxes, const SahOptions& opt,
+                                              std::span<const double> traversal_costs);
+
 } // namespace masq

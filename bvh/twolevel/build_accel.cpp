@@ -83,9 +83,44 @@ void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids
 // geometry, what make_clusters gave (kept from the cluster candidate's plans, whose
 // clusters are exactly that; the mix keeps only some). The cluster shapes of one size
 // differ in the leaf price of their BLAS alone, and the mix clusters as the first shape.
+// So the first cluster shape of a size builds its clusters' BLAS for every leaf price
+// of that size at once (`leaf_prices`, in the order the shapes build), and the later
+// shapes take theirs (`blas`); the last one frees them.
 struct SharedClusterings {
-  std::map<std::pair<int, int>, std::vector<std::optional<std::vector<Cluster>>>> by_shape;
+  using Shape = std::pair<int, int>; // (cluster size, orientation classes)
+  using PriceMap = std::map<Shape, std::vector<double>>;
+  using BlasMap = std::map<Shape, std::vector<std::optional<std::vector<ClusterBlas>>>>; // per geometry
+  std::map<Shape, std::vector<std::optional<std::vector<Cluster>>>> by_shape;
+  PriceMap leaf_prices;
+  BlasMap blas;
 };
+
+// Geometry gi's cluster instances; with `shared` (a cluster candidate of auto, whose
+// clusters are its size's whole clustering) its BLAS from the ones that size's first
+// shape built for every leaf price.
+void append_clusters(const Scene& scene, int gi, const std::vector<Cluster>& clusters, const std::vector<int>& insts,
+                     const AccelOptions& opt, SharedClusterings* shared, PackedScene& ps,
+                     HugePageVector<Aabb>& inst_boxes) {
+  const SharedClusterings::Shape shape{opt.cluster.max_size, opt.cluster.classes};
+  auto prices = shared ? shared->leaf_prices.find(shape) : SharedClusterings::PriceMap::iterator{};
+  auto slots = shared ? shared->blas.find(shape) : SharedClusterings::BlasMap::iterator{};
+  std::size_t index = 0;
+  bool known = shared && prices != shared->leaf_prices.end() && slots != shared->blas.end() &&
+               slots->second.size() == scene.geometries.size();
+  if (known) {
+    const std::vector<double>& p = prices->second;
+    index = std::size_t(std::find(p.begin(), p.end(), opt.cluster.leaf_price) - p.begin());
+    known = index < p.size();
+  }
+  if (!known) {
+    append_cluster_instances(scene, gi, clusters, insts, opt.sah, opt.cluster.leaf_price, opt.builder, ps, inst_boxes);
+    return;
+  }
+  std::optional<std::vector<ClusterBlas>>& built = slots->second[std::size_t(gi)];
+  if (!built) built = build_cluster_blases(scene, gi, clusters, insts, opt.sah, prices->second, opt.builder, ps);
+  append_cluster_instances(scene, gi, clusters, insts, *built, index, ps, inst_boxes);
+  if (index + 1 == prices->second.size()) built.reset();
+}
 
 // Whether every geometry's plan keeps all its primitives in its BLAS, as Method::Ref's
 // plan does (a mix that chose ref everywhere: the bear's capsules, for one).
@@ -282,8 +317,8 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   }
   for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
     if (!plans[gi].clusters.empty())
-      append_cluster_instances(scene, int(gi), plans[gi].clusters, insts_of[gi], opt.sah, opt.cluster.leaf_price,
-                               opt.builder, ps, inst_boxes);
+      append_clusters(scene, int(gi), plans[gi].clusters, insts_of[gi], opt, method == Method::Cluster ? shared : nullptr,
+                      ps, inst_boxes);
   if (ps.masq_instances.size() > std::size_t(INT32_MAX) - ps.instances.size())
     throw Error("accel: more than 2^31-1 TLAS entries");
   inst_boxes.insert(inst_boxes.end(), compact_boxes.begin(), compact_boxes.end());
@@ -394,7 +429,11 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     // Each candidate is the one a serial build makes, and the choice below reads them in
     // the serial order.
     SharedClusterings shared;
-    for (const ClusterOptions& c : shapes) shared.by_shape[{c.max_size, c.classes}].resize(scene.geometries.size());
+    for (const ClusterOptions& c : shapes) {
+      shared.by_shape[{c.max_size, c.classes}].resize(scene.geometries.size());
+      shared.leaf_prices[{c.max_size, c.classes}].push_back(c.leaf_price);
+      shared.blas[{c.max_size, c.classes}].resize(scene.geometries.size());
+    }
     auto given_size = [&](const ClusterOptions& c) {
       return c.max_size == opt.cluster.max_size && c.classes == opt.cluster.classes;
     };
@@ -413,6 +452,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     std::size_t cheapest = 0;
     for (std::size_t k = 1; k < shaped.size(); ++k)
       if (shaped[k].stats.model_cost < shaped[cheapest].stats.model_cost) cheapest = k;
+    for (const PackedScene& c : shaped) out.cluster_shape_costs.push_back(c.stats.model_cost);
     for (PackedScene* c : {&ref, &masq, &shaped[cheapest], &mix}) {
       out.costs[std::size_t(c->method)] = c->stats.model_cost;
       out.built.push_back(std::move(*c));

@@ -60,6 +60,7 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
 struct AutoCandidates {
   std::vector<PackedScene> built;
   std::array<double, 4> costs{}; // each one's model cost, indexed by Method (a mesh: ref's in all)
+  std::vector<double> cluster_shape_costs; // each cluster shape's model cost (auto_cluster_shapes' order)
   double seconds = 0;            // host time to build them all
 };
 AutoCandidates build_auto_candidates(const Scene& scene, const AccelOptions& opt);

@@ -34,19 +34,10 @@ double parallelepiped_area(const Aabb& local, const Affine3& local_to_world) {
                 glm::length(glm::cross(e[2], e[0])));
 }
 
-// What a cluster's BLAS needs before its nodes are appended (build_cluster).
-struct ClusterBuild {
-  std::vector<BallHull> hulls;  // the members' hulls
-  std::vector<Mat3x4f> stored;  // per scene instance its world-to-local matrix as stored
-  std::vector<Aabb> local;      // per member its local box under every realised map
-  BinaryBvh bvh;
-  std::string error;            // set (and the rest incomplete) when a local box is not finite
-};
-
-ClusterBuild build_cluster(const Geometry& g, const Cluster& c, const std::vector<int>& scene_insts,
-                           const SahOptions& sah, double leaf_price, const BuilderOptions& builder,
-                           const PackedScene& ps) {
-  ClusterBuild out;
+ClusterBlas build_cluster(const Geometry& g, const Cluster& c, const std::vector<int>& scene_insts,
+                          const SahOptions& sah, std::span<const double> leaf_prices, const BuilderOptions& builder,
+                          const PackedScene& ps) {
+  ClusterBlas out;
   Affine3 object_to_local = cluster_object_to_local(c);
   for (std::int32_t p : c.members) out.hulls.push_back(ball_hull(g, std::size_t(p)));
   // The stored world-to-local matrix of every scene instance, then each member's
@@ -71,10 +62,19 @@ ClusterBuild build_cluster(const Geometry& g, const Cluster& c, const std::vecto
   // overlap and the plain SAH splits down to one primitive per leaf: four times the
   // nodes of ref's BLAS (61 vs 26 B per primitive on the default scene). A traversal
   // price of 4 (the default leaf_price) fills the leaves (27 B) at ~2 more intersector
-  // calls per ray; auto also tries price 1 (docs/methods.md).
-  SahOptions leaf_sah = sah;
-  leaf_sah.traversal_cost = std::max(sah.traversal_cost, leaf_price * sah.intersection_cost);
-  out.bvh = build_boxes_binary(out.local, leaf_sah, builder);
+  // calls per ray; auto also tries price 1 (docs/methods.md). The prices' trees share
+  // their binning (build_binned_sah_costs), each then refined on its own where the
+  // builder reinserts.
+  std::vector<double> traversal(leaf_prices.size());
+  for (std::size_t i = 0; i < leaf_prices.size(); ++i)
+    traversal[i] = std::max(sah.traversal_cost, leaf_prices[i] * sah.intersection_cost);
+  out.trees = build_binned_sah_costs(out.local, sah, traversal);
+  if (builder_reinserts(builder.kind))
+    for (std::size_t i = 0; i < out.trees.size(); ++i) {
+      SahOptions leaf_sah = sah;
+      leaf_sah.traversal_cost = traversal[i];
+      out.trees[i] = reinsert_optimize(out.trees[i], leaf_sah, builder.reinsert);
+    }
   return out;
 }
 
@@ -84,26 +84,48 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
   return compose(from_mat3x4f(world_to_local), inverse(from_mat3x4f(frame_world_to_object)));
 }
 
-void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
-                              const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
-                              const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes) {
+std::vector<ClusterBlas> build_cluster_blases(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
+                                              const std::vector<int>& scene_insts, const SahOptions& sah,
+                                              std::span<const double> leaf_prices, const BuilderOptions& builder,
+                                              const PackedScene& ps) {
   const Geometry& g = scene.geometries.at(std::size_t(geom));
   for (const Cluster& c : clusters)
     if (c.members.empty()) throw Error("cluster: an empty cluster in geometry " + std::to_string(geom));
-  // Every cluster's local boxes and binary BLAS at once, each in its own slot; the wide
-  // nodes, instances and sums are then appended cluster by cluster, in order.
-  std::vector<ClusterBuild> built(clusters.size());
+  // Every cluster's local boxes and binary BLAS at once, each in its own slot.
+  std::vector<ClusterBlas> built(clusters.size());
   parallel_chunks(clusters.size(), 1, [&](std::size_t c0, std::size_t c1) {
     for (std::size_t ci = c0; ci < c1; ++ci)
-      built[ci] = build_cluster(g, clusters[ci], scene_insts, sah, leaf_price, builder, ps);
+      built[ci] = build_cluster(g, clusters[ci], scene_insts, sah, leaf_prices, builder, ps);
   });
+  return built;
+}
+
+void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
+                              const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
+                              const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes) {
+  const double prices[] = {leaf_price};
+  append_cluster_instances(scene, geom, clusters, scene_insts,
+                           build_cluster_blases(scene, geom, clusters, scene_insts, sah, prices, builder, ps), 0, ps,
+                           inst_boxes);
+}
+
+void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
+                              const std::vector<int>& scene_insts, const std::vector<ClusterBlas>& built,
+                              std::size_t price_index, PackedScene& ps, HugePageVector<Aabb>& inst_boxes) {
+  if (built.size() != clusters.size())
+    throw Error("cluster: " + std::to_string(built.size()) + " cluster BLAS for " + std::to_string(clusters.size()) +
+                " clusters in geometry " + std::to_string(geom));
+  // The wide nodes, instances and sums, appended cluster by cluster, in order.
   for (std::size_t ci = 0; ci < clusters.size(); ++ci) {
     const Cluster& c = clusters[ci];
     if (!built[ci].error.empty()) throw Error(built[ci].error + std::to_string(geom) + " is not finite");
+    if (price_index >= built[ci].trees.size())
+      throw Error("cluster: leaf price " + std::to_string(price_index) + " of " +
+                  std::to_string(built[ci].trees.size()) + " built in geometry " + std::to_string(geom));
     const std::vector<BallHull>& hulls = built[ci].hulls;
     const std::vector<Mat3x4f>& stored = built[ci].stored;
     const std::vector<Aabb>& local = built[ci].local;
-    const BinaryBvh& bvh = built[ci].bvh;
+    const BinaryBvh& bvh = built[ci].trees[price_index];
     WideBvhInfo info = append_bvh_nodes(bvh, c.members, ps.features.nodes, ps);
     ps.stats.blas_references += bvh.order.size();
     ps.stats.blas_primitives += c.members.size();

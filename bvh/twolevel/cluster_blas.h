@@ -5,9 +5,12 @@
 #pragma once
 #include "bvh/binary/binned_sah.h"
 #include "bvh/binary/builder.h"
+#include "bvh/bounds/prim_bounds.h"
 #include "bvh/twolevel/clusters.h"
 #include "bvh/packed_scene.h"
 #include "scenes/scene.h"
+#include <span>
+#include <string>
 #include <vector>
 
 namespace masq {
@@ -28,5 +31,31 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
 void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
                               const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
                               const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes);
+
+// One cluster's BLAS before its nodes are appended: the members' hulls, per scene
+// instance its world-to-local matrix as stored, per member its local box under every
+// realised map, and a binary tree per leaf price.
+struct ClusterBlas {
+  std::vector<BallHull> hulls;
+  std::vector<Mat3x4f> stored;
+  std::vector<Aabb> local;
+  std::vector<BinaryBvh> trees;
+  std::string error; // set (and the rest incomplete) when a local box is not finite
+};
+
+// Every cluster's BLAS of geometry `geom` for each of `leaf_prices` (their trees from
+// one binning: build_binned_sah_costs), on all threads: auto's cluster shapes of one
+// size differ in the leaf price alone, and build theirs once.
+std::vector<ClusterBlas> build_cluster_blases(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
+                                              const std::vector<int>& scene_insts, const SahOptions& sah,
+                                              std::span<const double> leaf_prices, const BuilderOptions& builder,
+                                              const PackedScene& ps);
+
+// append_cluster_instances with the clusters' BLAS built (`built[i]` the BLAS of
+// clusters[i], from build_cluster_blases with the same clusters, instances and frames):
+// the tree of leaf price `price_index`. Throws masq::Error when they do not match.
+void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
+                              const std::vector<int>& scene_insts, const std::vector<ClusterBlas>& built,
+                              std::size_t price_index, PackedScene& ps, HugePageVector<Aabb>& inst_boxes);
 
 } // namespace masq
