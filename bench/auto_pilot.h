@@ -38,7 +38,8 @@ struct PilotResult {
 // the full set), max_rays in all; every ray when there are no more than that.
 std::vector<kernel::Ray> pilot_sample(std::span<const kernel::Ray> rays, std::size_t max_rays);
 
-// Times the pilot sample through every candidate with `query`. With one backend per
+// Times the pilot sample through every candidate with `query` (a mix that is ref's
+// structure, AutoCandidates::mix_is_ref, gets ref's time without being traced). With one backend per
 // candidate (slots[i] gets candidates.built[i] and keeps it), the candidates' timed
 // traces take turns round by round, so a load that comes and goes on a shared machine
 // falls on all of them alike; with a single backend each candidate is uploaded in turn

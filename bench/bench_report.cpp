@@ -265,7 +265,8 @@ nlohmann::json bench_row_json(const BenchRow& r) {
     if (r.pilot_rays > 0) {
       const auto& p = r.pilot_seconds;
       e["auto"]["pilot"] = {{"rays", r.pilot_rays}, {"wall_seconds", r.pilot_s},
-                            {"seconds", {{"ref", p[0]}, {"masq", p[1]}, {"cluster", p[2]}, {"mix", p[3]}}}};
+                            {"seconds", {{"ref", p[0]}, {"masq", p[1]}, {"cluster", p[2]}, {"mix", p[3]}}},
+                            {"mix_is_ref", r.pilot_mix_is_ref}};
     }
   }
   if (!r.unavailable.empty()) {

@@ -153,6 +153,7 @@ const PackedScene& lane_structure(Lane& lane, BenchRow& row, std::size_t b) {
   for (std::size_t i = 0; i < cands.built.size(); ++i)
     row.pilot_seconds[std::size_t(cands.built[i].method)] = pilot.seconds[i];
   row.pilot_rays = pilot.rays;
+  row.pilot_mix_is_ref = cands.mix_is_ref;
   row.pilot_s = pilot.wall_seconds;
   return lane.auto_kept;
 }

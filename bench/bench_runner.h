@@ -101,6 +101,7 @@ struct BenchRow {
   // auto by pilot: each candidate's fastest pilot trace (s), indexed by Method like
   // build.auto_candidates (0: not a candidate); the sample's size; the pilot's wall time.
   std::array<double, 4> pilot_seconds{};
+  bool pilot_mix_is_ref = false; // the mix was ref's structure: not traced, ref's time
   std::size_t pilot_rays = 0;
   double pilot_s = 0;
   std::vector<kernel::Hit> hits;        // keep_per_ray only

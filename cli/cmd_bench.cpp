@@ -128,8 +128,9 @@ void print_auto_choices(const std::vector<BenchRow>& rows, AutoBy by) {
     }
     const auto& p = r.pilot_seconds;
     auto ms = [](double s) { return s > 0 ? fmt::format("{:.2f}", s * 1e3) : std::string("-"); };
+    const std::string mix = r.pilot_mix_is_ref ? std::string("= ref (ref's structure)") : ms(p[3]);
     fmt::print("auto {} {}: kept {} by pilot ({} rays; ms ref {}, masq {}, cluster {}, mix {}; pilot {:.2f} s)\n",
-               r.backend, ray_set_name(r.ray_set), kept_name(r), r.pilot_rays, ms(p[0]), ms(p[1]), ms(p[2]), ms(p[3]),
+               r.backend, ray_set_name(r.ray_set), kept_name(r), r.pilot_rays, ms(p[0]), ms(p[1]), ms(p[2]), mix,
                r.pilot_s);
   }
 }

@@ -138,9 +138,11 @@ bool plans_are_ref(const Scene& scene, const std::vector<GeometryPlan>& plans) {
 // price: fill stats.model_cost and model_triangles (auto's candidates, which are chosen by
 // them); a plain build skips the walk (a tenth of the bear's masquerade build).
 // same_as_ref (auto's mix): Method::Ref's structure of the same options, returned (as
-// Method::Auto) when the mix's plan turns out to be ref's, instead of building it again.
+// Method::Auto) when the mix's plan turns out to be ref's, instead of building it again;
+// then *copied_ref is set.
 PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt, bool price,
-                          SharedClusterings* shared = nullptr, const PackedScene* same_as_ref = nullptr) {
+                          SharedClusterings* shared = nullptr, const PackedScene* same_as_ref = nullptr,
+                          bool* copied_ref = nullptr) {
   auto start = std::chrono::steady_clock::now();
   auto seconds_since_start = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -172,6 +174,7 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   if (method == Method::Auto && same_as_ref && plans_are_ref(scene, plans)) {
     PackedScene ps = *same_as_ref;
     ps.method = Method::Auto;
+    if (copied_ref) *copied_ref = true;
     ps.stats.build_seconds = seconds_since_start();
     return ps;
   }
@@ -400,10 +403,10 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
   auto start = std::chrono::steady_clock::now();
   AutoCandidates out;
   auto build = [&](Method m, const ClusterOptions& shape, SharedClusterings* shared,
-                   const PackedScene* same_as_ref = nullptr) {
+                   const PackedScene* same_as_ref = nullptr, bool* copied_ref = nullptr) {
     AccelOptions one = opt;
     one.cluster = shape;
-    return build_planned(scene, m, one, true, shared, same_as_ref);
+    return build_planned(scene, m, one, true, shared, same_as_ref, copied_ref);
   };
   // Triangles stay in a BLAS under every method: a mesh has one candidate, ref's.
   bool thin = std::any_of(scene.geometries.begin(), scene.geometries.end(),
@@ -442,7 +445,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
           for (std::size_t k = 0; k < shapes.size(); ++k)
             if (given_size(shapes[k])) shaped[k] = build(Method::Cluster, shapes[k], &shared);
           ref = build(Method::Ref, opt.cluster, &shared);
-          mix = build(Method::Auto, opt.cluster, &shared, &ref);
+          mix = build(Method::Auto, opt.cluster, &shared, &ref, &out.mix_is_ref);
         },
         [&] {
           masq = build(Method::Masq, opt.cluster, &shared);

@@ -61,6 +61,9 @@ struct AutoCandidates {
   std::vector<PackedScene> built;
   std::array<double, 4> costs{}; // each one's model cost, indexed by Method (a mesh: ref's in all)
   std::vector<double> cluster_shape_costs; // each cluster shape's model cost (auto_cluster_shapes' order)
+  // The mix is a copy of ref's structure (its plan kept every primitive in the BLAS):
+  // a pilot need not trace it (bench/auto_pilot.h).
+  bool mix_is_ref = false;
   double seconds = 0;            // host time to build them all
 };
 AutoCandidates build_auto_candidates(const Scene& scene, const AccelOptions& opt);
