@@ -51,40 +51,10 @@ bool frame_from(glm::dvec3 e, glm::dvec3 n, glm::dmat3& out) {
 const std::array<glm::dvec3, 7> kObbDirs = {glm::dvec3{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1},
                                          {1, 1, -1},          {1, -1, 1}, {1, -1, -1}};
 
-} // namespace
-
-Interval hull_extent(std::span<const BallHull> hulls, const glm::dvec3& axis) {
-  Interval iv;
-  double len = glm::length(axis);
-  for (const BallHull& h : hulls)
-    for (int i = 0; i < h.count; ++i) {
-      double s = glm::dot(axis, h.centre[i]);
-      iv.lo = std::min(iv.lo, s - h.radius[i] * len);
-      iv.hi = std::max(iv.hi, s + h.radius[i] * len);
-    }
-  return iv;
-}
-
-ObbFrame obb_in_frame(std::span<const BallHull> hulls, const glm::dmat3& axes) {
-  ObbFrame f;
-  f.axes = axes;
-  glm::dvec3 mid{0.0};
-  for (int k = 0; k < 3; ++k) {
-    Interval iv = hull_extent(hulls, axes[k]);
-    if (!(iv.lo <= iv.hi)) return ObbFrame{};
-    mid[k] = 0.5 * (iv.lo + iv.hi);
-    f.half[k] = 0.5 * (iv.hi - iv.lo);
-  }
-  f.centre = axes * mid;
-  return f;
-}
-
-namespace {
-
-// hull_extent along every one of `axes` in one pass over the balls (each axis's
-// minimum and maximum taken in the same order and with the same operations as
-// hull_extent's own pass): a set of hulls larger than the cache is read once, not once
-// an axis.
+// The extents of the hulls along each of axes[0..n) (not necessarily unit: a ball of
+// radius r reaches r |axis|) in one pass over the balls, each axis's minimum and maximum
+// taken in ball order: a set of hulls larger than the cache is read once, not once an
+// axis.
 template <std::size_t N>
 void hull_extents(std::span<const BallHull> hulls, const std::array<glm::dvec3, N>& axes, std::size_t n,
                   std::array<Interval, N>& out) {
@@ -99,7 +69,35 @@ void hull_extents(std::span<const BallHull> hulls, const std::array<glm::dvec3, 
       }
 }
 
+// The box in the frame `axes` (columns) of the extents along them; empty (ObbFrame{})
+// when any is.
+ObbFrame obb_from_extents(const glm::dmat3& axes, const Interval* extent) {
+  ObbFrame f;
+  f.axes = axes;
+  glm::dvec3 mid{0.0};
+  for (int k = 0; k < 3; ++k) {
+    const Interval& iv = extent[k];
+    if (!(iv.lo <= iv.hi)) return ObbFrame{};
+    mid[k] = 0.5 * (iv.lo + iv.hi);
+    f.half[k] = 0.5 * (iv.hi - iv.lo);
+  }
+  f.centre = axes * mid;
+  return f;
+}
+
 } // namespace
+
+Interval hull_extent(std::span<const BallHull> hulls, const glm::dvec3& axis) {
+  std::array<Interval, 1> iv;
+  hull_extents(hulls, std::array<glm::dvec3, 1>{axis}, 1, iv);
+  return iv[0];
+}
+
+ObbFrame obb_in_frame(std::span<const BallHull> hulls, const glm::dmat3& axes) {
+  std::array<Interval, 3> iv;
+  hull_extents(hulls, std::array<glm::dvec3, 3>{axes[0], axes[1], axes[2]}, 3, iv);
+  return obb_from_extents(axes, iv.data());
+}
 
 ObbFrame fit_obb(std::span<const BallHull> hulls) {
   std::vector<glm::dmat3> candidates = {glm::dmat3(1.0)};
@@ -169,18 +167,7 @@ ObbFrame fit_obb(std::span<const BallHull> hulls) {
   ObbFrame out;
   double area = INFINITY;
   for (std::size_t k = 0; k < candidates.size(); ++k) {
-    ObbFrame f;
-    f.axes = candidates[k];
-    glm::dvec3 mid{0.0};
-    bool empty = false;
-    for (int j = 0; j < 3 && !empty; ++j) {
-      const Interval& iv = extent[3 * k + std::size_t(j)];
-      empty = !(iv.lo <= iv.hi);
-      mid[j] = 0.5 * (iv.lo + iv.hi);
-      f.half[j] = 0.5 * (iv.hi - iv.lo);
-    }
-    if (empty) f = ObbFrame{};
-    else f.centre = f.axes * mid;
+    ObbFrame f = obb_from_extents(candidates[k], extent.data() + 3 * k);
     if (f.area() < area) area = f.area(), out = f;
   }
   return out;

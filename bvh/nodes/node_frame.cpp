@@ -71,12 +71,6 @@ void frame_boxes(std::span<const BallHull> hulls, std::span<const NodeFrame> fra
   }
 }
 
-Aabb frame_box(std::span<const BallHull> hulls, const NodeFrame& f) {
-  Aabb b;
-  frame_boxes(hulls, std::span<const NodeFrame>(&f, 1), std::span<Aabb>(&b, 1));
-  return b;
-}
-
 NodeFramer::NodeFramer(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, const NodeFraming& framing)
     : bvh_(bvh), gain_(framing.gain), range_(bvh.nodes.size()) {
   const RefHull& hull_of = framing.hull_of;

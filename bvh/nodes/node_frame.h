@@ -28,12 +28,11 @@ struct NodeFrame {
 // entry rounded to the nearest of -127..127 over 128.
 NodeFrame quantised_frame(const glm::dmat3& axes);
 
-// The box of hulls in the frame: per row m_k, the hulls' extent along m_k, in double,
+// The box of hulls in each of up to kMaxFrameBoxes frames (out[i]: frames[i]'s), from one
+// pass over the hulls: per row m_k of a frame, the hulls' extent along m_k, in double,
 // widened by the double evaluation's own rounding bound (then rounded outward to fp32 by
-// whoever stores it, so the stored box contains the exact one).
-Aabb frame_box(std::span<const BallHull> hulls, const NodeFrame& f);
-// frame_box in each of up to kMaxFrameBoxes frames (out[i]: frames[i]'s), the same bits,
-// from one pass over the hulls; throws masq::Error for more frames or a size mismatch.
+// whoever stores it, so the stored box contains the exact one). Throws masq::Error for
+// more frames or a size mismatch.
 inline constexpr std::size_t kMaxFrameBoxes = 3; // a node's two candidates and its parent's
 void frame_boxes(std::span<const BallHull> hulls, std::span<const NodeFrame> frames, std::span<Aabb> out);
 

@@ -88,38 +88,30 @@ void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids
 // shapes take theirs (`blas`); the last one frees them.
 struct SharedClusterings {
   using Shape = std::pair<int, int>; // (cluster size, orientation classes)
-  using PriceMap = std::map<Shape, std::vector<double>>;
-  using BlasMap = std::map<Shape, std::vector<std::optional<std::vector<ClusterBlas>>>>; // per geometry
   std::map<Shape, std::vector<std::optional<std::vector<Cluster>>>> by_shape;
-  PriceMap leaf_prices;
-  BlasMap blas;
+  std::map<Shape, std::vector<double>> leaf_prices;
+  std::map<Shape, std::vector<std::optional<std::vector<ClusterBlas>>>> blas; // per geometry
 };
 
 // Geometry gi's cluster instances; with `shared` (a cluster candidate of auto, whose
-// clusters are its size's whole clustering) its BLAS from the ones that size's first
-// shape built for every leaf price.
+// clusters are its size's whole clustering, and whose size auto_candidates gave its leaf
+// prices and BLAS slots) its BLAS from the ones that size's first shape built for every
+// leaf price.
 void append_clusters(const Scene& scene, int gi, const std::vector<Cluster>& clusters, const std::vector<int>& insts,
                      const AccelOptions& opt, SharedClusterings* shared, PackedScene& ps,
                      HugePageVector<Aabb>& inst_boxes) {
-  const SharedClusterings::Shape shape{opt.cluster.max_size, opt.cluster.classes};
-  auto prices = shared ? shared->leaf_prices.find(shape) : SharedClusterings::PriceMap::iterator{};
-  auto slots = shared ? shared->blas.find(shape) : SharedClusterings::BlasMap::iterator{};
-  std::size_t index = 0;
-  bool known = shared && prices != shared->leaf_prices.end() && slots != shared->blas.end() &&
-               slots->second.size() == scene.geometries.size();
-  if (known) {
-    const std::vector<double>& p = prices->second;
-    index = std::size_t(std::find(p.begin(), p.end(), opt.cluster.leaf_price) - p.begin());
-    known = index < p.size();
-  }
-  if (!known) {
+  if (!shared) {
     append_cluster_instances(scene, gi, clusters, insts, opt.sah, opt.cluster.leaf_price, opt.builder, ps, inst_boxes);
     return;
   }
-  std::optional<std::vector<ClusterBlas>>& built = slots->second[std::size_t(gi)];
-  if (!built) built = build_cluster_blases(scene, gi, clusters, insts, opt.sah, prices->second, opt.builder, ps);
+  const SharedClusterings::Shape shape{opt.cluster.max_size, opt.cluster.classes};
+  const std::vector<double>& prices = shared->leaf_prices.at(shape);
+  const std::size_t index = std::size_t(std::find(prices.begin(), prices.end(), opt.cluster.leaf_price) - prices.begin());
+  if (index == prices.size()) throw Error("accel: a cluster shape auto did not plan");
+  std::optional<std::vector<ClusterBlas>>& built = shared->blas.at(shape).at(std::size_t(gi));
+  if (!built) built = build_cluster_blases(scene, gi, clusters, insts, opt.sah, prices, opt.builder, ps);
   append_cluster_instances(scene, gi, clusters, insts, *built, index, ps, inst_boxes);
-  if (index + 1 == prices->second.size()) built.reset();
+  if (index + 1 == prices.size()) built.reset();
 }
 
 // Whether every geometry's plan keeps all its primitives in its BLAS, as Method::Ref's
