@@ -4,6 +4,7 @@
 #include "bvh/options.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
+#include <cstdint>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
@@ -18,8 +19,18 @@ template <class T> T pick(const std::string& what, const std::string& v, std::in
   throw std::invalid_argument(what + " '" + v + "' is not one of the choices (see the usage line)");
 }
 
-// FILE, or "bundle": the embedded default scene (the peers suite's bundle row).
-inline Scene scene(const std::string& arg) { return arg == "bundle" ? make_default_scene() : load_scene_file(arg); }
+// FILE, or "bundle": the embedded default scene (the peers suite's bundle row);
+// "bundle-hair" and "bundle-ground": that scene with only its strands or only its ground
+// plane, under the same camera (what each part of the bundle row's rays costs).
+inline Scene scene(const std::string& arg) {
+  if (arg == "bundle") return make_default_scene();
+  if (arg != "bundle-hair" && arg != "bundle-ground") return load_scene_file(arg);
+  Scene s = make_default_scene();
+  const std::uint32_t kept = arg == "bundle-hair" ? 0 : 1; // make_default_scene: strands, then the ground
+  s.geometries = {s.geometries[kept]};
+  s.instances = {{0, s.instances[kept].object_to_world}};
+  return s;
+}
 
 inline Method method(const std::string& arg) {
   return pick<Method>("method", arg, {{"ref", Method::Ref}, {"masq", Method::Masq}, {"cluster", Method::Cluster}, {"auto", Method::Auto}});

@@ -4,8 +4,9 @@
 // branch mispredictions (--branch-sim=yes) per ray and per node visit (docs/results.md,
 // "Bytes, instructions and branches per ray"). The rays are the bench's: camera rays of
 // width x width, and the shadow or diffuse rays from their hits.
-// FILE "bundle" is the embedded default scene (the peers suite's bundle row).
-//   masq_trace_probe FILE|bundle ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last]
+// FILE "bundle" is the embedded default scene (the peers suite's bundle row); "bundle-hair" and
+// "bundle-ground" keep only its strands or only its ground plane.
+//   masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last]
 // (the last: AccelOptions::blas_occlusion, the BLAS order of occlusion queries)
 //   valgrind --tool=callgrind --cache-sim=yes --branch-sim=yes --collect-atstart=no
 //     --toggle-collect='*probe_traces*' build/bench/masq_trace_probe ... (one line)
@@ -45,7 +46,7 @@ __attribute__((noinline)) void probe_traces(Backend* be, EmbreePeer* embree, Emb
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE|bundle ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse "
+    if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse "
                                               "[capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last]");
     Scene scene = probe::scene(argv[1]);
     const Method method = probe::method(argv[2]);

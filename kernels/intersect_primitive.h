@@ -20,7 +20,7 @@ FN PrimHit intersect_curve_record(Curve c, vec3 o, vec3 d, float tmin, float tma
   return curve_intersect_mode(c, o, d, tmin, tmax, MASQ_ROBUST ? 1 : 0, MASQ_CURVE_ISECT, MASQ_ANY_HIT ? 1 : 0);
 }
 
-FN PrimHit intersect_primitive(KD_PARAM Geometry g, int prim, vec3 o, vec3 d, float tmin, float tmax) {
+FN_INLINED PrimHit intersect_primitive(KD_PARAM Geometry g, int prim, vec3 o, vec3 d, float tmin, float tmax) {
   int i = g.first + prim;
   if (MASQ_HAVE_CAPSULES && g.type == MASQ_PRIM_CAPSULE)
     return MASQ_ROBUST ? intersect_capsule(KD(capsules)[i], o, d, tmin, tmax)

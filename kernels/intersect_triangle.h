@@ -9,7 +9,7 @@
 #include "prim_hit.h"
 
 KERNEL_NS_BEGIN
-FN PrimHit intersect_triangle(Triangle tri, vec3 o, vec3 d, float tmin, float tmax) {
+FN_INLINED PrimHit intersect_triangle(Triangle tri, vec3 o, vec3 d, float tmin, float tmax) {
   PrimHit res = prim_miss();
   float dd = dot(d, d);
   if (!(dd > 0.0f) || !(tmin <= tmax)) return res;

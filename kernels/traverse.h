@@ -169,6 +169,7 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
       leaves.n = simd::sorted_slots(wh.tnear, hit.leaves, leaves.slot);
       inner.n = simd::sorted_slots(wh.tnear, hit.inner, inner.slot);
     }
+    for (int k = 0; k < inner.n; ++k) prefetch_node(KD_ARG wh.child[inner.slot[k]]);
 #else
     ChildOrder leaves = order_tlas_children(wh, node_width(), tmin);
     ChildOrder inner = leaves;
