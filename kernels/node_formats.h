@@ -298,13 +298,12 @@ FN_INLINED WideHits hits_o4_cached(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d
 // cpu: asks for every cache line of a node the walk will visit, so that its fetch
 // overlaps the work done before the visit (the leaves of the node that named it).
 FN_INLINED void prefetch_node(KD_PARAM int node) {
-  const char* p = (const char*)(KD(nodes) + node);
-  int bytes = int(sizeof(WideNode));
   const int words = MASQ_NODE_FORMAT == MASQ_NODES_W8   ? MASQ_W8_WORDS
                     : MASQ_NODE_FORMAT == MASQ_NODES_Q8 ? MASQ_Q8_WORDS
                     : MASQ_NODE_FORMAT == MASQ_NODES_O4 ? MASQ_O4_WORDS
-                                                        : 0;
-  if (words > 0) p = (const char*)(KD(node_words) + node * words), bytes = 4 * words;
+                                                        : 0; // w4: a WideNode of KD(nodes)
+  const char* p = words > 0 ? (const char*)(KD(node_words) + node * words) : (const char*)(KD(nodes) + node);
+  const int bytes = words > 0 ? 4 * words : int(sizeof(WideNode));
   for (int at = 0; at < bytes; at += 64) __builtin_prefetch(p + at);
   __builtin_prefetch(p + bytes - 1); // a node that straddles one more line than its size
 }
