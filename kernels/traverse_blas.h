@@ -68,7 +68,19 @@ FN Nearest nearest_take(Nearest n, PrimHit ph, int prim, int geom, int inst) {
 STRUCT_BEGIN(LeafOut)
   Nearest nearest;
   int isect_calls;
+#if defined(MASQ_LANG_CPP)
+  // cpu: hits taken at exactly the nearest hit's distance (a tie, decided by the order
+  // the primitives are met in), for the packet walk (packet_walk_cpp.h), which meets
+  // them in another order and leaves such rays to this walk. The walk here ignores it.
+  int ties;
+#endif
 STRUCT_END(LeafOut)
+
+#if defined(MASQ_LANG_CPP)
+// cpu: whether a hit at t, about to be taken, ties the nearest hit so far (a hit, not
+// the ray's end).
+FN_INLINED int tie_of(const Nearest& n, float t) { return t == n.t && n.prim >= 0 ? 1 : 0; }
+#endif
 
 #if defined(MASQ_LANG_CPP)
 // cpu: lanes [lane0, lane0 + count) of a capsule test, one leaf's references from refs[first]
@@ -81,6 +93,7 @@ FN_INLINED bool take_leaf_lanes(KD_PARAM const simd::CapsuleHitsN<L>& c, int lan
     if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
     int l = lane0 + j;
     if (c.hit[l] == 0 || !(c.t[l] <= lo.nearest.t)) continue;
+    lo.ties += tie_of(lo.nearest, c.t[l]);
     PrimHit ph;
     ph.hit = 1;
     ph.t = c.t[l];
@@ -106,6 +119,9 @@ FN_INLINED LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int
   lo.nearest = nearest;
   lo.isect_calls = 0;
 #if defined(MASQ_LANG_CPP)
+  lo.ties = 0;
+#endif
+#if defined(MASQ_LANG_CPP)
   // cpu: robust capsules four at a time (capsule_simd_cpp.h). A lane computed within
   // the leaf's starting interval gives the scalar call's answer whenever its crossing
   // lies within the nearest hit so far, and a miss of the scalar call otherwise, so
@@ -127,6 +143,9 @@ FN_INLINED LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int
     int prim = KD(refs)[first + j];
     if (MASQ_STATS) lo.isect_calls = lo.isect_calls + 1;
     PrimHit ph = intersect_primitive(KD_ARG g, prim, po, pd, tmin, lo.nearest.t);
+#if defined(MASQ_LANG_CPP)
+    lo.ties += ph.hit != 0 ? tie_of(lo.nearest, ph.t) : 0;
+#endif
     lo.nearest = nearest_take(lo.nearest, ph, prim, geom_id, inst_id);
     if (MASQ_ANY_HIT && lo.nearest.prim >= 0) break;
   }
@@ -148,6 +167,9 @@ FN_INLINED LeafOut capsule_leaves(KD_PARAM const WideHits& wh, const int* slot, 
   LeafOut lo;
   lo.nearest = nearest;
   lo.isect_calls = 0;
+#if defined(MASQ_LANG_CPP)
+  lo.ties = 0;
+#endif
   Geometry g = KD(geoms)[geom_id];
   int k = 0;
   while (k < n) {
@@ -167,6 +189,7 @@ FN_INLINED LeafOut capsule_leaves(KD_PARAM const WideHits& wh, const int* slot, 
       LeafOut one = intersect_leaf(KD_ARG g, wh.child[a], wh.count[a], geom_id, inst_id, po, pd, tmin, lo.nearest);
       lo.nearest = one.nearest;
       if (MASQ_STATS) lo.isect_calls = lo.isect_calls + one.isect_calls;
+      lo.ties += one.ties;
       if (MASQ_ANY_HIT && lo.nearest.prim >= 0) return lo;
       continue;
     }

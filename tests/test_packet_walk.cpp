@@ -1,0 +1,140 @@
+// The cpu's packet walk (kernels/packet_walk_cpp.h) against the single-ray walk it
+// stands in for (trace_closest): every ray the packet answers must get trace_closest's
+// hit bit for bit (t, primitive, normal, u, v), on a pinhole camera's 512 x 512 rays
+// (the users' sample size) through hair of chained capsules, in every node format. The
+// packet must answer most rays (else this test checks nothing) and leave to
+// trace_closest every ray that takes a hit at exactly the distance of one it holds: on
+// hair whose every capsule is there twice, every hit is such a tie. Then the cpu backend
+// end to end: its counter-free trace (packets) against its counting one (one ray at a
+// time).
+#include "bvh/twolevel/build_accel.h"
+#include "host/backend.h"
+#include "host/cpu/leaf_capsules.h"
+#include "host/scene_arrays.h"
+#include "host/scene_variant.h"
+#include "host/trace_faults.h"
+#include "kernels/packet_walk_cpp.h"
+#include "scenes/camera.h"
+#include "scenes/strand_generators.h"
+#include <gtest/gtest.h>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+using namespace masq;
+namespace k = masq::kernel::v_default;
+
+namespace {
+
+constexpr int kSide = 512; // the camera rays of `masq bench` and the peers suite
+
+bool same_hit(const kernel::Hit& a, const kernel::Hit& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+Scene hair(bool every_capsule_twice) {
+  HairParams p;
+  p.strands = 3000;
+  p.type = PrimType::Capsule;
+  Scene s = make_hair_scene(p);
+  if (every_capsule_twice) {
+    std::vector<CapsulePrim>& caps = s.geometries.at(0).capsules;
+    const std::size_t n = caps.size();
+    for (std::size_t i = 0; i < n; ++i) caps.push_back(caps[i]);
+  }
+  return s;
+}
+
+PackedScene packed(const Scene& s, NodeFormat nodes) {
+  AccelOptions accel;
+  accel.builder.kind = Builder::Sah4;
+  accel.nodes = nodes;
+  return build_accel(s, Method::Ref, accel);
+}
+
+struct PacketCount {
+  int answered = 0, left = 0, answered_hits = 0, differing = 0;
+};
+
+// Every packet of the camera's rays through trace_packet_closest; each ray it answers
+// compared with trace_closest's hit.
+PacketCount packets_against_single_walk(const PackedScene& ps, const std::vector<kernel::Ray>& rays) {
+  const KernelVariant v = kernel_variant(ps.features, {false, false});
+#define MASQ_TEST_SET_SWITCH(NAME, key, T, DEF, ID, units, source) k::NAME = static_cast<T>(v.key);
+  MASQ_VARIANTS(MASQ_TEST_SET_SWITCH)
+#undef MASQ_TEST_SET_SWITCH
+  LeafCapsuleRows rows = leaf_capsules(ps);
+  kernel::KernelData kd = kernel_data(scene_array_data(ps));
+  kd.leaf_capsule_rows = rows.rows.data();
+  kd.leaf_capsule_stride = rows.stride;
+  kd.entry_curves = nullptr;
+  const int budget = step_budget(ps.node_count());
+  EXPECT_TRUE(k::packet_walk_applies(kd, ps.tlas_root));
+  PacketCount c;
+  for (std::size_t i = 0; i + k::kPacketRays <= rays.size(); i += k::kPacketRays) {
+    EXPECT_TRUE(k::packet_common_origin(rays.data() + i));
+    kernel::Hit got[k::kPacketRays];
+    const unsigned left = k::trace_packet_closest(kd, rays.data() + i, got, budget);
+    for (int r = 0; r < k::kPacketRays; ++r) {
+      if ((left >> r) & 1u) {
+        ++c.left;
+        continue;
+      }
+      const kernel::Hit want = k::trace_closest(kd, rays[i + std::size_t(r)], ps.tlas_root, budget).hit;
+      ++c.answered;
+      c.answered_hits += want.prim >= 0;
+      c.differing += !same_hit(got[r], want);
+    }
+  }
+  return c;
+}
+
+class PacketWalk : public ::testing::TestWithParam<NodeFormat> {};
+
+TEST_P(PacketWalk, AnswersAsTheSingleRayWalk) {
+  const Scene s = hair(false);
+  const PackedScene ps = packed(s, GetParam());
+  const std::vector<kernel::Ray> rays = make_camera_rays(s.camera, kSide, kSide);
+  const PacketCount c = packets_against_single_walk(ps, rays);
+  EXPECT_EQ(c.differing, 0) << c.answered << " answered";
+  std::printf("%d answered (%d hits), %d left\n", c.answered, c.answered_hits, c.left);
+  EXPECT_GT(c.answered, 9 * int(rays.size()) / 20) << c.left << " left to trace_closest";
+  EXPECT_GT(c.answered_hits, int(rays.size()) / 20);
+}
+
+TEST_P(PacketWalk, LeavesTiesToTheSingleRayWalk) {
+  const Scene s = hair(true);
+  const PackedScene ps = packed(s, GetParam());
+  const std::vector<kernel::Ray> rays = make_camera_rays(s.camera, kSide, kSide);
+  const PacketCount c = packets_against_single_walk(ps, rays);
+  EXPECT_EQ(c.differing, 0);
+  EXPECT_EQ(c.answered_hits, 0) << "every hit has a twin at the same distance";
+  EXPECT_GT(c.left, int(rays.size()) / 20);
+  EXPECT_GT(c.answered, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(NodeFormats, PacketWalk,
+                         ::testing::Values(NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8, NodeFormat::O4),
+                         [](const auto& info) { return std::string(node_format_name(info.param)); });
+
+TEST(PacketWalk, CpuBackendTracesAsWithCounters) {
+  for (bool twice : {false, true}) {
+    const Scene s = hair(twice);
+    const PackedScene ps = packed(s, NodeFormat::O4);
+    const std::vector<kernel::Ray> rays = make_camera_rays(s.camera, kSide, kSide);
+    std::unique_ptr<Backend> cpu = make_backend("cpu");
+    cpu->set_scene(ps);
+    std::vector<kernel::Hit> packets(rays.size()), single(rays.size());
+    std::vector<kernel::RayStats> stats(rays.size());
+    cpu->trace(rays, packets, {});
+    cpu->trace(rays, single, stats);
+    int differing = 0, hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      differing += !same_hit(packets[i], single[i]);
+      hits += single[i].prim >= 0;
+    }
+    EXPECT_EQ(differing, 0) << (twice ? "every capsule twice" : "hair");
+    EXPECT_GT(hits, int(rays.size()) / 20);
+  }
+}
+
+} // namespace
