@@ -55,9 +55,11 @@ struct PacketCount {
   int answered = 0, left = 0, answered_hits = 0, differing = 0;
 };
 
-// Every packet of the camera's rays through trace_packet_closest; each ray it answers
-// compared with trace_closest's hit.
-PacketCount packets_against_single_walk(const PackedScene& ps, const std::vector<kernel::Ray>& rays) {
+// Every packet of the camera's rays through trace_packet_closest (with packet_budget
+// steps, if given, instead of the scene's step budget); each ray it answers compared
+// with trace_closest's hit.
+PacketCount packets_against_single_walk(const PackedScene& ps, const std::vector<kernel::Ray>& rays,
+                                        int packet_budget = 0) {
   const KernelVariant v = kernel_variant(ps.features, {false, false});
 #define MASQ_TEST_SET_SWITCH(NAME, key, T, DEF, ID, units, source) k::NAME = static_cast<T>(v.key);
   MASQ_VARIANTS(MASQ_TEST_SET_SWITCH)
@@ -73,7 +75,8 @@ PacketCount packets_against_single_walk(const PackedScene& ps, const std::vector
   for (std::size_t i = 0; i + k::kPacketRays <= rays.size(); i += k::kPacketRays) {
     EXPECT_TRUE(k::packet_common_origin(rays.data() + i));
     kernel::Hit got[k::kPacketRays];
-    const unsigned left = k::trace_packet_closest(kd, rays.data() + i, got, budget);
+    const unsigned left =
+        k::trace_packet_closest(kd, rays.data() + i, got, packet_budget > 0 ? packet_budget : budget);
     for (int r = 0; r < k::kPacketRays; ++r) {
       if ((left >> r) & 1u) {
         ++c.left;
@@ -110,6 +113,19 @@ TEST_P(PacketWalk, LeavesTiesToTheSingleRayWalk) {
   EXPECT_EQ(c.answered_hits, 0) << "every hit has a twin at the same distance";
   EXPECT_GT(c.left, int(rays.size()) / 20);
   EXPECT_GT(c.answered, 0);
+}
+
+// A packet that would step past its budget hands every ray back (the single-ray walk
+// then reports the fault, if there is one): with one step, only packets that miss the
+// root's children are answered.
+TEST_P(PacketWalk, HandsEveryRayBackPastTheBudget) {
+  const Scene s = hair(false);
+  const PackedScene ps = packed(s, GetParam());
+  const std::vector<kernel::Ray> rays = make_camera_rays(s.camera, kSide, kSide);
+  const PacketCount c = packets_against_single_walk(ps, rays, 1);
+  EXPECT_EQ(c.differing, 0);
+  EXPECT_EQ(c.answered_hits, 0);
+  EXPECT_GT(c.left, int(rays.size()) / 20);
 }
 
 INSTANTIATE_TEST_SUITE_P(NodeFormats, PacketWalk,
