@@ -226,10 +226,15 @@ TEST(MasqInstanceLayout, CompactEntriesLieInTheOrderTheTlasNamesThem) {
 // The cpu's entry-ordered curve copy: slot k is the curve entry k names (its owner's
 // geometry, its primitive), whatever scene instance the entry belongs to; entries of
 // other primitive types leave a zero record (radius 0: no call on it can hit). The
-// cross-backend bit tests catch a wrong copy through the hits; this names the slot.
+// cross-backend bit tests catch a wrong copy through the hits; this names the slot. The
+// copy is refilled in the storage of the scene before: none of that scene's curves may
+// stay.
 TEST(MasqInstanceLayout, EntryCurvesHoldEachEntrysCurve) {
   const PackedScene ps = build_accel(every_primitive_scene(5), Method::Masq);
-  const HugePageVector<EntryCurve> copy = entry_curves(ps);
+  EntryCurve stale{};
+  stale.curve.radius = 1.0f;
+  HugePageVector<EntryCurve> copy(ps.masq_instances.size() + 7, stale);
+  entry_curves(ps, copy);
   ASSERT_EQ(copy.size(), ps.masq_instances.size());
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(copy.data()) % 64, 0u) << "one cache line per curve";
   long curves = 0, others = 0;
@@ -248,8 +253,8 @@ TEST(MasqInstanceLayout, EntryCurvesHoldEachEntrysCurve) {
   }
   EXPECT_GT(curves, 0);
   EXPECT_GT(others, 0);
-  EXPECT_TRUE(entry_curves(build_accel(make_default_scene(), Method::Masq)).empty())
-      << "no copy where the scene has no curves";
+  entry_curves(build_accel(make_default_scene(), Method::Masq), copy);
+  EXPECT_TRUE(copy.empty()) << "no copy where the scene has no curves";
 }
 
 } // namespace

@@ -64,7 +64,8 @@ PacketCount packets_against_single_walk(const PackedScene& ps, const std::vector
 #define MASQ_TEST_SET_SWITCH(NAME, key, T, DEF, ID, units, source) k::NAME = static_cast<T>(v.key);
   MASQ_VARIANTS(MASQ_TEST_SET_SWITCH)
 #undef MASQ_TEST_SET_SWITCH
-  LeafCapsuleRows rows = leaf_capsules(ps);
+  LeafCapsuleRows rows;
+  leaf_capsules(ps, rows);
   kernel::KernelData kd = kernel_data(scene_array_data(ps));
   kd.leaf_capsule_rows = rows.rows.data();
   kd.leaf_capsule_stride = rows.stride;
@@ -130,7 +131,22 @@ TEST_P(PacketWalk, HandsEveryRayBackPastTheBudget) {
 
 INSTANTIATE_TEST_SUITE_P(NodeFormats, PacketWalk,
                          ::testing::Values(NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8, NodeFormat::O4),
-                         [](const auto& info) { return std::string(node_format_name(info.param)); });
+                         [](const ::testing::TestParamInfo<NodeFormat>& p) { return std::string(node_format_name(p.param)); });
+
+// The cpu backend refills its leaf copy in the storage of the scene before
+// (host/cpu/leaf_capsules.h): a copy refilled after a larger scene's must be the copy
+// made fresh, padding included.
+TEST(PacketWalk, LeafCopyRefilledAsMadeFresh) {
+  const PackedScene small = packed(hair(false), NodeFormat::W8);
+  LeafCapsuleRows fresh, reused;
+  leaf_capsules(small, fresh);
+  leaf_capsules(packed(hair(true), NodeFormat::W8), reused);
+  ASSERT_GT(reused.rows.size(), fresh.rows.size());
+  leaf_capsules(small, reused);
+  EXPECT_EQ(reused.stride, fresh.stride);
+  ASSERT_EQ(reused.rows.size(), fresh.rows.size());
+  EXPECT_EQ(std::memcmp(reused.rows.data(), fresh.rows.data(), fresh.rows.size() * sizeof(float)), 0);
+}
 
 TEST(PacketWalk, CpuBackendTracesAsWithCounters) {
   for (bool twice : {false, true}) {

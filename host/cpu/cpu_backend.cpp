@@ -34,11 +34,11 @@ class CpuBackend final : public Backend {
   void set_scene(const PackedScene& scene) override {
     auto start = std::chrono::steady_clock::now();
     scene_ = scene; // own a copy: the caller's scene may go away
-    leaf_capsules_ = leaf_capsules(scene_);
+    leaf_capsules(scene_, leaf_capsules_);
     kd_ = kernel_data(scene_array_data(scene_));
     kd_.leaf_capsule_rows = leaf_capsules_.rows.data();
     kd_.leaf_capsule_stride = leaf_capsules_.stride;
-    entry_curves_ = entry_curves(scene_);
+    entry_curves(scene_, entry_curves_);
     kd_.entry_curves = entry_curves_.empty() ? nullptr : &entry_curves_.front().curve;
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     has_scene_ = true;

@@ -3,10 +3,9 @@
 
 namespace masq {
 
-HugePageVector<EntryCurve> entry_curves(const PackedScene& ps) {
-  HugePageVector<EntryCurve> out;
-  if (ps.curves.empty()) return out;
-  out.assign(ps.masq_instances.size(), EntryCurve{});
+void entry_curves(const PackedScene& ps, HugePageVector<EntryCurve>& out) {
+  out.assign(ps.curves.empty() ? 0 : ps.masq_instances.size(), EntryCurve{});
+  if (ps.curves.empty()) return;
   for (std::size_t k = 0; k < ps.masq_instances.size(); ++k) {
     const kernel::MasqInstance& e = ps.masq_instances[k];
     // Entries that point outside the arrays keep a zero curve (radius 0: every call
@@ -21,7 +20,6 @@ HugePageVector<EntryCurve> entry_curves(const PackedScene& ps) {
     if (e.prim < 0 || prim >= std::int64_t(ps.curves.size())) continue;
     out[k].curve = ps.curves[std::size_t(prim)];
   }
-  return out;
 }
 
 } // namespace masq

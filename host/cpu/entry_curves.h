@@ -18,6 +18,8 @@ struct alignas(64) EntryCurve {
 };
 static_assert(sizeof(EntryCurve) == sizeof(kernel::Curve), "entry curves are read as a Curve array");
 
-HugePageVector<EntryCurve> entry_curves(const PackedScene& ps); // scenes/huge_page_vector.h
+// Fills `out` with the copy of ps (empty where ps has no curves), in the storage out
+// already has where it holds the copy (std::vector::assign).
+void entry_curves(const PackedScene& ps, HugePageVector<EntryCurve>& out);
 
 } // namespace masq

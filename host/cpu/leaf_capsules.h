@@ -21,6 +21,8 @@ struct LeafCapsuleRows {
   int stride = 0;
 };
 
-LeafCapsuleRows leaf_capsules(const PackedScene& ps);
+// Fills `out` with the copy of ps, in the storage out already has where it holds the
+// copy (std::vector::assign), so a backend that sets scene after scene keeps its pages.
+void leaf_capsules(const PackedScene& ps, LeafCapsuleRows& out);
 
 } // namespace masq
