@@ -80,9 +80,7 @@ STRUCT_END(LeafOut)
 // cpu: whether a hit at t, about to be taken, ties the nearest hit so far (a hit, not
 // the ray's end).
 FN_INLINED int tie_of(const Nearest& n, float t) { return t == n.t && n.prim >= 0 ? 1 : 0; }
-#endif
 
-#if defined(MASQ_LANG_CPP)
 // cpu: lanes [lane0, lane0 + count) of a capsule test, one leaf's references from refs[first]
 // in order, each taken within the nearest hit so far. Returns true when an occlusion
 // query has its hit.
@@ -120,8 +118,6 @@ FN_INLINED LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int
   lo.isect_calls = 0;
 #if defined(MASQ_LANG_CPP)
   lo.ties = 0;
-#endif
-#if defined(MASQ_LANG_CPP)
   // cpu: robust capsules four at a time (capsule_simd_cpp.h). A lane computed within
   // the leaf's starting interval gives the scalar call's answer whenever its crossing
   // lies within the nearest hit so far, and a miss of the scalar call otherwise, so
