@@ -319,6 +319,17 @@ FN WideHits node_hits(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded,
   return hits_w4(KD_ARG node, o, inv_d, padded, pad, tmin, tmax);
 }
 
+#if defined(MASQ_LANG_CPP)
+// cpu: node_hits, the o4 format through the ray cache (the walk's own cache, as it meets
+// nodes one after another).
+FN_INLINED WideHits node_hits_cached(KD_PARAM int node, vec3 o, vec3 d, vec3 inv_d, int padded, vec3 pad, float tmin,
+                                     float tmax, float t_bound, O4RayCache& c) {
+  if (MASQ_NODE_FORMAT == MASQ_NODES_O4)
+    return hits_o4_cached(KD_ARG node, o, d, inv_d, padded, pad, tmin, tmax, t_bound, c);
+  return node_hits(KD_ARG node, o, d, inv_d, padded, pad, tmin, tmax, t_bound);
+}
+#endif
+
 // Nested choices rather than '||': PoCL's clang warns of '||' between constant operands
 // ("use of logical '||' with constant operand"), once per kernel build, on stderr.
 FN int node_width() {

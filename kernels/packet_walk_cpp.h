@@ -99,11 +99,8 @@ FN_INLINED unsigned trace_packet_closest(KD_PARAM const Ray* rays, Hit* hits, in
     unsigned inner_any = 0u;
     for (unsigned m = in; m != 0u; m &= m - 1u) {
       int r = __builtin_ctz(m);
-      wh[r] = MASQ_NODE_FORMAT == MASQ_NODES_O4
-                  ? hits_o4_cached(KD_ARG node, o[r], d[r], inv_d[r], 0, VEC3(0.0f, 0.0f, 0.0f), tmin[r], best[r].t,
-                                   stack_tf[sp][r], o4_cache[r])
-                  : node_hits(KD_ARG node, o[r], d[r], inv_d[r], 0, VEC3(0.0f, 0.0f, 0.0f), tmin[r], best[r].t,
-                              stack_tf[sp][r]);
+      wh[r] = node_hits_cached(KD_ARG node, o[r], d[r], inv_d[r], 0, VEC3(0.0f, 0.0f, 0.0f), tmin[r], best[r].t,
+                               stack_tf[sp][r], o4_cache[r]);
       hit[r] = simd::slot_masks(wh[r].tnear, wh[r].count, width);
       inner_any |= hit[r].inner;
       for (unsigned c = hit[r].inner; c != 0u; c &= c - 1u) {

@@ -263,9 +263,7 @@ FN_INLINED BlasOut traverse_blas(KD_PARAM int root, int geom_id, int inst_id, ve
     if (node_t > res.nearest.t) continue;
     if (MASQ_STATS) res.nodes = res.nodes + 1;
 #if defined(MASQ_LANG_CPP)
-    WideHits wh = MASQ_NODE_FORMAT == MASQ_NODES_O4
-                      ? hits_o4_cached(KD_ARG node, o, d, inv_d, padded, pad, tmin, res.nearest.t, node_tf, o4_cache)
-                      : node_hits(KD_ARG node, o, d, inv_d, padded, pad, tmin, res.nearest.t, node_tf);
+    WideHits wh = node_hits_cached(KD_ARG node, o, d, inv_d, padded, pad, tmin, res.nearest.t, node_tf, o4_cache);
 #else
     WideHits wh = node_hits(KD_ARG node, o, d, inv_d, padded, pad, tmin, res.nearest.t, node_tf);
 #endif
