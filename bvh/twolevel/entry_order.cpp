@@ -30,7 +30,7 @@ void order_compact_entries_by_leaves(PackedScene& ps, std::size_t first_tlas_ref
 
   const std::size_t base = ps.instances.size(); // compact entry e is TLAS entry base + e
   HugePageVector<kernel::MasqInstance> entries(n);
-  std::vector<Mat3x4f> unit_to_world(n);
+  HugePageVector<Mat3x4f> unit_to_world(n); // on recycled huge pages, as `entries` (no fresh faults a build)
   for (std::size_t old = 0; old < n; ++old) {
     entries[std::size_t(new_of[old])] = ps.masq_instances[old];
     unit_to_world[std::size_t(new_of[old])] = ps.instance_object_to_world[base + old];
