@@ -180,23 +180,34 @@ void bin_range(const Input& in, HugePageVector<Ref>& order, int first, int count
     if (cbox.hi[axis] - cbox.lo[axis] > 0.0) axes[n_axes++] = axis;
   const BinFrame f = bin_frame(cbox);
   const D4 nbv = {double(nb), double(nb), double(nb), double(nb)};
+  // In runs of kBinRun references: first every reference's bins (independent divisions,
+  // which overlap), then the bins' boxes grown. One reference at a time, each bin's
+  // address waited on the division's latency chain (perf: a fifth of the binning on the
+  // first box update).
+  constexpr int kBinRun = 16;
   auto pass = [&](int lo_i, int hi_i, Bins& out) {
-    for (int i = lo_i; i < hi_i; ++i) {
-      Ref& r = order[std::size_t(i)];
+    I4 k[kBinRun];
+    for (int i0 = lo_i; i0 < hi_i; i0 += kBinRun) {
+      const int n = std::min(kBinRun, hi_i - i0);
       // Clamped to [0, nb] first, which changes no binned axis's value (its centroids lie
       // in the frame), so that every lane converts within range, all four in one
       // instruction (AVX has none from double to 64-bit integers).
-      const I4 k = __builtin_convertvector(vmin(vmax(nbv * (r.center() - f.lo) / f.ext, D4{}), nbv), I4);
-      std::int64_t packed = 0;
-      for (int a = 0; a < n_axes; ++a) {
-        int axis = axes[a];
-        int bin = std::min(nb - 1, int(k[axis]));
-        packed |= std::int64_t(bin) << (8 * axis);
-        std::size_t at = std::size_t(axis * nb + bin);
-        out.box[at].grow(r.box);
-        ++out.count[at];
+      for (int j = 0; j < n; ++j)
+        k[j] = __builtin_convertvector(
+            vmin(vmax(nbv * (order[std::size_t(i0 + j)].center() - f.lo) / f.ext, D4{}), nbv), I4);
+      for (int j = 0; j < n; ++j) {
+        Ref& r = order[std::size_t(i0 + j)];
+        std::int64_t packed = 0;
+        for (int a = 0; a < n_axes; ++a) {
+          int axis = axes[a];
+          int bin = std::min(nb - 1, int(k[j][axis]));
+          packed |= std::int64_t(bin) << (8 * axis);
+          std::size_t at = std::size_t(axis * nb + bin);
+          out.box[at].grow(r.box);
+          ++out.count[at];
+        }
+        r.box.hi[3] = double(packed);
       }
-      r.box.hi[3] = double(packed);
     }
   };
   if (count < 2 * kChunk) return pass(first, first + count, bins);
