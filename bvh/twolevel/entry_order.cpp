@@ -29,14 +29,25 @@ void order_compact_entries_by_leaves(PackedScene& ps, std::size_t first_tlas_ref
     if (ps.refs[r] < 0) ps.refs[r] = ~new_of[std::size_t(~ps.refs[r])];
 
   const std::size_t base = ps.instances.size(); // compact entry e is TLAS entry base + e
-  HugePageVector<kernel::MasqInstance> entries(n);
-  HugePageVector<Mat3x4f> unit_to_world(n); // on recycled huge pages, as `entries` (no fresh faults a build)
-  for (std::size_t old = 0; old < n; ++old) {
-    entries[std::size_t(new_of[old])] = ps.masq_instances[old];
-    unit_to_world[std::size_t(new_of[old])] = ps.instance_object_to_world[base + old];
+  // The entries and their transforms moved to their new places in place, cycle by cycle
+  // of the permutation: copies of both arrays (9 MiB for the bear's 144K entries) were
+  // fresh memory at every build, and as kept huge mappings they crowded the others out
+  // of the kept set (scenes/huge_page_vector.h; perf: the bear's masquerade build 18%
+  // slower, in the kernel's page zeroing).
+  Mat3x4f* unit_to_world = ps.instance_object_to_world.data() + base;
+  std::vector<bool> placed(n, false);
+  for (std::size_t start = 0; start < n; ++start) {
+    if (placed[start]) continue;
+    kernel::MasqInstance entry = ps.masq_instances[start];
+    Mat3x4f transform = unit_to_world[start];
+    for (std::size_t at = start; !placed[at];) {
+      placed[at] = true;
+      const std::size_t to = std::size_t(new_of[at]);
+      std::swap(entry, ps.masq_instances[to]);
+      std::swap(transform, unit_to_world[to]);
+      at = to;
+    }
   }
-  ps.masq_instances = std::move(entries);
-  std::copy(unit_to_world.begin(), unit_to_world.end(), ps.instance_object_to_world.begin() + std::ptrdiff_t(base));
   for (std::int32_t& e : ps.tlas_leaf_order)
     if (std::size_t(e) >= base) e = std::int32_t(base) + new_of[std::size_t(e) - base];
 }
