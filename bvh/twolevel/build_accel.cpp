@@ -256,8 +256,8 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   }
   const std::size_t owner_limit = std::size_t(std::clamp(opt.masq_owner_limit, 0, MASQ_MAX_OWNERS));
   // The fits in blocks (computed on all threads), appended in primitive order; one
-  // block's buffer for them all (bvh/twolevel/masq_fits.h). A block fills one huge page
-  // (5,826 fits), so that a large scene's buffer comes from the kept huge mappings
+  // block's buffer for them all (bvh/twolevel/masq_fits.h). A block is just over one huge
+  // page of fits (5,826), so that a large scene's buffer comes from the kept huge mappings
   // (scenes/huge_page_vector.h): 4,096 fits (1.4 MiB) came from malloc and were faulted
   // in afresh at every build (perf: the page faults of 6% of a build of Ratboy's
   // masquerade).

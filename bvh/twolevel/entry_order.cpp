@@ -30,10 +30,10 @@ void order_compact_entries_by_leaves(PackedScene& ps, std::size_t first_tlas_ref
 
   const std::size_t base = ps.instances.size(); // compact entry e is TLAS entry base + e
   // The entries and their transforms moved to their new places in place, cycle by cycle
-  // of the permutation: copies of both arrays (9 MiB for the bear's 144K entries) were
-  // fresh memory at every build, and as kept huge mappings they crowded the others out
-  // of the kept set (scenes/huge_page_vector.h; perf: the bear's masquerade build 18%
-  // slower, in the kernel's page zeroing).
+  // of the permutation. Copies of both arrays were new memory at every build: on
+  // malloc's pages faulted in afresh (Ratboy's masquerade), or, moved onto kept huge
+  // mappings (scenes/huge_page_vector.h), taking the mappings other arrays reuse (the
+  // bear's masquerade build 97-99 -> 117-120 ms, in the kernel's page zeroing).
   Mat3x4f* unit_to_world = ps.instance_object_to_world.data() + base;
   std::vector<bool> placed(n, false);
   for (std::size_t start = 0; start < n; ++start) {
