@@ -8,12 +8,12 @@
 // It prints the structure's digest (FNV-1a over every array the kernels read): two builds of masq that print the same digest made the same structure,
 // byte for byte.
 #include "bench/probe_args.h"
+#include "bench/process_clock.h"
 #include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "kernels/scene_array_table.h"
 #include "scenes/curve_tools.h"
 #include <chrono>
-#include <ctime>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -75,14 +75,6 @@ int main(int argc, char** argv) {
     if (builds < 1) throw std::invalid_argument("builds must be at least 1");
     std::unique_ptr<Backend> cpu = make_backend("cpu");
     cpu->set_scene(build_accel(scene, method, accel)); // warm-up, not counted
-    // The process's CPU time, every thread, read here: bench/process_clock's would link
-    // the bench library's image and GPU dependencies into the probe (265 shared
-    // libraries, a third of a second to load: whole-process timings of it would be off).
-    auto process_cpu_seconds = [] {
-      timespec ts{};
-      if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) throw std::runtime_error("cannot read the process CPU clock");
-      return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-    };
     const double cpu0 = process_cpu_seconds();
     const auto t0 = std::chrono::steady_clock::now();
     probe_builds(scene, method, accel, *cpu, builds);

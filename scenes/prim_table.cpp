@@ -1,4 +1,5 @@
 #include "scenes/prim_table.h"
+#include "scenes/reserve_more.h"
 #include "masq/error.h"
 #include "scenes/generators.h"
 #include "scenes/strand_generators.h"
@@ -192,13 +193,6 @@ Geometry random_mesh(int count, float, float, double extent, std::uint64_t seed)
 }
 
 // ---- the kernels' arrays (fp32 copies; the values the kernels and the bvh see)
-
-// Room for n more elements, at least doubling: a scene of many geometries packs them one
-// by one into the same array, and a fresh scene's growth by push_back copied each array
-// about twice over.
-template <class Array> void reserve_more(Array& a, std::size_t n) {
-  if (a.capacity() - a.size() < n) a.reserve(std::max(a.size() + n, 2 * a.capacity()));
-}
 
 void copy3(float* dst, const glm::vec3& v) {
   for (int k = 0; k < 3; ++k) dst[k] = v[k];

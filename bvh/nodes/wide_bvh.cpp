@@ -2,6 +2,7 @@
 #include "bvh/binary/parallel.h"
 #include "bvh/nodes/node_frame.h"
 #include "bvh/nodes/quant_node.h"
+#include "scenes/reserve_more.h"
 #include "kernels/variants.h"
 #include "masq/error.h"
 #include <algorithm>
@@ -265,11 +266,6 @@ WideBvhInfo collapse_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>
   return c.info;
 }
 
-// Capacity for n elements, at least doubling the current one when it grows.
-template <class Vector> void reserve_for(Vector& v, std::size_t n) {
-  if (n > v.capacity()) v.reserve(std::max(n, 2 * v.capacity()));
-}
-
 // Each waiting sibling is a stack entry, so a full 8-wide node on every level of a deep
 // tree needs up to 7 entries per level where a 4-wide one needs 3. When the worst case
 // exceeds the kernels' stack, the collapse is redone with fewer inner children per node
@@ -283,8 +279,8 @@ WideBvhInfo collapse_within_stack(const BinaryBvh& bvh, int width, HugePageVecto
   // reference once), so that the arrays do not regrow through copies of every size on
   // the way, each on pages faulted in afresh (perf: 6% of a build of Ratboy's capsules).
   // Growth stays geometric when BLAS after BLAS is appended to the same arrays.
-  reserve_for(nodes, nodes0 + bvh.nodes.size() / 2 + 1);
-  reserve_for(refs, refs0 + bvh.order.size());
+  reserve_more(nodes, bvh.nodes.size() / 2 + 1);
+  reserve_more(refs, bvh.order.size());
   StackNeedOf need;
   WideBvhInfo info;
   for (int max_inner : {8, 6, 4, 3, 2}) {
