@@ -45,8 +45,7 @@ void copy_leaves(const PackedScene& ps, std::int32_t root, const kernel::Geometr
 } // namespace
 
 void leaf_capsules(const PackedScene& ps, LeafCapsuleRows& out) {
-  out.stride = 0;
-  bool sized = false;
+  out.stride = 0; // sized at the first BLAS of capsules: the references and four more
   std::vector<bool> seen(ps.node_count(), false); // nodes walked (instances of one geometry share a BLAS)
   for (const kernel::Instance& inst : ps.instances) {
     if (inst.blas_root < 0 || inst.geom < 0 || std::size_t(inst.geom) >= ps.geoms.size()) continue;
@@ -54,17 +53,16 @@ void leaf_capsules(const PackedScene& ps, LeafCapsuleRows& out) {
     if (g.type != MASQ_CPU_LEAF_COPY_TYPE) continue;
     // As long as the references and four more: every block of four a leaf starts is
     // then inside the copy. Leaves name their first reference by an int32.
-    if (!sized) {
+    if (out.stride == 0) {
       if (ps.refs.size() > std::size_t(std::numeric_limits<std::int32_t>::max() - 8))
         throw Error("cpu: " + std::to_string(ps.refs.size()) +
                     " BLAS references are more than the cpu's leaf copy can index (int32)");
       out.stride = int((ps.refs.size() + 4 + 3) / 4 * 4);
       out.rows.assign(std::size_t(LeafCapsuleRows::kRows) * std::size_t(out.stride), 0.0f);
-      sized = true;
     }
     copy_leaves(ps, inst.blas_root, g, seen, out);
   }
-  if (!sized) out.rows.clear();
+  if (out.stride == 0) out.rows.clear();
 }
 
 } // namespace masq
