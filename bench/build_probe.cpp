@@ -2,11 +2,13 @@
 // as the peers suite's build table times it) repeated in a function of its own,
 // probe_builds, for a profiler to count alone (valgrind's callgrind, or perf record with
 // its software clock: these virtual machines expose no hardware counters).
-//   masq_build_probe FILE|bundle ref|masq|cluster|auto [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]
+//   masq_build_probe FILE|bundle ref|masq|cluster|auto [w4|w8|q8|o4=w4] [capsule|curve|thick|thick-curve=capsule] [builds=10]
+// (thick: every radius 0.05 x the mean segment, the peers suite's thick rows)
 //   valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*probe_builds*'
 //     build/bench/masq_build_probe ... (one line)
 // It prints the structure's digest (FNV-1a over every array the kernels read): two builds of masq that print the same digest made the same structure,
 // byte for byte.
+#include "bench/peer_scenes.h"
 #include "bench/probe_args.h"
 #include "bench/process_clock.h"
 #include "bvh/twolevel/build_accel.h"
@@ -61,13 +63,24 @@ std::uint64_t structure_digest(const PackedScene& scene) {
 int main(int argc, char** argv) {
   try {
     if (argc < 3)
-      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster|auto [w4|w8|q8|o4=w4] [capsule|curve=capsule] [builds=10]");
+      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster|auto [w4|w8|q8|o4=w4] "
+                                  "[capsule|curve|thick|thick-curve=capsule] [builds=10]");
     Scene scene = probe::scene(argv[1]);
     const Method method = probe::method(argv[2]);
     AccelOptions accel;
     accel.builder.kind = Builder::Sah4; // the peers suite's build table
     if (argc > 3) accel.nodes = probe::nodes(argv[3]);
-    if (argc > 4 && probe::pick<bool>("primitive", argv[4], {{"capsule", false}, {"curve", true}})) {
+    struct Prims {
+      bool curves, thick;
+    };
+    const Prims prims = argc > 4 ? probe::pick<Prims>("primitive", argv[4],
+                                                      {{"capsule", {false, false}},
+                                                       {"curve", {true, false}},
+                                                       {"thick", {false, true}},
+                                                       {"thick-curve", {true, true}}})
+                                 : Prims{false, false};
+    if (prims.thick) thicken(scene); // before the curves, as the peers suite's scenes
+    if (prims.curves) {
       scene = segments_to_curves(scene);
       accel.curve_isect = CurveIsect::Roving;
     }
