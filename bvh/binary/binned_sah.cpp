@@ -318,7 +318,23 @@ struct NodeSplit {
   int mid = -1;
 };
 
+// Whether a range of count primitives is a leaf whatever its best bin plane: it fits a
+// leaf, and the leaf's price C_i b(n) is at most the traversal step C_t, below which no
+// split's price goes (splits(): C_t plus the children's part, which is never negative).
+// Under sah4 (blocks of four, C_t = C_i = 1) that is every range of at most four: half of
+// a tree's nodes, whose binning and plane search decided nothing.
+bool leaf_whatever_plane(const Input& in, int count) {
+  const SahOptions& opt = in.opt;
+  return count <= opt.max_leaf_size && opt.intersection_cost >= 0.0 &&
+         opt.intersection_cost * blocks(count, in) <= opt.traversal_cost;
+}
+
 NodeSplit split_node(const Input& in, HugePageVector<Ref>& order, int first, int count, Bins& bins) {
+  if (leaf_whatever_plane(in, count)) {
+    Box4 box;
+    for (int i = first; i < first + count; ++i) box.grow(order[std::size_t(i)].box);
+    return NodeSplit{box.aabb(), -1};
+  }
   NodeChoice c = choose_split(in, order, first, count, bins);
   NodeSplit out;
   out.box = c.box;
