@@ -73,7 +73,8 @@ ObbFrame fit_along(const BallHull& h, const glm::dmat3& axes) {
   return f;
 }
 
-ObbFrame curve_obb_fit(const BallHull& h, CurveObb mode) {
+// A curve's axes: the chord, then the control polygon's largest offset from it.
+glm::dmat3 curve_obb_axes(const BallHull& h) {
   glm::dvec3 w = main_axis(h);
   // Perpendicular offsets of the control points from the chord line through p0.
   glm::dvec3 far_dir(0.0);
@@ -95,12 +96,27 @@ ObbFrame curve_obb_fit(const BallHull& h, CurveObb mode) {
     glm::dvec3 o = far_dir - glm::dot(far_dir, w) * w;
     if (glm::length(o) > 0.5) u1 = glm::normalize(o);
   }
-  glm::dvec3 u2 = glm::cross(w, u1);
-  if (mode == CurveObb::Tight) return fit_along(h, glm::dmat3(w, u1, u2));
+  return glm::dmat3(w, u1, glm::cross(w, u1));
+}
+
+// The largest distance of a curve's control points from its chord line through p0.
+double curve_chord_offset(const BallHull& h, const glm::dvec3& w) {
+  double far = 0.0;
+  for (int i = 0; i < h.count; ++i) {
+    glm::dvec3 q = h.centre[i] - h.centre[0];
+    far = std::max(far, glm::length(q - glm::dot(q, w) * w));
+  }
+  return far;
+}
+
+ObbFrame curve_obb_fit(const BallHull& h, CurveObb mode) {
+  const glm::dmat3 axes = curve_obb_axes(h);
+  ObbFrame f = fit_along(h, axes);
+  if (mode == CurveObb::Tight) return f;
   // paper: a cylinder around the chord of radius (largest control-point distance + r),
   // boxed with a square cross-section centred on the chord.
-  ObbFrame f = fit_along(h, glm::dmat3(w, u1, u2));
-  double radial = far + hull_max_radius(h);
+  const glm::dvec3 w = axes[0];
+  double radial = curve_chord_offset(h, w) + hull_max_radius(h);
   double axial_centre = glm::dot(f.centre - h.centre[0], w);
   f.centre = h.centre[0] + axial_centre * w;
   f.half.y = radial;
@@ -124,14 +140,19 @@ double unit_extent(const BallHull& h, const Affine3& xf, const Mat3x4f& m) {
 
 } // namespace
 
-ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb) {
-  BallHull h = ball_hull(g, prim);
+glm::dmat3 primitive_obb_axes(const Geometry& g, const BallHull& h, CurveObb) {
   const PrimShape shape = scene_prim_row(g.type).shape;
-  if (shape == PrimShape::Ball) return fit_along(h, glm::dmat3(1.0));
-  if (shape == PrimShape::Bezier) return curve_obb_fit(h, curve_obb);
+  if (shape == PrimShape::Ball) return glm::dmat3(1.0);
+  if (shape == PrimShape::Bezier) return curve_obb_axes(h); // either mode: the same axes
   glm::dvec3 w = main_axis(h);
   glm::dvec3 u1 = perpendicular(w);
-  return fit_along(h, glm::dmat3(w, u1, glm::cross(w, u1)));
+  return glm::dmat3(w, u1, glm::cross(w, u1));
+}
+
+ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb) {
+  BallHull h = ball_hull(g, prim);
+  if (scene_prim_row(g.type).shape == PrimShape::Bezier) return curve_obb_fit(h, curve_obb);
+  return fit_along(h, primitive_obb_axes(g, h, curve_obb));
 }
 
 MasqueradeBox masquerade_box(const Geometry& g, std::size_t prim, const Affine3& xf, CurveObb curve_obb) {

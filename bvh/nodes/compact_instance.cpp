@@ -133,9 +133,9 @@ std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size
   // World axes: the object OBB's axes under the scene instance's map, made orthonormal
   // and right-handed. For a similarity they are the mapped axes; under shear or a
   // non-uniform scale the compact form (a rotation) holds a box fitted along them.
-  ObbFrame f = primitive_obb(g, prim, curve_obb);
-  glm::dvec3 a0 = glm::normalize(xf.linear * f.axes[0]);
-  glm::dvec3 a1 = xf.linear * f.axes[1];
+  const glm::dmat3 axes = primitive_obb_axes(g, h, curve_obb);
+  glm::dvec3 a0 = glm::normalize(xf.linear * axes[0]);
+  glm::dvec3 a1 = xf.linear * axes[1];
   a1 = glm::normalize(a1 - glm::dot(a1, a0) * a0);
   glm::dvec3 a2 = glm::cross(a0, a1);
   if (!std::isfinite(a2.x) || !std::isfinite(a2.y) || !std::isfinite(a2.z)) return std::nullopt;
