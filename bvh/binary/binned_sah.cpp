@@ -323,14 +323,14 @@ struct NodeSplit {
 // split's price goes (splits(): C_t plus the children's part, which is never negative).
 // Under sah4 (blocks of four, C_t = C_i = 1) that is every range of at most four: half of
 // a tree's nodes, whose binning and plane search decided nothing.
-bool leaf_whatever_plane(const Input& in, int count) {
+bool leaf_whatever_plane(const Input& in, int count, double traversal_cost) {
   const SahOptions& opt = in.opt;
   return count <= opt.max_leaf_size && opt.intersection_cost >= 0.0 &&
-         opt.intersection_cost * blocks(count, in) <= opt.traversal_cost;
+         opt.intersection_cost * blocks(count, in) <= traversal_cost;
 }
 
 NodeSplit split_node(const Input& in, HugePageVector<Ref>& order, int first, int count, Bins& bins) {
-  if (leaf_whatever_plane(in, count)) {
+  if (leaf_whatever_plane(in, count, in.opt.traversal_cost)) {
     Box4 box;
     for (int i = first; i < first + count; ++i) box.grow(order[std::size_t(i)].box);
     return NodeSplit{box.aabb(), -1};
@@ -501,6 +501,25 @@ std::vector<BinaryBvh> build_binned_sah_costs(std::span<const Aabb> boxes, const
   while (!jobs.empty()) {
     Job job = std::move(jobs.back());
     jobs.pop_back();
+    // A range that every tree still walking it keeps as a leaf needs its box alone.
+    bool leaf_in_all = true;
+    for (std::size_t t = 0; t < trees && leaf_in_all; ++t) {
+      if (job.node[t] < 0) continue;
+      leaf_in_all = leaf_whatever_plane(in, job.count, traversal_costs[t]);
+    }
+    if (leaf_in_all) {
+      Box4 box;
+      for (int i = job.first; i < job.first + job.count; ++i) box.grow(refs[std::size_t(i)].box);
+      for (std::size_t t = 0; t < trees; ++t) {
+        if (job.node[t] < 0) continue;
+        BinaryNode& node = out[t].nodes[std::size_t(job.node[t])];
+        node.box = box.aabb();
+        node.first = job.first;
+        node.count = job.count;
+        for (int i = job.first; i < job.first + job.count; ++i) out[t].order[std::size_t(i)] = refs[std::size_t(i)].id();
+      }
+      continue;
+    }
     const NodeChoice c = choose_split(in, refs, job.first, job.count, bins);
     bool any = false;
     for (std::size_t t = 0; t < trees; ++t) {
