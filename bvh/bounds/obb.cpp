@@ -140,10 +140,10 @@ double unit_extent(const BallHull& h, const Affine3& xf, const Mat3x4f& m) {
 
 } // namespace
 
-glm::dmat3 primitive_obb_axes(const Geometry& g, const BallHull& h, CurveObb) {
+glm::dmat3 primitive_obb_axes(const Geometry& g, const BallHull& h) {
   const PrimShape shape = scene_prim_row(g.type).shape;
   if (shape == PrimShape::Ball) return glm::dmat3(1.0);
-  if (shape == PrimShape::Bezier) return curve_obb_axes(h); // either mode: the same axes
+  if (shape == PrimShape::Bezier) return curve_obb_axes(h);
   glm::dvec3 w = main_axis(h);
   glm::dvec3 u1 = perpendicular(w);
   return glm::dmat3(w, u1, glm::cross(w, u1));
@@ -152,7 +152,7 @@ glm::dmat3 primitive_obb_axes(const Geometry& g, const BallHull& h, CurveObb) {
 ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb) {
   BallHull h = ball_hull(g, prim);
   if (scene_prim_row(g.type).shape == PrimShape::Bezier) return curve_obb_fit(h, curve_obb);
-  return fit_along(h, primitive_obb_axes(g, h, curve_obb));
+  return fit_along(h, primitive_obb_axes(g, h));
 }
 
 MasqueradeBox masquerade_box(const Geometry& g, std::size_t prim, const Affine3& xf, CurveObb curve_obb) {

@@ -23,10 +23,10 @@ struct ObbFrame {
 // round cones (axis and perpendicular radii, both end balls covered), a cube for spheres,
 // `curve_obb` for curves. Conservative for the hull of ball_hull().
 ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb = CurveObb::Tight);
-// primitive_obb's axes alone, from the primitive's ball hull h (ball_hull(g, prim)): the
-// same bits, without the box fitted along them (the compact masquerade entries fit their
-// own box along the quantised axes).
-glm::dmat3 primitive_obb_axes(const Geometry& g, const BallHull& h, CurveObb curve_obb = CurveObb::Tight);
+// primitive_obb's axes alone (the same bits, either curve OBB mode), from the primitive's
+// ball hull h (ball_hull(g, prim)), without the box fitted along them: the compact
+// masquerade entries fit their own box along the quantised axes.
+glm::dmat3 primitive_obb_axes(const Geometry& g, const BallHull& h);
 
 struct MasqueradeBox {
   Mat3x4f world_to_unit; // fp32 as stored: maps the primitive into [-1,1]^3 (verified)

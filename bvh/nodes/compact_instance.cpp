@@ -126,14 +126,14 @@ void set_masq_owner(kernel::MasqInstance& c, std::uint32_t owner) {
 std::uint32_t masq_owner(const kernel::MasqInstance& c) { return c.s2_owner & MASQ_OWNER_MASK; }
 
 std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size_t prim, const Affine3& xf,
-                                                    CurveObb curve_obb) {
+                                                    CurveObb /*curve_obb: both modes have the same axes*/) {
   BallHull h = ball_hull(g, prim);
   if (!(hull_max_radius(h) > 0.0))
     throw Error(std::string("obb: a ") + prim_type_name(g.type) + " of radius 0 has no oriented box");
   // World axes: the object OBB's axes under the scene instance's map, made orthonormal
   // and right-handed. For a similarity they are the mapped axes; under shear or a
   // non-uniform scale the compact form (a rotation) holds a box fitted along them.
-  const glm::dmat3 axes = primitive_obb_axes(g, h, curve_obb);
+  const glm::dmat3 axes = primitive_obb_axes(g, h);
   glm::dvec3 a0 = glm::normalize(xf.linear * axes[0]);
   glm::dvec3 a1 = xf.linear * axes[1];
   a1 = glm::normalize(a1 - glm::dot(a1, a0) * a0);

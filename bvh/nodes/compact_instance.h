@@ -28,7 +28,8 @@ struct CompactMasquerade {
 // it, the primitive's hull lies inside [-1,1]^3. nullopt where the form cannot hold it
 // (a scale outside bfloat16's normal range, or no fit after shrinking); the caller then
 // uses a 64-byte Instance. Throws masq::Error for a primitive without volume, as
-// masquerade_box does.
+// masquerade_box does. Both curve OBB modes give a curve the same axes (primitive_obb_axes),
+// so the same entry.
 std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size_t prim,
                                                     const Affine3& object_to_world,
                                                     CurveObb curve_obb = CurveObb::Tight);

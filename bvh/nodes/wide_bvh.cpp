@@ -331,38 +331,6 @@ void float_slots(const Node& n, NodeSlots& out, const NodeFrame& frame = {}) {
   }
 }
 
-// Byte s of a q8 node's rows of one byte per slot (slot s: word s / 4, bits 8 (s % 4)).
-unsigned q8_byte(const std::uint32_t* words, int s) { return (words[s / 4] >> (8 * (s % 4))) & 255u; }
-
-// A q8 node's links, decoded from its meta bytes as the kernels' q8_slots decodes them:
-// inner children numbered from child_base, leaf references from ref_base, in slot order.
-NodeLinks q8_links(const kernel::QuantNode8& n) {
-  NodeLinks out;
-  int next_child = n.child_base, next_ref = n.ref_base;
-  for (int s = 0; s < MASQ_WIDTH8; ++s) {
-    NodeLink& l = out.slot[std::size_t(s)];
-    const unsigned m = q8_byte(n.meta, s);
-    if (m == MASQ_Q8_INNER) {
-      l.child = next_child++;
-      l.count = 0;
-    } else if (m != 0) {
-      l.child = next_ref;
-      l.count = int(m);
-      next_ref += int(m);
-    }
-  }
-  out.n = MASQ_WIDTH8;
-  return out;
-}
-
-template <class Node, int Width>
-NodeLinks float_links(const Node& n) {
-  NodeLinks out;
-  for (int s = 0; s < Width; ++s) out.slot[std::size_t(s)] = {n.child[s], n.count[s]};
-  out.n = Width;
-  return out;
-}
-
 } // namespace
 
 WideBvhInfo append_wide_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
@@ -397,17 +365,25 @@ NodeSlots node_slots(const PackedScene& ps, std::int32_t node) {
     }
     case NodeFormat::Q8: {
       const kernel::QuantNode8& n = ps.qnodes.at(i);
-      const NodeLinks links = q8_links(n);
+      auto byte = [](const std::uint32_t* words, int s) { return (words[s / 4] >> (8 * (s % 4))) & 255u; };
+      int next_child = n.child_base, next_ref = n.ref_base;
       for (int s = 0; s < MASQ_WIDTH8; ++s) {
         NodeSlot slot;
-        slot.child = links.slot[std::size_t(s)].child;
-        slot.count = links.slot[std::size_t(s)].count;
+        unsigned m = byte(n.meta, s);
+        if (m == MASQ_Q8_INNER) {
+          slot.child = next_child++;
+          slot.count = 0;
+        } else if (m != 0) {
+          slot.child = next_ref;
+          slot.count = int(m);
+          next_ref += int(m);
+        }
         const std::uint32_t* lo[3] = {n.qlo_x, n.qlo_y, n.qlo_z};
         const std::uint32_t* hi[3] = {n.qhi_x, n.qhi_y, n.qhi_z};
         for (int k = 0; k < 3; ++k) {
           int e = int((n.exps >> (8 * k)) & 255u);
-          slot.box.lo[k] = quant_decode(n.origin[k], e, q8_byte(lo[k], s));
-          slot.box.hi[k] = quant_decode(n.origin[k], e, q8_byte(hi[k], s));
+          slot.box.lo[k] = quant_decode(n.origin[k], e, byte(lo[k], s));
+          slot.box.hi[k] = quant_decode(n.origin[k], e, byte(hi[k], s));
         }
         out.push_back(slot);
       }
@@ -415,17 +391,6 @@ NodeSlots node_slots(const PackedScene& ps, std::int32_t node) {
     }
   }
   return out;
-}
-
-NodeLinks node_links(const PackedScene& ps, std::int32_t node) {
-  const std::size_t i = std::size_t(node);
-  switch (ps.features.nodes) {
-    case NodeFormat::W4: return float_links<kernel::WideNode, MASQ_WIDTH>(ps.nodes.at(i));
-    case NodeFormat::W8: return float_links<kernel::WideNode8, MASQ_WIDTH8>(ps.nodes8.at(i));
-    case NodeFormat::O4: return float_links<kernel::WideNode, MASQ_WIDTH>(ps.onodes.at(i).boxes);
-    case NodeFormat::Q8: return q8_links(ps.qnodes.at(i));
-  }
-  return {};
 }
 
 } // namespace masq

@@ -64,19 +64,4 @@ class NodeSlots {
 };
 NodeSlots node_slots(const PackedScene& ps, std::int32_t node);
 
-// A node's slots as links only (NodeSlot's child and count, no box or frame), for the
-// host walks that follow the tree without testing it (the cpu backend's leaf copy, whose
-// time decoding every box and frame of every node was most of).
-struct NodeLink {
-  std::int32_t child = -1;
-  std::int32_t count = -1;
-};
-struct NodeLinks {
-  std::array<NodeLink, MASQ_WIDTH8> slot;
-  int n = 0;
-  const NodeLink* begin() const { return slot.data(); }
-  const NodeLink* end() const { return slot.data() + n; }
-};
-NodeLinks node_links(const PackedScene& ps, std::int32_t node);
-
 } // namespace masq

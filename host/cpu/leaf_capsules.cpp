@@ -22,7 +22,7 @@ void copy_leaves(const PackedScene& ps, std::int32_t root, const kernel::Geometr
     todo.pop_back();
     if (node < 0 || std::size_t(node) >= nodes || seen[std::size_t(node)]) continue;
     seen[std::size_t(node)] = true;
-    for (const NodeLink& s : node_links(ps, node)) {
+    for (const NodeSlot& s : node_slots(ps, node)) {
       if (s.count < 0) continue;
       if (s.count == 0) {
         todo.push_back(s.child);
