@@ -269,9 +269,29 @@ struct NodeChoice {
   double leaf_cost = 0;
 };
 
-NodeChoice choose_split(const Input& in, HugePageVector<Ref>& order, int first, int count, Bins& bins) {
+// Whether a range of count primitives is a leaf whatever its best bin plane: it fits a
+// leaf, and the leaf's price C_i b(n) is at most the traversal step C_t, below which no
+// split's price goes (splits(): C_t plus the children's part, which is never negative).
+// Under sah4 (blocks of four, C_t = C_i = 1) that is every range of at most four: half of
+// a tree's nodes, whose binning and plane search decided nothing.
+bool leaf_whatever_plane(const Input& in, int count, double traversal_cost) {
+  const SahOptions& opt = in.opt;
+  return count <= opt.max_leaf_size && opt.intersection_cost >= 0.0 &&
+         opt.intersection_cost * blocks(count, in) <= traversal_cost;
+}
+
+// plane: false for a range that is a leaf whatever its plane (leaf_whatever_plane), which
+// takes its box alone: no centroid box, no bins, no plane (splits() then makes a leaf).
+NodeChoice choose_split(const Input& in, HugePageVector<Ref>& order, int first, int count, Bins& bins,
+                        bool plane) {
   NodeChoice c;
   c.count = count;
+  if (!plane) {
+    Box4 box;
+    for (int i = first; i < first + count; ++i) box.grow(order[std::size_t(i)].box);
+    c.box = box.aabb();
+    return c;
+  }
   Box4 box, cbox;
   bounds_of(order, first, count, box, cbox);
   c.box = box.aabb();
@@ -318,24 +338,9 @@ struct NodeSplit {
   int mid = -1;
 };
 
-// Whether a range of count primitives is a leaf whatever its best bin plane: it fits a
-// leaf, and the leaf's price C_i b(n) is at most the traversal step C_t, below which no
-// split's price goes (splits(): C_t plus the children's part, which is never negative).
-// Under sah4 (blocks of four, C_t = C_i = 1) that is every range of at most four: half of
-// a tree's nodes, whose binning and plane search decided nothing.
-bool leaf_whatever_plane(const Input& in, int count, double traversal_cost) {
-  const SahOptions& opt = in.opt;
-  return count <= opt.max_leaf_size && opt.intersection_cost >= 0.0 &&
-         opt.intersection_cost * blocks(count, in) <= traversal_cost;
-}
-
 NodeSplit split_node(const Input& in, HugePageVector<Ref>& order, int first, int count, Bins& bins) {
-  if (leaf_whatever_plane(in, count, in.opt.traversal_cost)) {
-    Box4 box;
-    for (int i = first; i < first + count; ++i) box.grow(order[std::size_t(i)].box);
-    return NodeSplit{box.aabb(), -1};
-  }
-  NodeChoice c = choose_split(in, order, first, count, bins);
+  NodeChoice c =
+      choose_split(in, order, first, count, bins, !leaf_whatever_plane(in, count, in.opt.traversal_cost));
   NodeSplit out;
   out.box = c.box;
   if (splits(in, c, in.opt.traversal_cost)) out.mid = partition_node(order, first, c);
@@ -507,20 +512,7 @@ std::vector<BinaryBvh> build_binned_sah_costs(std::span<const Aabb> boxes, const
       if (job.node[t] < 0) continue;
       leaf_in_all = leaf_whatever_plane(in, job.count, traversal_costs[t]);
     }
-    if (leaf_in_all) {
-      Box4 box;
-      for (int i = job.first; i < job.first + job.count; ++i) box.grow(refs[std::size_t(i)].box);
-      for (std::size_t t = 0; t < trees; ++t) {
-        if (job.node[t] < 0) continue;
-        BinaryNode& node = out[t].nodes[std::size_t(job.node[t])];
-        node.box = box.aabb();
-        node.first = job.first;
-        node.count = job.count;
-        for (int i = job.first; i < job.first + job.count; ++i) out[t].order[std::size_t(i)] = refs[std::size_t(i)].id();
-      }
-      continue;
-    }
-    const NodeChoice c = choose_split(in, refs, job.first, job.count, bins);
+    const NodeChoice c = choose_split(in, refs, job.first, job.count, bins, !leaf_in_all);
     bool any = false;
     for (std::size_t t = 0; t < trees; ++t) {
       split[t] = 0;

@@ -73,18 +73,23 @@ ObbFrame fit_along(const BallHull& h, const glm::dmat3& axes) {
   return f;
 }
 
-// A curve's axes: the chord, then the control polygon's largest offset from it.
-glm::dmat3 curve_obb_axes(const BallHull& h) {
+// A curve's axes (the chord, then the control polygon's largest offset from it) and that
+// offset: the largest distance of a control point from the chord line through p0.
+struct CurveChord {
+  glm::dmat3 axes;
+  double far = 0.0;
+};
+CurveChord curve_chord(const BallHull& h) {
+  CurveChord c;
   glm::dvec3 w = main_axis(h);
   // Perpendicular offsets of the control points from the chord line through p0.
   glm::dvec3 far_dir(0.0);
-  double far = 0.0;
   for (int i = 0; i < h.count; ++i) {
     glm::dvec3 q = h.centre[i] - h.centre[0];
     glm::dvec3 perp = q - glm::dot(q, w) * w;
     double l = glm::length(perp);
-    if (l > far) {
-      far = l;
+    if (l > c.far) {
+      c.far = l;
       far_dir = perp / l;
     }
   }
@@ -92,31 +97,22 @@ glm::dmat3 curve_obb_axes(const BallHull& h) {
   // their direction is not perpendicular to w (a 1e-5-long piece of a subdivided strand
   // gave u1 == w and a singular box), and they do not matter for the box anyway.
   glm::dvec3 u1 = perpendicular(w);
-  if (far > 1e-6 * hull_max_radius(h)) {
+  if (c.far > 1e-6 * hull_max_radius(h)) {
     glm::dvec3 o = far_dir - glm::dot(far_dir, w) * w;
     if (glm::length(o) > 0.5) u1 = glm::normalize(o);
   }
-  return glm::dmat3(w, u1, glm::cross(w, u1));
-}
-
-// The largest distance of a curve's control points from its chord line through p0.
-double curve_chord_offset(const BallHull& h, const glm::dvec3& w) {
-  double far = 0.0;
-  for (int i = 0; i < h.count; ++i) {
-    glm::dvec3 q = h.centre[i] - h.centre[0];
-    far = std::max(far, glm::length(q - glm::dot(q, w) * w));
-  }
-  return far;
+  c.axes = glm::dmat3(w, u1, glm::cross(w, u1));
+  return c;
 }
 
 ObbFrame curve_obb_fit(const BallHull& h, CurveObb mode) {
-  const glm::dmat3 axes = curve_obb_axes(h);
-  ObbFrame f = fit_along(h, axes);
+  const CurveChord chord = curve_chord(h);
+  ObbFrame f = fit_along(h, chord.axes);
   if (mode == CurveObb::Tight) return f;
   // paper: a cylinder around the chord of radius (largest control-point distance + r),
   // boxed with a square cross-section centred on the chord.
-  const glm::dvec3 w = axes[0];
-  double radial = curve_chord_offset(h, w) + hull_max_radius(h);
+  const glm::dvec3 w = chord.axes[0];
+  double radial = chord.far + hull_max_radius(h);
   double axial_centre = glm::dot(f.centre - h.centre[0], w);
   f.centre = h.centre[0] + axial_centre * w;
   f.half.y = radial;
@@ -143,7 +139,7 @@ double unit_extent(const BallHull& h, const Affine3& xf, const Mat3x4f& m) {
 glm::dmat3 primitive_obb_axes(const Geometry& g, const BallHull& h) {
   const PrimShape shape = scene_prim_row(g.type).shape;
   if (shape == PrimShape::Ball) return glm::dmat3(1.0);
-  if (shape == PrimShape::Bezier) return curve_obb_axes(h);
+  if (shape == PrimShape::Bezier) return curve_chord(h).axes;
   glm::dvec3 w = main_axis(h);
   glm::dvec3 u1 = perpendicular(w);
   return glm::dmat3(w, u1, glm::cross(w, u1));
