@@ -130,12 +130,42 @@ FN_INLINED CapsuleHitsN<int(sizeof(F) / 4)> capsule_hits(const CapsuleLanes<F>& 
   F gap = vabs(vdot(ocx, ocy, ocz, lnx, lny, lnz)) - K;
   I off_axis = (gap > 0.0f) & (gap * gap > (R * R) * vdot(lnx, lny, lnz, lnx, lny, lnz) * 1.01f);
   near = near & ~off_axis;
-  int any_near = 0;
-  for (int i = 0; i < L; ++i) any_near |= near[i];
-  if (any_near == 0) {
-    for (int i = 0; i < L; ++i) out.hit[i] = 0;
-    return out;
+  auto none_near = [&](I lanes) {
+    int any = 0;
+    for (int i = 0; i < L; ++i) any |= lanes[i];
+    if (any == 0)
+      for (int i = 0; i < L; ++i) out.hit[i] = 0;
+    return any == 0;
+  };
+  if (none_near(near)) return out;
+  // Behind the start: a secondary ray leaves a strand through the capsules it starts on
+  // or behind (its neighbours'), whose crossings all lie before its interval opens: a
+  // third of the eight-lane calls that got this far on the bear's diffuse rays, and a
+  // sixth on its shadow rays. If the ray at tmin is outside R of the axis line (the
+  // crossings' bound above) and moving away from it, its distance to the axis only grows
+  // from there (a convex quadratic in t, rising at tmin), so the scalar call finds no
+  // crossing in its window, which starts at or after tmin. E bounds the error of the
+  // point q at tmin (its own rounding, oc's, and the axis direction's over |q|); the 64u
+  // and 32u terms the rounding of the products and dot products below, the cancellation
+  // in A - B included.
+  {
+    F qx = ocx + tmin * d.x, qy = ocy + tmin * d.y, qz = ocz + tmin * d.z;
+    F q1 = (vabs(qx) + vabs(qy)) + vabs(qz);
+    F ba1 = (vabs(bax) + vabs(bay)) + vabs(baz);
+    F L2 = vdot(bax, bay, baz, bax, bay, baz);
+    F E = 8.0f * MASQ_U * (oc1 + len + std::fabs(tmin) * d1 + q1);
+    F qb = vdot(qx, qy, qz, bax, bay, baz);
+    // A - B = (q's distance to the axis line)^2 |b - a|^2
+    F A = vdot(qx, qy, qz, qx, qy, qz) * L2, B = qb * qb;
+    F RE = R + E;
+    I outside = (A - B) - 64.0f * MASQ_U * (A + B) > RE * RE * L2;
+    // half that squared distance's derivative in t at tmin, times |b - a|^2
+    F db = vdot(splat(d.x), splat(d.y), splat(d.z), bax, bay, baz);
+    F slope = vdot(qx, qy, qz, splat(d.x), splat(d.y), splat(d.z)) * L2 - qb * db;
+    I away = slope > (32.0f * MASQ_U * q1 + 2.0f * E) * d1 * (L2 + ba1 * ba1);
+    near = near & ~(outside & away);
   }
+  if (none_near(near)) return out;
   I long_axis = len > 0.0f;
   F wx = long_axis ? bax / len : splat(0.0f);
   F wy = long_axis ? bay / len : splat(0.0f);
