@@ -130,14 +130,16 @@ FN_INLINED CapsuleHitsN<int(sizeof(F) / 4)> capsule_hits(const CapsuleLanes<F>& 
   F gap = vabs(vdot(ocx, ocy, ocz, lnx, lny, lnz)) - K;
   I off_axis = (gap > 0.0f) & (gap * gap > (R * R) * vdot(lnx, lny, lnz, lnx, lny, lnz) * 1.01f);
   near = near & ~off_axis;
-  auto none_near = [&](I lanes) {
+  auto any_lane = [](I lanes) {
     int any = 0;
     for (int i = 0; i < L; ++i) any |= lanes[i];
-    if (any == 0)
-      for (int i = 0; i < L; ++i) out.hit[i] = 0;
-    return any == 0;
+    return any != 0;
   };
-  if (none_near(near)) return out;
+  auto no_hits = [&out]() {
+    for (int i = 0; i < L; ++i) out.hit[i] = 0;
+    return out;
+  };
+  if (!any_lane(near)) return no_hits();
   // Behind the start: a secondary ray leaves a strand through the capsules it starts on
   // or behind (its neighbours'), whose crossings all lie before its interval opens: a
   // third of the eight-lane calls that got this far on the bear's diffuse rays, and a
@@ -147,8 +149,11 @@ FN_INLINED CapsuleHitsN<int(sizeof(F) / 4)> capsule_hits(const CapsuleLanes<F>& 
   // crossing in its window, which starts at or after tmin. E bounds the error of the
   // point q at tmin (its own rounding, oc's, and the axis direction's over |q|); the 64u
   // and 32u terms the rounding of the products and dot products below, the cancellation
-  // in A - B included.
-  {
+  // in A - B included. Only where some near lane's sphere reaches back to tmin (ts - tmin
+  // at most reach / |d|): a capsule wholly ahead of the start, as every capsule a camera
+  // ray meets, is left to the full test without this test's cost.
+  I starts_in_reach = near & ((ts - tmin) * std::sqrt(dd) <= reach);
+  if (any_lane(starts_in_reach)) {
     F qx = ocx + tmin * d.x, qy = ocy + tmin * d.y, qz = ocz + tmin * d.z;
     F q1 = (vabs(qx) + vabs(qy)) + vabs(qz);
     F ba1 = (vabs(bax) + vabs(bay)) + vabs(baz);
@@ -165,7 +170,7 @@ FN_INLINED CapsuleHitsN<int(sizeof(F) / 4)> capsule_hits(const CapsuleLanes<F>& 
     I away = slope > (32.0f * MASQ_U * q1 + 2.0f * E) * d1 * (L2 + ba1 * ba1);
     near = near & ~(outside & away);
   }
-  if (none_near(near)) return out;
+  if (!any_lane(near)) return no_hits();
   I long_axis = len > 0.0f;
   F wx = long_axis ? bax / len : splat(0.0f);
   F wy = long_axis ? bay / len : splat(0.0f);
