@@ -100,7 +100,9 @@ FN_INLINED CapsuleHitsN<int(sizeof(F) / 4)> capsule_hits(const CapsuleLanes<F>& 
   I ok = valid & (r > 0.0f);
   if (!(dd > 0.0f) || !(tmin <= tmax)) ok = I{};
   F bax = bx - ax, bay = by - ay, baz = bz - az;
-  F len = vsqrt(vdot(bax, bay, baz, bax, bay, baz));
+  F L2 = vdot(bax, bay, baz, bax, bay, baz);
+  F len = vsqrt(L2);
+  float dl = std::sqrt(dd);
   F h = 0.5f * len;
   F ocx = (o.x - ax) - 0.5f * bax, ocy = (o.y - ay) - 0.5f * bay, ocz = (o.z - az) - 0.5f * baz;
   F ts = -vdot(ocx, ocy, ocz, splat(d.x), splat(d.y), splat(d.z)) / dd;
@@ -126,7 +128,7 @@ FN_INLINED CapsuleHitsN<int(sizeof(F) / 4)> capsule_hits(const CapsuleLanes<F>& 
   // this test's miss, nor a zero-length capsule (n = 0), nor any NaN.
   F lnx = d.y * baz - d.z * bay, lny = d.z * bax - d.x * baz, lnz = d.x * bay - d.y * bax;
   F R = r * 1.01f + rounding + 64.0f * MASQ_U * len;
-  F K = (64.0f * MASQ_U * std::sqrt(dd)) * len * (oc1 + len + R);
+  F K = (64.0f * MASQ_U * dl) * len * (oc1 + len + R);
   F gap = vabs(vdot(ocx, ocy, ocz, lnx, lny, lnz)) - K;
   I off_axis = (gap > 0.0f) & (gap * gap > (R * R) * vdot(lnx, lny, lnz, lnx, lny, lnz) * 1.01f);
   near = near & ~off_axis;
@@ -152,12 +154,11 @@ FN_INLINED CapsuleHitsN<int(sizeof(F) / 4)> capsule_hits(const CapsuleLanes<F>& 
   // in A - B included. Only where some near lane's sphere reaches back to tmin (ts - tmin
   // at most reach / |d|): a capsule wholly ahead of the start, as every capsule a camera
   // ray meets, is left to the full test without this test's cost.
-  I starts_in_reach = near & ((ts - tmin) * std::sqrt(dd) <= reach);
+  I starts_in_reach = near & ((ts - tmin) * dl <= reach);
   if (any_lane(starts_in_reach)) {
     F qx = ocx + tmin * d.x, qy = ocy + tmin * d.y, qz = ocz + tmin * d.z;
     F q1 = (vabs(qx) + vabs(qy)) + vabs(qz);
     F ba1 = (vabs(bax) + vabs(bay)) + vabs(baz);
-    F L2 = vdot(bax, bay, baz, bax, bay, baz);
     F E = 8.0f * MASQ_U * (oc1 + len + std::fabs(tmin) * d1 + q1);
     F qb = vdot(qx, qy, qz, bax, bay, baz);
     // A - B = (q's distance to the axis line)^2 |b - a|^2
@@ -175,7 +176,7 @@ FN_INLINED CapsuleHitsN<int(sizeof(F) / 4)> capsule_hits(const CapsuleLanes<F>& 
   F wx = long_axis ? bax / len : splat(0.0f);
   F wy = long_axis ? bay / len : splat(0.0f);
   F wz = long_axis ? baz / len : splat(1.0f);
-  F self = (MASQ_SELF_REL * r + 32.0f * MASQ_U * (vsqrt(vdot(ocx, ocy, ocz, ocx, ocy, ocz)) + len)) / std::sqrt(dd);
+  F self = (MASQ_SELF_REL * r + 32.0f * MASQ_U * (vsqrt(vdot(ocx, ocy, ocz, ocx, ocy, ocz)) + len)) / dl;
   F tlo = vmax(splat(tmin), self);
   // From here every lane performs intersect_capsule's operations in its order.
   F oax = o.x - ax, oay = o.y - ay, oaz = o.z - az;

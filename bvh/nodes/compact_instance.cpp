@@ -125,8 +125,7 @@ void set_masq_owner(kernel::MasqInstance& c, std::uint32_t owner) {
 
 std::uint32_t masq_owner(const kernel::MasqInstance& c) { return c.s2_owner & MASQ_OWNER_MASK; }
 
-std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size_t prim, const Affine3& xf,
-                                                    CurveObb /*curve_obb: both modes have the same axes*/) {
+std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size_t prim, const Affine3& xf) {
   BallHull h = ball_hull(g, prim);
   if (!(hull_max_radius(h) > 0.0))
     throw Error(std::string("obb: a ") + prim_type_name(g.type) + " of radius 0 has no oriented box");

@@ -28,11 +28,10 @@ struct CompactMasquerade {
 // it, the primitive's hull lies inside [-1,1]^3. nullopt where the form cannot hold it
 // (a scale outside bfloat16's normal range, or no fit after shrinking); the caller then
 // uses a 64-byte Instance. Throws masq::Error for a primitive without volume, as
-// masquerade_box does. Both curve OBB modes give a curve the same axes (primitive_obb_axes),
-// so the same entry.
+// masquerade_box does. It takes no curve OBB mode: both give a curve the same axes
+// (primitive_obb_axes), so the same entry.
 std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size_t prim,
-                                                    const Affine3& object_to_world,
-                                                    CurveObb curve_obb = CurveObb::Tight);
+                                                    const Affine3& object_to_world);
 
 // The map the kernel decodes, in exact arithmetic: M_ij = sigma_i * N_ji (an integer
 // of at most 31 bits times an 8-bit significand: exact in double) and t.

@@ -14,7 +14,7 @@ void fit_masquerades(const Geometry& g, std::span<const std::int32_t> prims, con
   parallel_chunks(prims.size(), 256, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       std::size_t p = std::size_t(prims[i]);
-      fits[i].compact = try_compact ? compact_masquerade(g, p, object_to_world, curve_obb) : std::nullopt;
+      fits[i].compact = try_compact ? compact_masquerade(g, p, object_to_world) : std::nullopt;
       if (!fits[i].compact) fits[i].full = masquerade_box(g, p, object_to_world, curve_obb);
     }
   });
