@@ -109,4 +109,53 @@ TEST(Intersectors, TrianglesMatchOracle) {
               100.0 * double(fast_self) / double(fast_rays), fast_rays);
 }
 
+
+// The self-intersection window on its own: origins just off a triangle's plane (where
+// its plane rule lets the ray through), rays straight at it, crossings a little inside
+// and a little beyond t_self (the oracle's self_window_t). The robust test must drop the
+// first and keep the second. TrianglesMatchOracle's surface rays cannot tell: their
+// origins lie within the plane rule's reach, so it passes with the window removed (this
+// test then fails on all 2,000 crossings inside it).
+TEST(Intersectors, TriangleSelfWindowHoldsOffThePlane) {
+  Rng rng(0x5e1f);
+  const ld u = ld(MASQ_U);
+  int inside = 0, beyond = 0, inside_hits = 0, beyond_misses = 0;
+  for (int i = 0; i < 4000; ++i) {
+    ld R = log_uni(rng, 1e-1, 1e2); // |o - v0|
+    Vld n = rand_unit(rng), t1 = rand_perp(rng, n);
+    Vld t2 = crossl(n, t1);
+    Vld v0 = (0.02L * R) * rand_unit(rng); // |v0| small beside |o - v0|: the plane test's bound stays below t_self
+    Tri tr{to_f(v0), to_f(v0 + (4 * R) * t1), to_f(v0 + (4 * R) * t2)};
+    Vld p0 = to_ld(tr.v0), p1 = to_ld(tr.v1), p2 = to_ld(tr.v2);
+    Vld un = unitl(crossl(p1 - p0, p2 - p0));
+    bool in = i % 2 == 0;
+    Vld foot = p0 + R * (uni(rng, 0.3, 0.7) * unitl(p1 - p0) + uni(rng, 0.3, 0.7) * unitl(p2 - p0));
+    Vld d = -log_uni(rng, 1e-2, 1e2) * un;
+    glm::vec3 df = to_f(d);
+    // Height over the plane as a fraction of the window's length along d (32 u |o - v0|).
+    ld h = (in ? uni(rng, 0.62, 0.85) : uni(rng, 1.2, 2.0)) * 32 * u * lenl(foot - p0);
+    glm::vec3 of = to_f(foot + h * un);
+    Vld ol = to_ld(of), dl = to_ld(df);
+    ld tcross = -dotl(ol - p0, un) / dotl(dl, un);
+    ld tself = masq::oracle::self_window_t(0, ol - p0, dotl(dl, dl));
+    ld plane_bound = 16 * u * (lenl(ol - p0) + lenl(p0)); // the plane test's, as a distance
+    ld height = std::fabs(dotl(ol - p0, un));
+    if (!(height > 1.05L * plane_bound)) continue; // the plane test decides these
+    bool hit = KV::intersect_triangle(ktri(tr), of, df, 0, kInfF).hit != 0;
+    if (tcross < 0.95L * tself) {
+      ++inside;
+      inside_hits += hit;
+    } else if (tcross > 1.05L * tself) {
+      ++beyond;
+      beyond_misses += !hit;
+    }
+  }
+  std::printf("self window off the plane: %d crossings inside it (%d hit), %d beyond it (%d missed)\n", inside,
+              inside_hits, beyond, beyond_misses);
+  ASSERT_GT(inside, 500);
+  ASSERT_GT(beyond, 500);
+  EXPECT_EQ(inside_hits, 0);
+  EXPECT_EQ(beyond_misses, 0);
+}
+
 } // namespace
