@@ -159,8 +159,9 @@ FN_INLINED LeafOut intersect_leaf(KD_PARAM Geometry g, int first, int count, int
   }
   // cpu: robust triangles four at a time (triangle_simd_cpp.h), each lane the scalar
   // call's bits; the lanes are taken in order as the loop below takes the calls. Leaves
-  // of one or two triangles stay with the loop: gathering them into lanes cost more than
-  // the calls (the default scene's ground, two triangles, traced 11% slower in lanes).
+  // of one or two triangles stay with the loop: they would fill half the lanes or less
+  // and still pay the whole gather (a choice, not measured: the default scene's ground,
+  // whose leaves hold one triangle, runs the loop either way).
   if (MASQ_ROBUST && MASQ_HAVE_TRIANGLES && g.type == MASQ_PRIM_TRIANGLE && count > 2) {
     for (int j0 = 0; j0 < count; j0 += 4) {
       int n = min(count - j0, 4);
