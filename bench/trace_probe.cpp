@@ -7,7 +7,11 @@
 // FILE "bundle" is the embedded default scene (the peers suite's bundle row); "bundle-hair" and
 // "bundle-ground" keep only its strands or only its ground plane.
 //   masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last]
-// (the last: AccelOptions::blas_occlusion, the BLAS order of occlusion queries)
+// (nearest|starts-last: AccelOptions::blas_occlusion, the BLAS order of occlusion queries;
+// repeat: each ray traced that many times in a row. A repeat finds the ray's nodes and
+// primitives in cache, so with T(k) the time at repeat k, (T(k) - T(1)) / (k - 1) is a
+// trace's cost without cache misses and T(1) less that what its misses cost. Not for
+// camera rays of one BLAS of capsules: their packets would hold a ray and its repeats.)
 //   valgrind --tool=callgrind --cache-sim=yes --branch-sim=yes --collect-atstart=no
 //     --toggle-collect='*probe_traces*' build/bench/masq_trace_probe ... (one line)
 #include "bench/backend_pool.h"
@@ -47,7 +51,7 @@ __attribute__((noinline)) void probe_traces(Backend* be, EmbreePeer* embree, Emb
 int main(int argc, char** argv) {
   try {
     if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse "
-                                              "[capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last]");
+                                              "[capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last] [repeat=1]");
     Scene scene = probe::scene(argv[1]);
     const Method method = probe::method(argv[2]);
     const NodeFormat nodes = probe::nodes(argv[3]);
@@ -61,7 +65,8 @@ int main(int argc, char** argv) {
     const EmbreeTrace how{tracer == 2 ? EmbreeApi::Stream : EmbreeApi::PerRay, tracer == 2 && set == RaySet::Primary};
     const int width = argc > 7 ? std::atoi(argv[7]) : 256;
     const int traces = argc > 8 ? std::atoi(argv[8]) : 4;
-    if (width < 1 || traces < 1) throw std::invalid_argument("width and traces must be at least 1");
+    const int repeat = argc > 10 ? std::atoi(argv[10]) : 1;
+    if (width < 1 || traces < 1 || repeat < 1) throw std::invalid_argument("width, traces and repeat must be at least 1");
     if (curves) scene = segments_to_curves(scene); // the strands' Catmull-Rom cubics
     BenchOptions opt;
     opt.backends = {"cpu"};
@@ -76,7 +81,13 @@ int main(int argc, char** argv) {
     if (argc > 9) opt.accel.blas_occlusion = parse_blas_occlusion(argv[9]);
     BuiltMethods built = build_methods(scene, opt);
     BackendPool pool;
-    const RayBatch b = make_ray_batches(scene, built, opt, pool).back();
+    RayBatch b = make_ray_batches(scene, built, opt, pool).back();
+    if (repeat > 1) {
+      std::vector<kernel::Ray> repeated;
+      repeated.reserve(b.rays.size() * std::size_t(repeat));
+      for (const kernel::Ray& r : b.rays) repeated.insert(repeated.end(), std::size_t(repeat), r);
+      b.rays.assign(repeated.begin(), repeated.end());
+    }
     const Query q = set == RaySet::Shadow ? Query::Any : Query::Closest;
     std::unique_ptr<Backend> be = make_backend("cpu");
     be->set_scene(built.scenes.at(method));
