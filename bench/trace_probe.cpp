@@ -9,9 +9,10 @@
 //   masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last]
 // (nearest|starts-last: AccelOptions::blas_occlusion, the BLAS order of occlusion queries;
 // repeat: each ray traced that many times in a row. A repeat finds the ray's nodes and
-// primitives in cache, so with T(k) the time at repeat k, (T(k) - T(1)) / (k - 1) is a
-// trace's cost without cache misses and T(1) less that what its misses cost. Not for
-// camera rays of one BLAS of capsules: their packets would hold a ray and its repeats.)
+// primitives in cache and its branches just taken, so with T(k) the time at repeat k,
+// (T(k) - T(1)) / (k - 1) is a trace warm and T(1) less that what a cold one adds (cache
+// and TLB misses, mispredicted branches). Not for camera rays of one BLAS of capsules:
+// their packets would hold a ray and its repeats.)
 //   valgrind --tool=callgrind --cache-sim=yes --branch-sim=yes --collect-atstart=no
 //     --toggle-collect='*probe_traces*' build/bench/masq_trace_probe ... (one line)
 #include "bench/backend_pool.h"
