@@ -6,7 +6,7 @@
 // width x width, and the shadow or diffuse rays from their hits.
 // FILE "bundle" is the embedded default scene (the peers suite's bundle row); "bundle-hair" and
 // "bundle-ground" keep only its strands or only its ground plane.
-//   masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last]
+//   masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last] [repeat=1]
 // (nearest|starts-last: AccelOptions::blas_occlusion, the BLAS order of occlusion queries;
 // repeat: each ray traced that many times in a row. A repeat finds the ray's nodes and
 // primitives in cache and its branches just taken, so with T(k) the time at repeat k,
