@@ -31,6 +31,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 using namespace masq;
@@ -87,7 +88,7 @@ int main(int argc, char** argv) {
       std::vector<kernel::Ray> repeated;
       repeated.reserve(b.rays.size() * std::size_t(repeat));
       for (const kernel::Ray& r : b.rays) repeated.insert(repeated.end(), std::size_t(repeat), r);
-      b.rays.assign(repeated.begin(), repeated.end());
+      b.rays = std::move(repeated);
     }
     const Query q = set == RaySet::Shadow ? Query::Any : Query::Closest;
     std::unique_ptr<Backend> be = make_backend("cpu");
