@@ -77,6 +77,9 @@ STRUCT_BEGIN(KernelData)
   // The curves of the compact masquerade entries in entry order (host/cpu/entry_curves.h):
   // entry k's curve at entry_curves[k]; null where the scene has no curves.
   const Curve* entry_curves;
+  // 1 where the TLAS holds compact masquerade entries alone (no Instance), of capsules
+  // and curves: its walk may take camera rays in packets (kernels/packet_walk_cpp.h).
+  int entry_packets;
 #endif
 STRUCT_END(KernelData)
 LAYOUT_NS_END

@@ -29,23 +29,27 @@ inline bool entry_in_box(const EntryBoxes4& b, int j, float tmin, float tmax) {
 // glm's dot of a vec3: (x + y) + z of the products.
 inline F4 dot_lanes(F4 ax, F4 ay, F4 az, float bx, float by, float bz) { return (ax * bx + ay * by) + az * bz; }
 
-// The entries named by refs[0..n-1] (compact entries: ref = -1 - entry, n <= 4), tested
-// with the world ray (wo, wd); t_bound: the leaf's exit distance (hit_unit_box_padded).
-// Lanes past n repeat the first entry and are never read. robust: MASQ_ROBUST (a
-// variant's constant, or read at run time by the cpu's default unit).
-inline EntryBoxes4 entry_boxes4(const MasqInstance* entries, const int* refs, int n, glm::vec3 wo, glm::vec3 wd,
-                                float t_bound, bool robust) {
-  I4 q01, q23, s01, s2;
+// Four entries' maps decoded (affine_from_masq's rows and translation, lane j: entry j):
+// what the test below needs of them, the same for every ray.
+struct EntryRows4 {
+  F4 r00, r01, r02, r10, r11, r12, r20, r21, r22;
   F4 tx, ty, tz;
+};
+
+// The entries named by refs[0..n-1] (compact entries: ref = -1 - entry, n <= 4) decoded.
+// Lanes past n repeat the first entry and are never read.
+inline EntryRows4 entry_rows4(const MasqInstance* entries, const int* refs, int n) {
+  I4 q01, q23, s01, s2;
+  EntryRows4 m;
   for (int j = 0; j < 4; ++j) {
     const MasqInstance& c = entries[-1 - refs[j < n ? j : 0]];
     q01[j] = int(c.q01);
     q23[j] = int(c.q23);
     s01[j] = int(c.s01);
     s2[j] = int(c.s2_owner);
-    tx[j] = c.t[0];
-    ty[j] = c.t[1];
-    tz[j] = c.t[2];
+    m.tx[j] = c.t[0];
+    m.ty[j] = c.t[1];
+    m.tz[j] = c.t[2];
   }
   // word_half_i16 and word_half_bf16: the arithmetic shifts sign-extend a half as the
   // scalar's v >= 32768 ? v - 65536 : v does.
@@ -57,9 +61,18 @@ inline EntryBoxes4 entry_boxes4(const MasqInstance* entries, const int* refs, in
   const I4 xy = x * y, xz = x * z, yz = y * z, wx = w * x, wy = w * y, wz = w * z;
   auto f = [](I4 v) { return __builtin_convertvector(v, F4); };
   // affine_from_masq's rows.
-  const F4 r00 = f(ww + xx - yy - zz) * sx, r01 = f(2 * (xy + wz)) * sx, r02 = f(2 * (xz - wy)) * sx;
-  const F4 r10 = f(2 * (xy - wz)) * sy, r11 = f(ww - xx + yy - zz) * sy, r12 = f(2 * (yz + wx)) * sy;
-  const F4 r20 = f(2 * (xz + wy)) * sz, r21 = f(2 * (yz - wx)) * sz, r22 = f(ww - xx - yy + zz) * sz;
+  m.r00 = f(ww + xx - yy - zz) * sx, m.r01 = f(2 * (xy + wz)) * sx, m.r02 = f(2 * (xz - wy)) * sx;
+  m.r10 = f(2 * (xy - wz)) * sy, m.r11 = f(ww - xx + yy - zz) * sy, m.r12 = f(2 * (yz + wx)) * sy;
+  m.r20 = f(2 * (xz + wy)) * sz, m.r21 = f(2 * (yz - wx)) * sz, m.r22 = f(ww - xx - yy + zz) * sz;
+  return m;
+}
+
+// The decoded entries m tested with the world ray (wo, wd); t_bound: the leaf's exit
+// distance (hit_unit_box_padded). robust: MASQ_ROBUST (a variant's constant, or read at
+// run time by the cpu's default unit).
+inline EntryBoxes4 entry_boxes4(const EntryRows4& m, glm::vec3 wo, glm::vec3 wd, float t_bound, bool robust) {
+  const F4 r00 = m.r00, r01 = m.r01, r02 = m.r02, r10 = m.r10, r11 = m.r11, r12 = m.r12;
+  const F4 r20 = m.r20, r21 = m.r21, r22 = m.r22, tx = m.tx, ty = m.ty, tz = m.tz;
   // affine_point and affine_vector.
   const F4 ox = dot_lanes(r00, r01, r02, wo.x, wo.y, wo.z) + tx;
   const F4 oy = dot_lanes(r10, r11, r12, wo.x, wo.y, wo.z) + ty;
@@ -102,6 +115,12 @@ inline EntryBoxes4 entry_boxes4(const MasqInstance* entries, const int* refs, in
   std::memcpy(out.tn, &tn, sizeof tn);
   std::memcpy(out.tf, &tf, sizeof tf);
   return out;
+}
+
+// The entries named by refs[0..n-1] (n <= 4), decoded and tested.
+inline EntryBoxes4 entry_boxes4(const MasqInstance* entries, const int* refs, int n, glm::vec3 wo, glm::vec3 wd,
+                                float t_bound, bool robust) {
+  return entry_boxes4(entry_rows4(entries, refs, n), wo, wd, t_bound, robust);
 }
 
 } // namespace masq::kernel::simd

@@ -1,14 +1,16 @@
 // The cpu's packet walk (kernels/packet_walk_cpp.h) against the single-ray walk it
 // stands in for (trace_closest): every ray the packet answers must get trace_closest's
 // hit bit for bit (t, primitive, normal, u, v), on a pinhole camera's 512 x 512 rays
-// (the users' sample size) through hair of chained capsules, in every node format. The
-// packet must answer most rays (else this test checks nothing) and leave to
+// (the users' sample size), in every node format, through hair of chained capsules in
+// one BLAS (ref) and through hair of curves or capsules as a TLAS of masquerade entries
+// (masq). The packet must answer most rays (else this test checks nothing) and leave to
 // trace_closest every ray that takes a hit at exactly the distance of one it holds: on
-// hair whose every capsule is there twice, every hit is such a tie. Then the cpu backend
-// end to end: its counter-free trace (packets) against its counting one (one ray at a
-// time).
+// hair whose every capsule or curve is there twice, every hit is such a tie. Then the
+// cpu backend end to end: its counter-free trace (packets) against its counting one (one
+// ray at a time).
 #include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
+#include "host/cpu/entry_curves.h"
 #include "host/cpu/leaf_capsules.h"
 #include "host/scene_arrays.h"
 #include "host/scene_variant.h"
@@ -31,24 +33,30 @@ constexpr int kSide = 512; // the camera rays of `masq bench` and the peers suit
 
 bool same_hit(const kernel::Hit& a, const kernel::Hit& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-Scene hair(bool every_capsule_twice) {
+template <class T> void twice(std::vector<T>& prims) {
+  const std::size_t n = prims.size();
+  for (std::size_t i = 0; i < n; ++i) prims.push_back(prims[i]);
+}
+
+Scene hair(bool every_strand_twice, PrimType type = PrimType::Capsule) {
   HairParams p;
   p.strands = 3000;
-  p.type = PrimType::Capsule;
+  p.type = type;
   Scene s = make_hair_scene(p);
-  if (every_capsule_twice) {
-    std::vector<CapsulePrim>& caps = s.geometries.at(0).capsules;
-    const std::size_t n = caps.size();
-    for (std::size_t i = 0; i < n; ++i) caps.push_back(caps[i]);
+  if (every_strand_twice) {
+    twice(s.geometries.at(0).capsules);
+    twice(s.geometries.at(0).curves);
   }
   return s;
 }
 
-PackedScene packed(const Scene& s, NodeFormat nodes) {
+PackedScene packed(const Scene& s, NodeFormat nodes, Method method = Method::Ref,
+                   CurveIsect isect = CurveIsect::Roving) {
   AccelOptions accel;
   accel.builder.kind = Builder::Sah4;
   accel.nodes = nodes;
-  return build_accel(s, Method::Ref, accel);
+  accel.curve_isect = isect;
+  return build_accel(s, method, accel);
 }
 
 struct PacketCount {
@@ -66,10 +74,13 @@ PacketCount packets_against_single_walk(const PackedScene& ps, const std::vector
 #undef MASQ_TEST_SET_SWITCH
   LeafCapsuleRows rows;
   leaf_capsules(ps, rows);
+  HugePageVector<EntryCurve> curves;
+  entry_curves(ps, curves);
   kernel::KernelData kd = kernel_data(scene_array_data(ps));
   kd.leaf_capsule_rows = rows.rows.data();
   kd.leaf_capsule_stride = rows.stride;
-  kd.entry_curves = nullptr;
+  kd.entry_curves = curves.empty() ? nullptr : &curves.front().curve;
+  kd.entry_packets = entry_packets(ps) ? 1 : 0;
   const int budget = step_budget(ps.node_count());
   EXPECT_TRUE(k::packet_walk_applies(kd, ps.tlas_root));
   PacketCount c;
@@ -77,7 +88,7 @@ PacketCount packets_against_single_walk(const PackedScene& ps, const std::vector
     EXPECT_TRUE(k::packet_common_origin(rays.data() + i));
     kernel::Hit got[k::kPacketRays];
     const unsigned left =
-        k::trace_packet_closest(kd, rays.data() + i, got, packet_budget > 0 ? packet_budget : budget);
+        k::trace_packet_closest(kd, rays.data() + i, got, ps.tlas_root, packet_budget > 0 ? packet_budget : budget);
     for (int r = 0; r < k::kPacketRays; ++r) {
       if ((left >> r) & 1u) {
         ++c.left;
@@ -133,6 +144,71 @@ INSTANTIATE_TEST_SUITE_P(NodeFormats, PacketWalk,
                          ::testing::Values(NodeFormat::W4, NodeFormat::W8, NodeFormat::Q8, NodeFormat::O4),
                          [](const ::testing::TestParamInfo<NodeFormat>& p) { return std::string(node_format_name(p.param)); });
 
+// A TLAS of masquerade entries: curves (roving, the peers suite's intersector, and the
+// certified subdivision) and capsules, each node format.
+struct EntryCase {
+  PrimType type;
+  CurveIsect isect;
+  NodeFormat nodes;
+};
+
+class EntryPacketWalk : public ::testing::TestWithParam<EntryCase> {
+ protected:
+  PackedScene scene(bool every_strand_twice) const {
+    return packed(hair(every_strand_twice, GetParam().type), GetParam().nodes, Method::Masq, GetParam().isect);
+  }
+};
+
+TEST_P(EntryPacketWalk, AnswersAsTheSingleRayWalk) {
+  const PackedScene ps = scene(false);
+  ASSERT_TRUE(entry_packets(ps));
+  const std::vector<kernel::Ray> rays = make_camera_rays(hair(false).camera, kSide, kSide);
+  const PacketCount c = packets_against_single_walk(ps, rays);
+  EXPECT_EQ(c.differing, 0) << c.answered << " answered";
+  std::printf("%d answered (%d hits), %d left\n", c.answered, c.answered_hits, c.left);
+  EXPECT_GT(c.answered, 9 * int(rays.size()) / 20) << c.left << " left to trace_closest";
+  EXPECT_GT(c.answered_hits, int(rays.size()) / 20);
+}
+
+TEST_P(EntryPacketWalk, LeavesTiesToTheSingleRayWalk) {
+  const PackedScene ps = scene(true);
+  const std::vector<kernel::Ray> rays = make_camera_rays(hair(false).camera, kSide, kSide);
+  const PacketCount c = packets_against_single_walk(ps, rays);
+  EXPECT_EQ(c.differing, 0);
+  EXPECT_EQ(c.answered_hits, 0) << "every hit has a twin at the same distance";
+  EXPECT_GT(c.left, int(rays.size()) / 20);
+  EXPECT_GT(c.answered, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Entries, EntryPacketWalk,
+    ::testing::Values(EntryCase{PrimType::Curve, CurveIsect::Roving, NodeFormat::W4},
+                      EntryCase{PrimType::Curve, CurveIsect::Roving, NodeFormat::W8},
+                      EntryCase{PrimType::Curve, CurveIsect::Roving, NodeFormat::Q8},
+                      EntryCase{PrimType::Curve, CurveIsect::Roving, NodeFormat::O4},
+                      EntryCase{PrimType::Curve, CurveIsect::Phantom, NodeFormat::W8},
+                      EntryCase{PrimType::Capsule, CurveIsect::Roving, NodeFormat::W8}),
+    [](const ::testing::TestParamInfo<EntryCase>& p) {
+      return std::string(p.param.type == PrimType::Curve ? "curves_" : "capsules_") +
+             (p.param.isect == CurveIsect::Roving ? "roving_" : "phantom_") + node_format_name(p.param.nodes);
+    });
+
+// Entry packets are for TLAS of masquerade entries of capsules and curves alone: a ref
+// BLAS has none, and an entry of another primitive (here a triangle mesh beside the hair)
+// turns them off.
+TEST(EntryPacketWalk, OnlyForEntriesOfCapsulesAndCurves) {
+  EXPECT_FALSE(entry_packets(packed(hair(false, PrimType::Curve), NodeFormat::W8, Method::Ref)));
+  EXPECT_TRUE(entry_packets(packed(hair(false, PrimType::Curve), NodeFormat::W8, Method::Masq)));
+  Scene mixed = hair(false, PrimType::Curve);
+  Geometry ground;
+  ground.type = PrimType::Triangle;
+  ground.vertices = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}};
+  ground.triangles = {{0, 1, 2}};
+  mixed.geometries.push_back(ground);
+  mixed.instances.push_back(Instance{std::uint32_t(mixed.geometries.size() - 1), Affine3{}});
+  EXPECT_FALSE(entry_packets(packed(mixed, NodeFormat::W8, Method::Masq)));
+}
+
 // The cpu backend refills its leaf copy in the storage of the scene before
 // (host/cpu/leaf_capsules.h): a copy refilled after a larger scene's must be the copy
 // made fresh, padding included.
@@ -150,8 +226,9 @@ TEST(PacketWalk, LeafCopyRefilledAsMadeFresh) {
 
 TEST(PacketWalk, CpuBackendTracesAsWithCounters) {
   for (bool twice : {false, true}) {
-    const Scene s = hair(twice);
-    const PackedScene ps = packed(s, NodeFormat::O4);
+   for (Method method : {Method::Ref, Method::Masq}) {
+    const Scene s = hair(twice, method == Method::Ref ? PrimType::Capsule : PrimType::Curve);
+    const PackedScene ps = packed(s, NodeFormat::O4, method);
     const std::vector<kernel::Ray> rays = make_camera_rays(s.camera, kSide, kSide);
     std::unique_ptr<Backend> cpu = make_backend("cpu");
     cpu->set_scene(ps);
@@ -164,8 +241,9 @@ TEST(PacketWalk, CpuBackendTracesAsWithCounters) {
       differing += !same_hit(packets[i], single[i]);
       hits += single[i].prim >= 0;
     }
-    EXPECT_EQ(differing, 0) << (twice ? "every capsule twice" : "hair");
+    EXPECT_EQ(differing, 0) << (twice ? "every strand twice, " : "hair, ") << method_name(method);
     EXPECT_GT(hits, int(rays.size()) / 20);
+   }
   }
 }
 

@@ -40,6 +40,7 @@ class CpuBackend final : public Backend {
     kd_.leaf_capsule_stride = leaf_capsules_.stride;
     entry_curves(scene_, entry_curves_);
     kd_.entry_curves = entry_curves_.empty() ? nullptr : &entry_curves_.front().curve;
+    kd_.entry_packets = entry_packets(scene_) ? 1 : 0;
     timing_.scene_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     has_scene_ = true;
   }

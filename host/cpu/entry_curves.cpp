@@ -1,5 +1,6 @@
 #include "host/cpu/entry_curves.h"
 #include "bvh/nodes/compact_instance.h"
+#include <algorithm>
 
 namespace masq {
 
@@ -20,6 +21,13 @@ void entry_curves(const PackedScene& ps, HugePageVector<EntryCurve>& out) {
     if (e.prim < 0 || prim >= std::int64_t(ps.curves.size())) continue;
     out[k].curve = ps.curves[std::size_t(prim)];
   }
+}
+
+bool entry_packets(const PackedScene& ps) {
+  if (!ps.instances.empty() || ps.masq_instances.empty()) return false;
+  return std::all_of(ps.geoms.begin(), ps.geoms.end(), [](const kernel::Geometry& g) {
+    return g.type == MASQ_PRIM_CAPSULE || g.type == MASQ_PRIM_CURVE;
+  });
 }
 
 } // namespace masq

@@ -22,4 +22,10 @@ static_assert(sizeof(EntryCurve) == sizeof(kernel::Curve), "entry curves are rea
 // already has where it holds the copy (std::vector::assign).
 void entry_curves(const PackedScene& ps, HugePageVector<EntryCurve>& out);
 
+// Whether camera rays may go in packets through ps's TLAS (KernelData::entry_packets,
+// kernels/packet_walk_cpp.h): it holds compact masquerade entries alone (no Instance),
+// of capsules and curves, whose robust intersectors take a crossing whatever order the
+// entries are met in.
+bool entry_packets(const PackedScene& ps);
+
 } // namespace masq
