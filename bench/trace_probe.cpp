@@ -11,8 +11,9 @@
 // repeat: each ray traced that many times in a row. A repeat finds the ray's nodes and
 // primitives in cache and its branches just taken, so with T(k) the time at repeat k,
 // (T(k) - T(1)) / (k - 1) is a trace warm and T(1) less that what a cold one adds (cache
-// and TLB misses, mispredicted branches). Not for camera rays of one BLAS of capsules:
-// their packets would hold a ray and its repeats.)
+// and TLB misses, mispredicted branches). Not for camera rays the cpu takes in packets
+// (one BLAS of capsules, a TLAS of capsule or curve entries): a packet would hold a ray
+// and its repeats.)
 //   valgrind --tool=callgrind --cache-sim=yes --branch-sim=yes --collect-atstart=no
 //     --toggle-collect='*probe_traces*' build/bench/masq_trace_probe ... (one line)
 #include "bench/backend_pool.h"
