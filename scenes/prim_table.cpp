@@ -328,32 +328,33 @@ std::size_t bytes_of(const KernelPrimArrays& ps) {
 // phantom curve costs about six capsule calls; round cones a little more than capsules.
 // The ribbon (a plane crossing and two range tests) is priced as a triangle (not measured).
 //  type, mesh, oriented, shape, strand_file_type, singular, the functions, then the kernels' columns
+// (order_free: the capsule's and the curves' crossings, docs/kernels.md "Packets of camera rays")
 constexpr ScenePrimRow rows[] = {
     {PrimType::Triangle, true, false, PrimShape::Triangle, PrimType::Capsule, "triangle", count_of<&Geometry::triangles>,
      holds<&Geometry::triangles>, validate_triangles, triangle_balls, nullptr, reserve_more<&Geometry::triangles>,
      nullptr, nullptr, random_mesh,
-     MASQ_PRIM_TRIANGLE, 0.7, pack_triangles, kernel_triangle_balls, bytes_of<&KernelPrimArrays::triangles>},
+     MASQ_PRIM_TRIANGLE, 0.7, false, pack_triangles, kernel_triangle_balls, bytes_of<&KernelPrimArrays::triangles>},
     {PrimType::Capsule, false, true, PrimShape::Segment, PrimType::Capsule, "capsule", count_of<&Geometry::capsules>,
      holds<&Geometry::capsules>, validate_capsules, capsule_balls, capsule_segment, reserve_more<&Geometry::capsules>,
      segment_piece<capsule_segment>, capsule_bundle_strand, make_random_capsules,
-     MASQ_PRIM_CAPSULE, 1.0, pack_capsules, kernel_capsule_balls, bytes_of<&KernelPrimArrays::capsules>},
+     MASQ_PRIM_CAPSULE, 1.0, true, pack_capsules, kernel_capsule_balls, bytes_of<&KernelPrimArrays::capsules>},
     {PrimType::RoundCone, false, true, PrimShape::Segment, PrimType::RoundCone, "round cone",
      count_of<&Geometry::round_cones>, holds<&Geometry::round_cones>, validate_round_cones, round_cone_balls,
      round_cone_segment, reserve_more<&Geometry::round_cones>, segment_piece<round_cone_segment>,
      round_cone_bundle_strand, make_random_cones,
-     MASQ_PRIM_ROUND_CONE, 1.1, pack_round_cones, kernel_round_cone_balls, bytes_of<&KernelPrimArrays::round_cones>},
+     MASQ_PRIM_ROUND_CONE, 1.1, false, pack_round_cones, kernel_round_cone_balls, bytes_of<&KernelPrimArrays::round_cones>},
     {PrimType::Sphere, false, false, PrimShape::Ball, PrimType::Capsule, "sphere", count_of<&Geometry::spheres>,
      holds<&Geometry::spheres>, validate_spheres, sphere_balls, nullptr, reserve_more<&Geometry::spheres>, nullptr,
      sphere_bundle_strand, make_random_spheres,
-     MASQ_PRIM_SPHERE, 0.6, pack_spheres, kernel_sphere_balls, bytes_of<&KernelPrimArrays::spheres>},
+     MASQ_PRIM_SPHERE, 0.6, false, pack_spheres, kernel_sphere_balls, bytes_of<&KernelPrimArrays::spheres>},
     {PrimType::Curve, false, true, PrimShape::Bezier, PrimType::RoundCone, "curve", count_of<&Geometry::curves>,
      holds<&Geometry::curves>, validate_curves, curve_balls, nullptr, reserve_more<&Geometry::curves>, curve_piece,
      curve_bundle_strand, make_random_curves,
-     MASQ_PRIM_CURVE, 6.0, pack_curves, kernel_curve_balls, bytes_of<&KernelPrimArrays::curves>},
+     MASQ_PRIM_CURVE, 6.0, true, pack_curves, kernel_curve_balls, bytes_of<&KernelPrimArrays::curves>},
     {PrimType::Ribbon, false, true, PrimShape::Segment, PrimType::Capsule, "ribbon", count_of<&Geometry::ribbons>,
      holds<&Geometry::ribbons>, validate_ribbons, ribbon_balls, nullptr, reserve_more<&Geometry::ribbons>, nullptr,
      ribbon_bundle_strand, random_ribbons,
-     MASQ_PRIM_RIBBON, 0.7, pack_ribbons, kernel_ribbon_balls, bytes_of<&KernelPrimArrays::ribbons>},
+     MASQ_PRIM_RIBBON, 0.7, false, pack_ribbons, kernel_ribbon_balls, bytes_of<&KernelPrimArrays::ribbons>},
 };
 static_assert(one_row_per_prim_type(rows), "scene_prim_rows: one row per PrimType, in enum order");
 static_assert(std::size(rows) == MASQ_PRIM_TYPE_COUNT, "scene_prim_rows: one row per MASQ_PRIM_* id");

@@ -77,6 +77,12 @@ struct ScenePrimRow {
   // The intersector's cost relative to a capsule's: the structure cost model and the SAH
   // price of builders that price intersections (bvh/twolevel/structure_cost.h).
   double isect_factor;
+  // Its robust intersector's crossing does not depend on the search window's far end and
+  // is taken exactly when it lies within it, so a walk may meet such primitives in any
+  // order and still end on the same nearest hit: the cpu's packets take them
+  // (kernels/packet_walk_cpp.h). Not the triangle (a scaled comparison); the others not
+  // argued yet.
+  bool order_free;
   // Appends g's primitives (fp32) to its array in `out`; returns the index of the first.
   int (*pack)(const Geometry& g, KernelPrimArrays& out);
   // The hull balls of element `index` of its array in `packed` (a triangle: its vertices),

@@ -1,5 +1,6 @@
 #include "host/cpu/entry_curves.h"
 #include "bvh/nodes/compact_instance.h"
+#include "scenes/prim_table.h"
 #include <algorithm>
 
 namespace masq {
@@ -25,9 +26,8 @@ void entry_curves(const PackedScene& ps, HugePageVector<EntryCurve>& out) {
 
 bool entry_packets(const PackedScene& ps) {
   if (!ps.instances.empty() || ps.masq_instances.empty()) return false;
-  return std::all_of(ps.geoms.begin(), ps.geoms.end(), [](const kernel::Geometry& g) {
-    return g.type == MASQ_PRIM_CAPSULE || g.type == MASQ_PRIM_CURVE;
-  });
+  return std::all_of(ps.geoms.begin(), ps.geoms.end(),
+                     [](const kernel::Geometry& g) { return scene_prim_row_of_kernel_type(g.type).order_free; });
 }
 
 } // namespace masq

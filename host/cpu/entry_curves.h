@@ -24,8 +24,8 @@ void entry_curves(const PackedScene& ps, HugePageVector<EntryCurve>& out);
 
 // Whether camera rays may go in packets through ps's TLAS (KernelData::entry_packets,
 // kernels/packet_walk_cpp.h): it holds compact masquerade entries alone (no Instance),
-// of capsules and curves, whose robust intersectors take a crossing whatever order the
-// entries are met in.
+// of types whose robust intersectors take a crossing whatever order the entries are met
+// in (ScenePrimRow::order_free: capsules and curves).
 bool entry_packets(const PackedScene& ps);
 
 } // namespace masq
