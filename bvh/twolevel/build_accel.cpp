@@ -325,7 +325,13 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
                                      compact_unit_to_world.end());
   ps.stats.instances = ps.tlas_entry_count();
   if (!inst_boxes.empty()) {
-    BinaryBvh tlas = build_boxes_binary(inst_boxes, opt.sah, opt.builder);
+    // A TLAS of compact masquerade entries alone: the cpu tests a leaf's unit boxes four
+    // at a time (kernels/masq_entry_simd_cpp.h), so the builder's leaf block prices its
+    // leaves as a BLAS leaf over primitives is priced. Instances (BLAS, cluster and
+    // 64-byte masquerade) are transformed one at a time and keep the per-entry price.
+    SahOptions tlas_sah = opt.sah;
+    if (ps.instances.empty()) tlas_sah.leaf_block = builder_leaf_block(opt.builder.kind);
+    BinaryBvh tlas = build_boxes_binary(inst_boxes, tlas_sah, opt.builder);
     std::vector<std::int32_t> ids(inst_boxes.size()); // the leaves' references (entry e: tlas_ref(e))
     for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = ps.tlas_ref(i);
     const std::size_t first_tlas_ref = ps.refs.size();
