@@ -15,6 +15,18 @@ double BallHull::support(const glm::dvec3& dir) const {
   return best;
 }
 
+BallHull::Pair BallHull::support_pair(const glm::dvec3& dir) const {
+  double len = glm::length(dir);
+  Pair p{-INFINITY, -INFINITY};
+  for (int i = 0; i < count; ++i) {
+    const double d = glm::dot(dir, centre[i]);
+    const double r = radius[i] * len;
+    p.plus = std::max(p.plus, d + r);
+    p.minus = std::max(p.minus, -d + r);
+  }
+  return p;
+}
+
 namespace {
 BallHull hull_of(const PrimBalls& balls, int count) {
   BallHull h;

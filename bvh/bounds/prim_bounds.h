@@ -18,6 +18,13 @@ struct BallHull {
   int count = 0;
   // max over the hull of dot(dir, x): the support function.
   double support(const glm::dvec3& dir) const;
+  // support(dir) and support(-dir), the same bits as the two calls (negating dir negates
+  // every product and sum exactly), with one length and one dot product per ball.
+  struct Pair {
+    double plus = 0;
+    double minus = 0;
+  };
+  Pair support_pair(const glm::dvec3& dir) const;
 };
 
 // The hull of primitive `prim` of a non-triangle geometry (object space).

@@ -7,6 +7,7 @@
 #include "kernels/layout.h"
 #include <cstdint>
 #include <optional>
+#include <span>
 
 namespace masq {
 
@@ -32,6 +33,12 @@ struct CompactMasquerade {
 // (primitive_obb_axes), so the same entry.
 std::optional<CompactMasquerade> compact_masquerade(const Geometry& g, std::size_t prim,
                                                     const Affine3& object_to_world);
+// compact_masquerade of up to kCompactLanes primitives at once, the same entries: *out[i]
+// gets prims[i]'s. Their fits run stage by stage, so that the primitives' chains of
+// square roots and divisions overlap.
+inline constexpr int kCompactLanes = 4;
+void compact_masquerades(const Geometry& g, std::span<const std::int32_t> prims, const Affine3& object_to_world,
+                         std::optional<CompactMasquerade>* const* out);
 
 // The map the kernel decodes, in exact arithmetic: M_ij = sigma_i * N_ji (an integer
 // of at most 31 bits times an 8-bit significand: exact in double) and t.

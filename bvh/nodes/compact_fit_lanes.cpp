@@ -1,0 +1,288 @@
+// The compact fit's stages four primitives at a time (compact_fit.h), a primitive a lane
+// of one vector register.
+#include "bvh/nodes/compact_fit.h"
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
+
+namespace masq::compact_fit {
+
+namespace {
+
+// Four fits side by side, a primitive a lane (GCC/Clang vector extensions: one AVX
+// register of doubles). Each lane runs, operation by operation and in the same order,
+// what the fit's scalar glm code ran before it (normalize, dot, cross, inverse,
+// std::max, std::abs, llround). An IEEE operation rounds the same in a lane as alone, and
+// the build does not contract into fma (-ffp-contract=off), so the entries keep that
+// code's bits: the build probe's structure digests (bear and Ratboy, capsules and curves,
+// thin and thick, and the bundle) did not change.
+typedef double D4 __attribute__((vector_size(32)));
+typedef std::int64_t L4 __attribute__((vector_size(32)));
+
+D4 splat(double x) { return D4{x, x, x, x}; }
+D4 lane_max(D4 a, D4 b) { return a < b ? b : a; } // std::max(a, b)
+D4 lane_abs(D4 a) { return D4(L4(a) & L4{INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX}); } // std::abs
+// std::sqrt and std::trunc lane by lane: one instruction each with AVX (correctly
+// rounded and exact, as the scalar ones), else the scalar calls.
+D4 lane_sqrt(D4 a) {
+#if defined(__AVX__)
+  return D4(_mm256_sqrt_pd(__m256d(a)));
+#else
+  for (int k = 0; k < 4; ++k) a[k] = std::sqrt(a[k]);
+  return a;
+#endif
+}
+D4 lane_trunc(D4 a) {
+#if defined(__AVX__)
+  return D4(_mm256_round_pd(__m256d(a), _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC));
+#else
+  for (int k = 0; k < 4; ++k) a[k] = std::trunc(a[k]);
+  return a;
+#endif
+}
+// std::llround lane by lane for |x| < 2^52 (half away from zero: x - trunc(x) is exact),
+// as doubles holding the integers; llround itself was a library call, four per entry.
+D4 lane_round_half_away(D4 x) {
+  D4 t = lane_trunc(x);
+  const D4 sign = D4(L4(splat(1.0)) | (L4(x) & L4{INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN})); // copysign(1, x)
+  return lane_abs(x - t) >= splat(0.5) ? t + sign : t;
+}
+
+struct LaneFits {
+  D4 centre_of_ball[4][3]; // [ball][axis]
+  D4 radius[4];
+  int balls = 0;
+  D4 n[3][3]; // QuatMatrix::n, [column][row]
+  D4 norm2;
+  D4 reach[3];
+  D4 centre[3];
+  D4 half[3];
+};
+
+// world_support_pair for the four lanes' hulls along the lanes' v.
+void lane_support_pair(const LaneFits& lf, const Affine3& xf, const D4 v[3], D4& plus, D4& minus) {
+  const glm::dmat3& m = xf.linear;
+  D4 w[3];
+  for (int k = 0; k < 3; ++k) w[k] = splat(m[k][0]) * v[0] + splat(m[k][1]) * v[1] + splat(m[k][2]) * v[2];
+  const D4 len = lane_sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  plus = minus = splat(-INFINITY);
+  for (int b = 0; b < lf.balls; ++b) {
+    const D4 d = w[0] * lf.centre_of_ball[b][0] + w[1] * lf.centre_of_ball[b][1] + w[2] * lf.centre_of_ball[b][2];
+    const D4 r = lf.radius[b] * len;
+    plus = lane_max(plus, d + r);
+    minus = lane_max(minus, -d + r);
+  }
+  const glm::dvec3& t = xf.translation;
+  const D4 shift = v[0] * splat(t.x) + v[1] * splat(t.y) + v[2] * splat(t.z);
+  plus = plus + shift;
+  minus = minus - shift;
+}
+
+} // namespace
+
+// The centre and half extents along the decoded axes (columns of N / |q|^2), then
+// fit_scale's first try of every axis. A lane whose first try of an axis does not fit
+// (0.2% of the bear's axes) runs that axis's fit_scale on its own.
+void fit_extent_lanes(CompactFit* const* f, int n, const Affine3& xf) {
+  LaneFits lf;
+  for (int l = 0; l < n; ++l) lf.balls = std::max(lf.balls, f[l]->h.count);
+  for (int l = 0; l < 4; ++l) {
+    CompactFit& a = *f[l < n ? l : 0]; // spare lanes repeat lane 0
+    if (l < n) {
+      a.exact = hull_world_box(a.h, xf);
+      a.reach = glm::max(glm::abs(a.exact.lo), glm::abs(a.exact.hi)); // X_j
+    }
+    // A hull of fewer balls repeats its first: the support's max is the same number.
+    for (int b = 0; b < lf.balls; ++b) {
+      const std::size_t from = std::size_t(b < a.h.count ? b : 0);
+      for (int j = 0; j < 3; ++j) lf.centre_of_ball[b][j][l] = a.h.centre[from][j];
+      lf.radius[b][l] = a.h.radius[from];
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) lf.n[i][j][l] = a.q.n[i][j];
+    lf.norm2[l] = a.q.norm2;
+    for (int j = 0; j < 3; ++j) lf.reach[j][l] = a.reach[j];
+  }
+  for (int j = 0; j < 3; ++j) lf.centre[j] = splat(0.0);
+  for (int i = 0; i < 3; ++i) {
+    const D4 e[3] = {lf.n[i][0] / lf.norm2, lf.n[i][1] / lf.norm2, lf.n[i][2] / lf.norm2};
+    D4 plus, minus;
+    lane_support_pair(lf, xf, e, plus, minus);
+    const D4 hi = plus, lo = -minus;
+    const D4 mid = splat(0.5) * (hi + lo);
+    for (int j = 0; j < 3; ++j) lf.centre[j] = lf.centre[j] + mid * e[j];
+    lf.half[i] = splat(0.5) * (hi - lo);
+  }
+  for (int l = 0; l < n; ++l)
+    for (int j = 0; j < 3; ++j) f[l]->centre[j] = lf.centre[j][l], f[l]->half[j] = lf.half[j][l];
+  for (int i = 0; i < 3; ++i) {
+    const D4 inv = splat(1.0) / (lf.half[i] * lf.norm2);
+    std::uint32_t b[4];
+    D4 s;
+    for (int l = 0; l < 4; ++l) {
+      b[l] = bf16_down(inv[l]);
+      s[l] = bf16_value(b[l]);
+    }
+    const D4 row[3] = {s * lf.n[i][0], s * lf.n[i][1], s * lf.n[i][2]};
+    const D4 dot = row[0] * lf.centre[0] + row[1] * lf.centre[1] + row[2] * lf.centre[2];
+    float t[4];
+    D4 td;
+    for (int l = 0; l < 4; ++l) {
+      t[l] = float(-dot[l]);
+      td[l] = double(t[l]);
+    }
+    D4 plus, minus;
+    lane_support_pair(lf, xf, row, plus, minus);
+    const D4 ext = lane_max(lane_abs(plus + td), lane_abs(-minus + td));
+    const D4 mx = lane_abs(row[0]) * lf.reach[0] + lane_abs(row[1]) * lf.reach[1] + lane_abs(row[2]) * lf.reach[2];
+    const D4 excess = ext + splat(kMasqDecodeRelError) * mx + splat(1e-12) * (mx + lane_abs(td) + splat(1.0)) - splat(1.0);
+    const D4 scaled = s * lf.norm2;
+    for (int l = 0; l < n; ++l) {
+      CompactFit& a = *f[l];
+      if (b[l] != 0 && scaled[l] < double(FLT_MAX) && std::isfinite(excess[l]) && excess[l] <= 0.0) {
+        a.c.t[i] = t[l];
+        a.sigma[std::size_t(i)] = b[l];
+      } else if (a.live) {
+        a.live = fit_scale(a, i, xf);
+      }
+    }
+  }
+}
+
+// The second world axis (Gram-Schmidt), the third (a cross product), then the rotation's
+// quaternion (Shepperd: the case of each lane picked per lane), rounded to 16 bits.
+void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
+  const glm::dmat3& m = xf.linear;
+  D4 a0[3], v[3];
+  for (int l = 0; l < 4; ++l) {
+    const CompactFit& a = *f[l < n ? l : 0]; // spare lanes repeat lane 0
+    for (int j = 0; j < 3; ++j) a0[j][l] = a.a0[j], v[j][l] = a.axes[1][j];
+  }
+  D4 a1[3];
+  for (int k = 0; k < 3; ++k) a1[k] = splat(m[0][k]) * v[0] + splat(m[1][k]) * v[1] + splat(m[2][k]) * v[2];
+  const D4 along = a1[0] * a0[0] + a1[1] * a0[1] + a1[2] * a0[2];
+  for (int k = 0; k < 3; ++k) a1[k] = a1[k] - along * a0[k];
+  const D4 inv_len = splat(1.0) / lane_sqrt(a1[0] * a1[0] + a1[1] * a1[1] + a1[2] * a1[2]); // glm::normalize
+  for (int k = 0; k < 3; ++k) a1[k] = a1[k] * inv_len;
+  const D4 a2[3] = {a0[1] * a1[2] - a1[1] * a0[2], a0[2] * a1[0] - a1[2] * a0[0], a0[0] * a1[1] - a1[0] * a0[1]};
+  // quaternion_of(dmat3(a0, a1, a2)): r(row, col) is column col's row.
+  const D4* col[3] = {a0, a1, a2};
+  auto r = [&](int row, int c) { return col[c][row]; };
+  const D4 tr = r(0, 0) + r(1, 1) + r(2, 2);
+  const D4 arg[4] = {tr + splat(1.0), splat(1.0) + r(0, 0) - r(1, 1) - r(2, 2),
+                     splat(1.0) + r(1, 1) - r(0, 0) - r(2, 2), splat(1.0) + r(2, 2) - r(0, 0) - r(1, 1)};
+  const D4 d21 = r(2, 1) - r(1, 2), d02 = r(0, 2) - r(2, 0), d10 = r(1, 0) - r(0, 1);
+  const D4 s01 = r(0, 1) + r(1, 0), s02 = r(0, 2) + r(2, 0), s12 = r(1, 2) + r(2, 1);
+  // Per case the numerators of (x, y, z, w) over s, and which of them is 0.25 s instead.
+  const D4* num[4][4] = {{&d21, &d02, &d10, &d21}, {&d21, &s01, &s02, &d21}, {&s01, &s01, &s12, &d02},
+                         {&s02, &s12, &s12, &d10}};
+  int kase[4];
+  D4 pick_arg, nx, ny, nz, nw;
+  for (int l = 0; l < 4; ++l) {
+    const bool diag0 = r(0, 0)[l] > r(1, 1)[l] && r(0, 0)[l] > r(2, 2)[l];
+    kase[l] = tr[l] > 0.0 ? 0 : diag0 ? 1 : r(1, 1)[l] > r(2, 2)[l] ? 2 : 3;
+    pick_arg[l] = arg[kase[l]][l];
+    nx[l] = (*num[kase[l]][0])[l], ny[l] = (*num[kase[l]][1])[l], nz[l] = (*num[kase[l]][2])[l];
+    nw[l] = (*num[kase[l]][3])[l];
+  }
+  const D4 s = splat(2.0) * lane_sqrt(pick_arg);
+  const D4 quarter = splat(0.25) * s;
+  D4 x = nx / s, y = ny / s, z = nz / s, w = nw / s;
+  for (int l = 0; l < 4; ++l) {
+    D4* slot[4] = {&w, &x, &y, &z}; // case k's 0.25 s
+    (*slot[kase[l]])[l] = quarter[l];
+  }
+  const D4 len = lane_sqrt(x * x + y * y + z * z + w * w);
+  const D4 scale = splat(double(kQuatScale));
+  const D4 qi[4] = {lane_round_half_away(x / len * scale), lane_round_half_away(y / len * scale),
+                    lane_round_half_away(z / len * scale), lane_round_half_away(w / len * scale)};
+  for (int l = 0; l < n; ++l) {
+    CompactFit& a = *f[l];
+    if (!std::isfinite(a2[0][l]) || !std::isfinite(a2[1][l]) || !std::isfinite(a2[2][l])) {
+      a.live = false;
+      continue;
+    }
+    for (int k = 0; k < 4; ++k) a.qi[std::size_t(k)] = std::int64_t(qi[k][l]);
+    a.q = quat_matrix(a.qi[0], a.qi[1], a.qi[2], a.qi[3]);
+    // The kernel's int32 arithmetic needs |N_ij| <= |q|^2 < 2^31 (|q|^2 ~ 32767^2 here).
+    if (!(a.q.norm2 > 0.0) || a.q.norm2 >= 2147483647.0) a.live = false;
+  }
+}
+
+// complete_masquerade_box's operations (glm's inverse, the unit box's corners, the
+// intersection with the exact box, the crosses of the OBB's area). The boxes are written
+// in place: copies of them were a few percent of a build.
+void complete_lanes(CompactFit* const* f, int n, MasqueradeBox* const* out, bool* ok) {
+  Affine3 w2u[4];
+  D4 m[3][3], t[3];
+  for (int l = 0; l < 4; ++l) {
+    const CompactFit& a = *f[l < n ? l : 0]; // spare lanes repeat lane 0
+    w2u[l] = decode_with(a.q, a.c);
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) m[c][r][l] = w2u[l].linear[c][r];
+      t[c][l] = w2u[l].translation[c];
+    }
+  }
+  // glm::inverse of a 3x3 matrix, then inverse()'s translation -(L^-1 t).
+  const D4 one_over_det = splat(1.0) / (m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) -
+                                        m[1][0] * (m[0][1] * m[2][2] - m[2][1] * m[0][2]) +
+                                        m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2]));
+  D4 u[3][3];
+  u[0][0] = (m[1][1] * m[2][2] - m[2][1] * m[1][2]) * one_over_det;
+  u[1][0] = -(m[1][0] * m[2][2] - m[2][0] * m[1][2]) * one_over_det;
+  u[2][0] = (m[1][0] * m[2][1] - m[2][0] * m[1][1]) * one_over_det;
+  u[0][1] = -(m[0][1] * m[2][2] - m[2][1] * m[0][2]) * one_over_det;
+  u[1][1] = (m[0][0] * m[2][2] - m[2][0] * m[0][2]) * one_over_det;
+  u[2][1] = -(m[0][0] * m[2][1] - m[2][0] * m[0][1]) * one_over_det;
+  u[0][2] = (m[0][1] * m[1][2] - m[1][1] * m[0][2]) * one_over_det;
+  u[1][2] = -(m[0][0] * m[1][2] - m[1][0] * m[0][2]) * one_over_det;
+  u[2][2] = (m[0][0] * m[1][1] - m[1][0] * m[0][1]) * one_over_det;
+  D4 ut[3];
+  for (int k = 0; k < 3; ++k) ut[k] = -(u[0][k] * t[0] + u[1][k] * t[1] + u[2][k] * t[2]);
+  // The unit box's corners in world space, grown as Aabb::grow grows (glm::min, max).
+  D4 lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) lo[k] = splat(INFINITY), hi[k] = splat(-INFINITY);
+  for (int i = 0; i < 8; ++i) {
+    const D4 p[3] = {splat(i & 1 ? 1 : -1), splat(i & 2 ? 1 : -1), splat(i & 4 ? 1 : -1)};
+    for (int k = 0; k < 3; ++k) {
+      const D4 x = u[0][k] * p[0] + u[1][k] * p[1] + u[2][k] * p[2] + ut[k];
+      lo[k] = x < lo[k] ? x : lo[k];
+      hi[k] = hi[k] < x ? x : hi[k];
+    }
+  }
+  // obb_area: 8 (|e0 x e1| + |e1 x e2| + |e2 x e0|), e_c the columns of the inverse.
+  auto cross_length = [&](int a, int b) {
+    const D4 cx = u[a][1] * u[b][2] - u[b][1] * u[a][2];
+    const D4 cy = u[a][2] * u[b][0] - u[b][2] * u[a][0];
+    const D4 cz = u[a][0] * u[b][1] - u[b][0] * u[a][1];
+    return lane_sqrt(cx * cx + cy * cy + cz * cz);
+  };
+  const D4 obb_area = splat(8.0) * (cross_length(0, 1) + cross_length(1, 2) + cross_length(2, 0));
+  for (int l = 0; l < n; ++l) {
+    const Aabb& exact = f[l]->exact;
+    MasqueradeBox& box = *out[l];
+    Affine3 u2w;
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) u2w.linear[c][r] = u[c][r][l];
+      u2w.translation[c] = ut[c][l];
+    }
+    box.world_to_unit = to_mat3x4f(w2u[l]);
+    box.unit_to_world = to_mat3x4f(u2w);
+    Aabb corners;
+    for (int k = 0; k < 3; ++k) corners.lo[k] = lo[k][l], corners.hi[k] = hi[k][l];
+    box.world_box = Aabb::intersect(exact, corners);
+    bool valid = true;
+    for (int k = 0; k < 3; ++k)
+      valid = valid && box.world_box.lo[k] <= box.world_box.hi[k] && std::isfinite(box.world_box.lo[k]) &&
+              std::isfinite(box.world_box.hi[k]);
+    ok[l] = valid;
+    box.obb_area = obb_area[l];
+    box.aabb_area = exact.area();
+  }
+}
+
+} // namespace masq::compact_fit
