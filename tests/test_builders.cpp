@@ -319,6 +319,31 @@ TEST(SahPriced, CapsuleLeavesHoldOnePrimitive) {
   }
 }
 
+// sah4 prices a TLAS of compact masquerade entries alone per block of four, as the cpu
+// tests a leaf's unit boxes four at a time; a TLAS of 64-byte instances keeps the
+// per-entry price. On a row of short capsules (their boxes apart, as the unit cubes
+// above): leaves of four entries against pairs.
+TEST(Sah4, CompactEntryTlasLeavesHoldFour) {
+  Scene s;
+  Geometry g;
+  g.type = PrimType::Capsule;
+  for (int i = 0; i < 64; ++i)
+    g.capsules.push_back({glm::vec3(float(i) + 0.25f, 0.5f, 0.5f), glm::vec3(float(i) + 0.75f, 0.5f, 0.5f), 0.2f});
+  s.geometries.push_back(g);
+  s.instances.push_back({0, {}});
+  AccelOptions per_entry, blocks;
+  blocks.builder.kind = Builder::Sah4;
+  const PackedScene compact_sah = build_accel(s, Method::Masq, per_entry);
+  ASSERT_EQ(compact_sah.masq_instances.size(), 64u);
+  EXPECT_EQ(compact_sah.stats.tlas_leaves, 32u);
+  EXPECT_EQ(build_accel(s, Method::Masq, blocks).stats.tlas_leaves, 16u);
+  AccelOptions full = blocks;
+  full.masq_instances = MasqInstances::Full;
+  const PackedScene full_sah4 = build_accel(s, Method::Masq, full);
+  ASSERT_EQ(full_sah4.instances.size(), 64u);
+  EXPECT_EQ(full_sah4.stats.tlas_leaves, 32u);
+}
+
 TEST(Reinsertion, NeverRaisesTheCostKeepsEveryItemOnceAndImprovesABadTree) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     std::mt19937_64 rng(seed);
