@@ -4,7 +4,8 @@
 // hit_unit_box_padded (robust mode) or hit_unit_box (fast mode) in the same order, so its
 // entry and exit distances are bit-identical to the scalar test's; traverse.h then takes
 // the lanes in reference order, each against the nearest hit so far, as the one-source
-// loop decides entry by entry. Measured: docs/results.md (thirteenth round).
+// loop decides entry by entry (or nearest box first where the order cannot change the
+// hit: entry_leaf_nearest_first). Measured: docs/results.md (thirteenth round).
 #ifndef MASQ_KERNEL_MASQ_ENTRY_SIMD_CPP_H
 #define MASQ_KERNEL_MASQ_ENTRY_SIMD_CPP_H
 #if defined(MASQ_LANG_CPP)
@@ -24,6 +25,19 @@ struct EntryBoxes4 {
 
 inline bool entry_in_box(const EntryBoxes4& b, int j, float tmin, float tmax) {
   return b.tn[j] <= b.tf[j] && b.tf[j] >= tmin && b.tn[j] <= tmax;
+}
+
+// The lanes j < n whose boxes the ray enters within (tmin, tmax), into order[0..m) by
+// entry distance (ties in lane order); returns m.
+inline int entries_by_distance(const EntryBoxes4& b, int n, float tmin, float tmax, int order[4]) {
+  int m = 0;
+  for (int j = 0; j < n; ++j) {
+    if (!entry_in_box(b, j, tmin, tmax)) continue;
+    int k = m++;
+    for (; k > 0 && b.tn[order[k - 1]] > b.tn[j]; --k) order[k] = order[k - 1];
+    order[k] = j;
+  }
+  return m;
 }
 
 // glm's dot of a vec3: (x + y) + z of the products.

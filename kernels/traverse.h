@@ -8,6 +8,9 @@
 #include "traverse_blas.h"
 #include "masq_instance.h"
 #include "masq_entry_simd_cpp.h"
+#if defined(MASQ_LANG_CPP)
+#include <cstring>
+#endif
 
 KERNEL_NS_BEGIN
 
@@ -87,6 +90,41 @@ FN Nearest masquerade_hit(KD_PARAM int ref, int geom, int prim, int scene_inst, 
 #endif
   return nearest_take(best, ph, prim, geom, scene_inst);
 }
+
+#if defined(MASQ_LANG_CPP)
+// A leaf of n <= 4 compact entries (their unit boxes eb) taken nearest box first, so that
+// a near hit shuts out the farther entries' calls: under sah4 a leaf holds four entries,
+// where it held one or two below nodes visited front to back. The nearest hit is then
+// the reference order's unless two hits tie at exactly its distance (which one the order
+// keeps): a hit taken at exactly the distance of the one it replaces takes the leaf again
+// in reference order from where it started.
+FN_INLINED void entry_leaf_nearest_first(KD_PARAM const int* leaf_refs, int n, const simd::EntryBoxes4& eb, vec3 wo,
+                                         vec3 wd, float tmin, Nearest& best) {
+  int order[4];
+  const int m = simd::entries_by_distance(eb, n, tmin, best.t, order);
+  const Nearest start = best;
+  bool tie = false;
+  for (int k = 0; k < m; ++k) {
+    const int j = order[k];
+    if (!simd::entry_in_box(eb, j, tmin, best.t)) continue;
+    const int ref = leaf_refs[j];
+    const MasqInstance c = KD(masq_instances)[-1 - ref];
+    const MasqOwner owner = KD(masq_owners)[masq_owner_index(c)];
+    const Nearest was = best;
+    best = masquerade_hit(KD_ARG ref, owner.geom, c.prim, owner.scene_inst, wo, wd, tmin, best);
+    if (was.prim >= 0 && best.t == was.t && std::memcmp(&best, &was, sizeof best) != 0) tie = true;
+  }
+  if (!tie) return;
+  best = start;
+  for (int j = 0; j < n; ++j) {
+    if (!simd::entry_in_box(eb, j, tmin, best.t)) continue;
+    const int ref = leaf_refs[j];
+    const MasqInstance c = KD(masq_instances)[-1 - ref];
+    const MasqOwner owner = KD(masq_owners)[masq_owner_index(c)];
+    best = masquerade_hit(KD_ARG ref, owner.geom, c.prim, owner.scene_inst, wo, wd, tmin, best);
+  }
+}
+#endif
 
 // budget: TraceParams::step_budget, for the TLAS walk and each BLAS walk alike.
 // Inlined into the cpu unit's loop over its rays: returned from a call, the hit was
@@ -198,6 +236,13 @@ FN_INLINED TraceOut trace_closest(KD_PARAM Ray ray, int tlas_root, int budget) {
         const int* leaf_refs = KD(refs) + wh.child[i];
         simd::EntryBoxes4 eb =
             simd::entry_boxes4(KD(masq_instances), leaf_refs, wh.count[i], wo, wd, wh.tfar[i], MASQ_ROBUST != 0);
+        // Closest hits in robust mode without counters, on a TLAS of compact entries whose
+        // primitives' intersectors find a hit whatever the window's far end
+        // (KernelData::entry_packets): nearest box first.
+        if (MASQ_ROBUST && !MASQ_ANY_HIT && !MASQ_STATS && KD(entry_packets) != 0) {
+          entry_leaf_nearest_first(KD_ARG leaf_refs, wh.count[i], eb, wo, wd, tmin, best);
+          continue;
+        }
         for (int j = 0; j < wh.count[i]; ++j) {
           int ref = leaf_refs[j];
           if (MASQ_STATS) {

@@ -19,6 +19,7 @@
 #include "scenes/camera.h"
 #include "scenes/strand_generators.h"
 #include <gtest/gtest.h>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -66,21 +67,31 @@ struct PacketCount {
 // Every packet of the camera's rays through trace_packet_closest (with packet_budget
 // steps, if given, instead of the scene's step budget); each ray it answers compared
 // with trace_closest's hit.
+// The cpu's kernel data of ps, with its copies (as the cpu backend's set_scene makes
+// them), and the default unit's switches set for ps.
+struct CpuKernel {
+  LeafCapsuleRows rows;
+  HugePageVector<EntryCurve> curves;
+  kernel::KernelData kd;
+  explicit CpuKernel(const PackedScene& ps) {
+    const KernelVariant v = kernel_variant(ps.features, {false, false});
+#define MASQ_TEST_SET_SWITCH(NAME, key, T, DEF, ID, units, source) k::NAME = static_cast<T>(v.key);
+    MASQ_VARIANTS(MASQ_TEST_SET_SWITCH)
+#undef MASQ_TEST_SET_SWITCH
+    leaf_capsules(ps, rows);
+    entry_curves(ps, curves);
+    kd = kernel_data(scene_array_data(ps));
+    kd.leaf_capsule_rows = rows.rows.data();
+    kd.leaf_capsule_stride = rows.stride;
+    kd.entry_curves = curves.empty() ? nullptr : &curves.front().curve;
+    kd.entry_packets = entry_packets(ps) ? 1 : 0;
+  }
+};
+
 PacketCount packets_against_single_walk(const PackedScene& ps, const std::vector<kernel::Ray>& rays,
                                         int packet_budget = 0) {
-  const KernelVariant v = kernel_variant(ps.features, {false, false});
-#define MASQ_TEST_SET_SWITCH(NAME, key, T, DEF, ID, units, source) k::NAME = static_cast<T>(v.key);
-  MASQ_VARIANTS(MASQ_TEST_SET_SWITCH)
-#undef MASQ_TEST_SET_SWITCH
-  LeafCapsuleRows rows;
-  leaf_capsules(ps, rows);
-  HugePageVector<EntryCurve> curves;
-  entry_curves(ps, curves);
-  kernel::KernelData kd = kernel_data(scene_array_data(ps));
-  kd.leaf_capsule_rows = rows.rows.data();
-  kd.leaf_capsule_stride = rows.stride;
-  kd.entry_curves = curves.empty() ? nullptr : &curves.front().curve;
-  kd.entry_packets = entry_packets(ps) ? 1 : 0;
+  const CpuKernel cpu(ps);
+  const kernel::KernelData& kd = cpu.kd;
   const int budget = step_budget(ps.node_count());
   EXPECT_TRUE(k::packet_walk_applies(kd, ps.tlas_root));
   PacketCount c;
@@ -243,6 +254,72 @@ TEST(PacketWalk, CpuBackendTracesAsWithCounters) {
       EXPECT_GT(hits, int(rays.size()) / 20);
     }
   }
+}
+
+// Rays that leave distinct points (the camera's, each origin moved by a few ulps), so
+// that the cpu traces each alone: a TLAS leaf's entries nearest box first
+// (kernels/traverse.h, entry_leaf_nearest_first) against the counting trace's reference
+// order, through curves and capsules, hair and hair whose every strand is there twice.
+TEST(EntryLeaf, CpuBackendTracesAsWithCounters) {
+  for (PrimType type : {PrimType::Curve, PrimType::Capsule}) {
+    for (bool twice : {false, true}) {
+      const Scene s = hair(twice, type);
+      const PackedScene ps = packed(s, NodeFormat::W8, Method::Masq);
+      ASSERT_TRUE(entry_packets(ps));
+      std::vector<kernel::Ray> rays = make_camera_rays(s.camera, kSide, kSide);
+      for (std::size_t i = 0; i < rays.size(); ++i)
+        for (std::size_t n = 0; n <= i % std::size_t(k::kPacketRays); ++n)
+          rays[i].org[0] = std::nextafter(rays[i].org[0], INFINITY);
+      std::unique_ptr<Backend> cpu = make_backend("cpu");
+      cpu->set_scene(ps);
+      std::vector<kernel::Hit> alone(rays.size()), counted(rays.size());
+      std::vector<kernel::RayStats> stats(rays.size());
+      cpu->trace(rays, alone, {});
+      cpu->trace(rays, counted, stats);
+      int differing = 0, hits = 0;
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        differing += !same_hit(alone[i], counted[i]);
+        hits += counted[i].prim >= 0;
+      }
+      EXPECT_EQ(differing, 0) << (twice ? "every strand twice, " : "hair, ") << prim_type_name(type);
+      EXPECT_GT(hits, int(rays.size()) / 20);
+    }
+  }
+}
+
+// A leaf of a curve and its twin whose boxes are given in the reverse of the reference
+// order (the twin's nearer): the two hits tie at one distance, and the leaf must keep
+// the reference order's (the twin's: taken last, at the distance it ties), not the one
+// the box order would leave.
+TEST(EntryLeaf, TiedHitsKeepTheReferenceOrder) {
+  const Scene s = hair(true, PrimType::Curve);
+  const PackedScene ps = packed(s, NodeFormat::W8, Method::Masq);
+  const std::size_t strands = s.geometries.at(0).curves.size() / 2;
+  std::vector<int> entry_of(2 * strands, -1);
+  for (std::size_t e = 0; e < ps.masq_instances.size(); ++e) entry_of.at(std::size_t(ps.masq_instances[e].prim)) = int(e);
+  const CpuKernel cpu(ps);
+  const int budget = step_budget(ps.node_count());
+  int ties = 0;
+  for (const kernel::Ray& ray : make_camera_rays(s.camera, 64, 64)) {
+    const kernel::Hit h = k::trace_closest(cpu.kd, ray, ps.tlas_root, budget).hit;
+    if (h.prim < 0) continue;
+    const std::size_t p = std::size_t(h.prim) % strands; // the first copy; its twin p + strands
+    const int refs[2] = {-1 - entry_of.at(p), -1 - entry_of.at(p + strands)};
+    kernel::simd::EntryBoxes4 eb{{-1.0f, -2.0f, 0.0f, 0.0f}, {INFINITY, INFINITY, 0.0f, 0.0f}};
+    const glm::vec3 wo(ray.org[0], ray.org[1], ray.org[2]), wd(ray.dir[0], ray.dir[1], ray.dir[2]);
+    k::Nearest in_order = k::nearest_none(ray.tmax), box_first = in_order;
+    for (int j = 0; j < 2; ++j) {
+      const kernel::MasqInstance c = ps.masq_instances[std::size_t(-1 - refs[j])];
+      const kernel::MasqOwner owner = ps.masq_owners[k::masq_owner_index(c)];
+      in_order = k::masquerade_hit(cpu.kd, refs[j], owner.geom, c.prim, owner.scene_inst, wo, wd, ray.tmin, in_order);
+    }
+    k::entry_leaf_nearest_first(cpu.kd, refs, 2, eb, wo, wd, ray.tmin, box_first);
+    ASSERT_GE(in_order.prim, 0);
+    ASSERT_EQ(in_order.prim, int(p + strands)) << "the twin, taken last at the same distance";
+    EXPECT_EQ(std::memcmp(&box_first, &in_order, sizeof in_order), 0) << "ray hitting curve " << p;
+    ++ties;
+  }
+  EXPECT_GT(ties, 64 * 64 / 20);
 }
 
 } // namespace
