@@ -53,9 +53,10 @@ FN_INLINED bool packet_walk_applies(KD_PARAM int tlas_root) {
 // One ray's visit of a TLAS leaf of compact masquerade entries, as trace_closest makes
 // it: the unit boxes four at a time (entry_boxes4: the scalar test's bits, whatever the
 // leaf's size), each entry whose box the ray enters within the nearest hit so far then
-// intersected, nearest box first (entry_leaf_nearest_first). rows: the leaf's entries decoded, where it holds at
-// most four (the packet decodes a leaf once for all its rays), else null. Returns 1 when
-// a hit it took ties the nearest hit (a hit, not the ray's end) at exactly its distance.
+// intersected, nearest box first (entries_nearest_first). rows: the leaf's entries
+// decoded, where it holds at most four (the packet decodes a leaf once for all its
+// rays), else null. Returns 1 when a hit it took ties the nearest hit (a hit, not the
+// ray's end) at exactly its distance.
 FN_INLINED int entry_leaf_closest(KD_PARAM const int* leaf_refs, int count, const simd::EntryRows4* rows,
                                   float t_bound, vec3 wo, vec3 wd, float tmin, Nearest& best) {
   int ties = 0;
@@ -64,20 +65,9 @@ FN_INLINED int entry_leaf_closest(KD_PARAM const int* leaf_refs, int count, cons
     const simd::EntryBoxes4 eb = rows != nullptr ? simd::entry_boxes4(*rows, wo, wd, t_bound, true)
                                                  : simd::entry_boxes4(KD(masq_instances), leaf_refs + j0, n, wo, wd,
                                                                       t_bound, true);
-    // Nearest box first, as the single-ray walk takes them (entry_leaf_nearest_first); a
-    // tie sends the ray to that walk, which takes a tied leaf in reference order.
-    int order[4];
-    const int m = simd::entries_by_distance(eb, n, tmin, best.t, order);
-    for (int k = 0; k < m; ++k) {
-      const int j = order[k];
-      if (!simd::entry_in_box(eb, j, tmin, best.t)) continue;
-      const int ref = leaf_refs[j0 + j];
-      const MasqInstance c = KD(masq_instances)[-1 - ref];
-      const MasqOwner owner = KD(masq_owners)[masq_owner_index(c)];
-      const Nearest was = best;
-      best = masquerade_hit(KD_ARG ref, owner.geom, c.prim, owner.scene_inst, wo, wd, tmin, best);
-      if (was.prim >= 0 && best.t == was.t && std::memcmp(&best, &was, sizeof best) != 0) ties = 1;
-    }
+    // Nearest box first, as the single-ray walk takes them; a tie sends the ray to that
+    // walk, which takes a tied leaf in reference order (entry_leaf_nearest_first).
+    if (entries_nearest_first(KD_ARG leaf_refs + j0, n, eb, wo, wd, tmin, best)) ties = 1;
   }
   return ties;
 }

@@ -92,17 +92,15 @@ FN Nearest masquerade_hit(KD_PARAM int ref, int geom, int prim, int scene_inst, 
 }
 
 #if defined(MASQ_LANG_CPP)
-// A leaf of n <= 4 compact entries (their unit boxes eb) taken nearest box first, so that
-// a near hit shuts out the farther entries' calls: under sah4 a leaf holds four entries,
-// where it held one or two below nodes visited front to back. The nearest hit is then
-// the reference order's unless two hits tie at exactly its distance (which one the order
-// keeps): a hit taken at exactly the distance of the one it replaces takes the leaf again
-// in reference order from where it started.
-FN_INLINED void entry_leaf_nearest_first(KD_PARAM const int* leaf_refs, int n, const simd::EntryBoxes4& eb, vec3 wo,
-                                         vec3 wd, float tmin, Nearest& best) {
+// A TLAS leaf's compact entries nearest box first (the cpu's order where it cannot change
+// the hit: entry_leaf_nearest_first): the entries j < n of leaf_refs whose unit boxes eb
+// the ray enters, by entry distance, each against the nearest hit so far. Returns
+// whether a hit taken tied the one it replaced at exactly its distance (which of two tied
+// hits is kept depends on the order).
+FN_INLINED bool entries_nearest_first(KD_PARAM const int* leaf_refs, int n, const simd::EntryBoxes4& eb, vec3 wo,
+                                      vec3 wd, float tmin, Nearest& best) {
   int order[4];
   const int m = simd::entries_by_distance(eb, n, tmin, best.t, order);
-  const Nearest start = best;
   bool tie = false;
   for (int k = 0; k < m; ++k) {
     const int j = order[k];
@@ -114,7 +112,18 @@ FN_INLINED void entry_leaf_nearest_first(KD_PARAM const int* leaf_refs, int n, c
     best = masquerade_hit(KD_ARG ref, owner.geom, c.prim, owner.scene_inst, wo, wd, tmin, best);
     if (was.prim >= 0 && best.t == was.t && std::memcmp(&best, &was, sizeof best) != 0) tie = true;
   }
-  if (!tie) return;
+  return tie;
+}
+
+// A leaf of n <= 4 compact entries (their unit boxes eb) taken nearest box first, so that
+// a near hit shuts out the farther entries' calls: under sah4 a leaf holds four entries,
+// where it held one or two below nodes visited front to back. The nearest hit is then
+// the reference order's unless two hits tie at exactly its distance: then the leaf is
+// taken again in reference order from where it started.
+FN_INLINED void entry_leaf_nearest_first(KD_PARAM const int* leaf_refs, int n, const simd::EntryBoxes4& eb, vec3 wo,
+                                         vec3 wd, float tmin, Nearest& best) {
+  const Nearest start = best;
+  if (!entries_nearest_first(KD_ARG leaf_refs, n, eb, wo, wd, tmin, best)) return;
   best = start;
   for (int j = 0; j < n; ++j) {
     if (!simd::entry_in_box(eb, j, tmin, best.t)) continue;

@@ -31,36 +31,39 @@ void compact_masquerades(const Geometry& g, std::span<const std::int32_t> prims,
   const int n = int(prims.size());
   if (n == 0) return;
   CompactFit f[kCompactLanes];
-  for (int l = 0; l < n; ++l) fit_axes(f[l], g, std::size_t(prims[std::size_t(l)]), xf);
-  CompactFit* lanes[kCompactLanes];
-  for (int l = 0; l < n; ++l) lanes[l] = &f[l];
+  CompactFit* lanes[kCompactLanes]; // the live fits, in order
+  for (int l = 0; l < n; ++l) {
+    fit_axes(f[l], g, std::size_t(prims[std::size_t(l)]), xf);
+    lanes[l] = &f[l];
+  }
   fit_rotation_lanes(lanes, n, xf);
-  CompactFit* live[kCompactLanes];
-  int n_live = 0;
-  for (int l = 0; l < n; ++l)
-    if (f[l].live) live[n_live++] = &f[l];
-  if (n_live > 0) fit_extent_lanes(live, n_live, xf);
-  n_live = 0;
+  auto keep_live = [&] {
+    int m = 0;
+    for (int l = 0; l < n; ++l)
+      if (f[l].live) lanes[m++] = &f[l];
+    return m;
+  };
+  int n_live = keep_live();
+  if (n_live > 0) fit_extent_lanes(lanes, n_live, xf);
+  n_live = keep_live();
   MasqueradeBox* boxes[kCompactLanes];
   std::optional<CompactMasquerade>* live_out[kCompactLanes];
-  for (int l = 0; l < n; ++l) {
+  for (int l = 0, k = 0; l < n; ++l) {
     out[l]->reset();
     if (!f[l].live) continue;
-    kernel::MasqInstance& c = out[l]->emplace().inst;
-    c = f[l].c;
+    kernel::MasqInstance& c = f[l].c; // t fitted; the rest packed here, before the decode reads it
     c.prim = prims[std::size_t(l)];
     c.q01 = pack_i16(f[l].qi[0], f[l].qi[1]);
     c.q23 = pack_i16(f[l].qi[2], f[l].qi[3]);
     c.s01 = (f[l].sigma[0] >> 16) | (f[l].sigma[1] & 0xFFFF0000u);
     c.s2_owner = f[l].sigma[2] & 0xFFFF0000u;
-    f[l].c = c; // the decode reads the packed scales
-    boxes[n_live] = &(*out[l])->box;
-    live_out[n_live] = out[l];
-    live[n_live++] = &f[l];
+    out[l]->emplace().inst = c;
+    boxes[k] = &(*out[l])->box; // written in place by complete_lanes
+    live_out[k++] = out[l];
   }
   if (n_live == 0) return;
   bool ok[kCompactLanes];
-  complete_lanes(live, n_live, boxes, ok);
+  complete_lanes(lanes, n_live, boxes, ok);
   for (int k = 0; k < n_live; ++k)
     if (!ok[k]) live_out[k]->reset();
 }

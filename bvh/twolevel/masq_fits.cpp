@@ -16,11 +16,12 @@ void fit_masquerades(const Geometry& g, std::span<const std::int32_t> prims, con
     for (std::size_t i0 = lo; i0 < hi; i0 += kCompactLanes) {
       const std::size_t n = std::min(hi - i0, std::size_t(kCompactLanes));
       std::optional<CompactMasquerade>* out[kCompactLanes];
-      for (std::size_t l = 0; l < n; ++l) {
-        out[l] = &fits[i0 + l].compact;
-        out[l]->reset();
+      for (std::size_t l = 0; l < n; ++l) out[l] = &fits[i0 + l].compact;
+      if (try_compact) {
+        compact_masquerades(g, prims.subspan(i0, n), object_to_world, out); // sets every out[l]
+      } else {
+        for (std::size_t l = 0; l < n; ++l) out[l]->reset();
       }
-      if (try_compact) compact_masquerades(g, prims.subspan(i0, n), object_to_world, out);
       for (std::size_t i = i0; i < i0 + n; ++i)
         if (!fits[i].compact) fits[i].full = masquerade_box(g, std::size_t(prims[i]), object_to_world, curve_obb);
     }
