@@ -2,8 +2,9 @@
 // as the peers suite's build table times it) repeated in a function of its own,
 // probe_builds, for a profiler to count alone (valgrind's callgrind, or perf record with
 // its software clock: these virtual machines expose no hardware counters).
-//   masq_build_probe FILE|bundle ref|masq|cluster|auto [w4|w8|q8|o4=w4] [capsule|curve|thick|thick-curve=capsule] [builds=10]
-// (thick: every radius 0.05 x the mean segment, the peers suite's thick rows)
+//   masq_build_probe FILE|bundle ref|masq|cluster|auto|embree [w4|w8|q8|o4=w4] [capsule|curve|thick|thick-curve=capsule] [builds=10]
+// (thick: every radius 0.05 x the mean segment, the peers suite's thick rows; embree:
+// Embree's scene as the peers suite's build table times it, robust, on 2 threads)
 //   valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*probe_builds*'
 //     build/bench/masq_build_probe ... (one line)
 // It prints the structure's digest (FNV-1a over every array the kernels read): two builds of masq that print the same digest made the same structure,
@@ -13,6 +14,7 @@
 #include "bench/process_clock.h"
 #include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
+#include "peers/embree_peer.h"
 #include "kernels/scene_array_table.h"
 #include "scenes/curve_tools.h"
 #include <chrono>
@@ -30,6 +32,10 @@ namespace {
 __attribute__((noinline)) void probe_builds(const Scene& scene, Method method, const AccelOptions& accel, Backend& cpu,
                                             int builds) {
   for (int i = 0; i < builds; ++i) cpu.set_scene(build_accel(scene, method, accel));
+}
+
+__attribute__((noinline)) void probe_embree_builds(const Scene& scene, EmbreePeer& embree, int builds) {
+  for (int i = 0; i < builds; ++i) embree.set_scene(scene, true);
 }
 
 // FNV-1a (64 bits) over the structure's arrays in the kernels' table order
@@ -63,10 +69,11 @@ std::uint64_t structure_digest(const PackedScene& scene) {
 int main(int argc, char** argv) {
   try {
     if (argc < 3)
-      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster|auto [w4|w8|q8|o4=w4] "
+      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster|auto|embree [w4|w8|q8|o4=w4] "
                                   "[capsule|curve|thick|thick-curve=capsule] [builds=10]");
     Scene scene = probe::scene(argv[1]);
-    const Method method = probe::method(argv[2]);
+    const bool embree = std::string(argv[2]) == "embree";
+    const Method method = embree ? Method::Ref : probe::method(argv[2]);
     AccelOptions accel;
     accel.builder.kind = Builder::Sah4; // the peers suite's build table
     if (argc > 3) accel.nodes = probe::nodes(argv[3]);
@@ -86,6 +93,18 @@ int main(int argc, char** argv) {
     }
     const int builds = argc > 5 ? std::atoi(argv[5]) : 10;
     if (builds < 1) throw std::invalid_argument("builds must be at least 1");
+    if (embree) {
+      if (const std::string why = EmbreePeer::unavailable_reason(); !why.empty()) throw std::runtime_error(why);
+      EmbreePeer peer(2);
+      peer.set_scene(scene, true); // warm-up, not counted
+      const double cpu0 = process_cpu_seconds();
+      const auto t0 = std::chrono::steady_clock::now();
+      probe_embree_builds(scene, peer, builds);
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::printf("%d Embree builds: %.2f ms each (wall), %.2f ms each (CPU time, every thread)\n", builds,
+                  1e3 * s / builds, 1e3 * (process_cpu_seconds() - cpu0) / builds);
+      return 0;
+    }
     std::unique_ptr<Backend> cpu = make_backend("cpu");
     cpu->set_scene(build_accel(scene, method, accel)); // warm-up, not counted
     const double cpu0 = process_cpu_seconds();

@@ -347,67 +347,93 @@ NodeSplit split_node(const Input& in, HugePageVector<Ref>& order, int first, int
   return out;
 }
 
-// The serial build of one subtree: nodes[0] is its root, the rest in the order the
-// serial builder allocates them (both children of a node at once, when the node is
-// split; the right subtree is finished before the left one is started).
-HugePageVector<BinaryNode> build_serial(const Input& in, HugePageVector<Ref>& order, int first, int count) {
+// Room for the binary nodes of every subtree of one build, written once and never
+// value-initialised: a subtree over references [first, first + count) has at most
+// 2 count - 1 nodes and writes them from slot 2 first on, so subtrees built at once never
+// share a slot. One array of 2n slots (huge pages, kept from build to build:
+// scenes/huge_page_vector.h) in place of a fresh vector per subtree task, whose pages
+// were faulted in and zeroed by the kernel at every build (perf: two fifths of a bear
+// build's page faults).
+class NodeScratch {
+ public:
+  explicit NodeScratch(std::size_t slots) : slots_(slots), data_(alloc_.allocate(slots)) {}
+  ~NodeScratch() { alloc_.deallocate(data_, slots_); }
+  NodeScratch(const NodeScratch&) = delete;
+  NodeScratch& operator=(const NodeScratch&) = delete;
+  // The slots of the subtree over references from first on.
+  BinaryNode* subtree(int first) const { return data_ + 2 * std::size_t(first); }
+
+ private:
+  HugePageAllocator<BinaryNode> alloc_;
+  std::size_t slots_;
+  BinaryNode* data_;
+};
+
+// The serial build of one subtree into out (room for 2 count - 1 nodes); returns how many
+// it wrote. out[0] is its root, the rest in the order the serial builder allocates them
+// (both children of a node at once, when the node is split; the right subtree is
+// finished before the left one is started).
+std::size_t build_serial(const Input& in, HugePageVector<Ref>& order, int first, int count, BinaryNode* out) {
   struct Job {
     int node, first, count;
   };
-  HugePageVector<BinaryNode> nodes(1);
-  nodes.reserve(2 * std::size_t(count));
+  std::size_t size = 1;
+  out[0] = BinaryNode{};
   std::vector<Job> jobs{{0, first, count}};
   Bins bins(in.opt.bins);
   while (!jobs.empty()) {
     Job job = jobs.back();
     jobs.pop_back();
     NodeSplit s = split_node(in, order, job.first, job.count, bins);
-    nodes[job.node].box = s.box;
+    BinaryNode& node = out[job.node];
+    node.box = s.box;
     if (s.mid < 0) {
-      nodes[job.node].first = job.first;
-      nodes[job.node].count = job.count;
+      node.first = job.first;
+      node.count = job.count;
       continue;
     }
-    int left = int(nodes.size());
-    nodes.push_back({});
-    nodes.push_back({});
-    nodes[job.node].left = left;
-    nodes[job.node].right = left + 1;
+    const int left = int(size);
+    out[size++] = BinaryNode{};
+    out[size++] = BinaryNode{};
+    node.left = left;
+    node.right = left + 1;
     jobs.push_back({left, job.first, s.mid - job.first});
     jobs.push_back({left + 1, s.mid, job.first + job.count - s.mid});
   }
-  return nodes;
+  return size;
 }
 
-// A subtree built by tasks: either serial (nodes as build_serial gives them) or a split
-// root (nodes = {root}) whose children were built as separate tasks.
+// A subtree built by tasks: either serial (its nodes as build_serial writes them, in the
+// build's scratch) or a split root (root) whose children were built as separate tasks.
 struct Subtree {
-  HugePageVector<BinaryNode> nodes;
+  const BinaryNode* serial = nullptr; // serial_size nodes, or nullptr for a split root
+  std::size_t serial_size = 0;
+  BinaryNode root;
   std::unique_ptr<Subtree> left, right;
   std::size_t size = 0; // nodes in the whole subtree
 };
 
-Subtree build_tasks(const Input& in, HugePageVector<Ref>& order, int first, int count) {
+Subtree build_tasks(const Input& in, HugePageVector<Ref>& order, int first, int count, const NodeScratch& scratch) {
   Subtree t;
   if (count < kSubtreeTask) {
-    t.nodes = build_serial(in, order, first, count);
-    t.size = t.nodes.size();
+    BinaryNode* out = scratch.subtree(first);
+    t.serial = out;
+    t.serial_size = t.size = build_serial(in, order, first, count, out);
     return t;
   }
   Bins bins(in.opt.bins);
   NodeSplit s = split_node(in, order, first, count, bins);
-  t.nodes.resize(1);
-  t.nodes[0].box = s.box;
+  t.root.box = s.box;
   t.size = 1;
   if (s.mid < 0) {
-    t.nodes[0].first = first;
-    t.nodes[0].count = count;
+    t.root.first = first;
+    t.root.count = count;
     return t;
   }
   t.left = std::make_unique<Subtree>();
   t.right = std::make_unique<Subtree>();
-  parallel_pair([&] { *t.left = build_tasks(in, order, first, s.mid - first); },
-                [&] { *t.right = build_tasks(in, order, s.mid, first + count - s.mid); });
+  parallel_pair([&] { *t.left = build_tasks(in, order, first, s.mid - first, scratch); },
+                [&] { *t.right = build_tasks(in, order, s.mid, first + count - s.mid, scratch); });
   t.size += t.left->size + t.right->size;
   return t;
 }
@@ -416,7 +442,7 @@ Subtree build_tasks(const Input& in, HugePageVector<Ref>& order, int first, int 
 // numbered as the serial builder numbers them: a split root's children at below and
 // below + 1, then the right child's subtree, then the left child's.
 void place(const Subtree& t, HugePageVector<BinaryNode>& out, std::size_t at, std::size_t below) {
-  if (!t.left) {
+  if (t.serial) {
     auto moved = [&](BinaryNode n) {
       if (!n.is_leaf()) {
         n.left = int(below) + n.left - 1;
@@ -424,11 +450,12 @@ void place(const Subtree& t, HugePageVector<BinaryNode>& out, std::size_t at, st
       }
       return n;
     };
-    out[at] = moved(t.nodes[0]);
-    for (std::size_t i = 1; i < t.nodes.size(); ++i) out[below + i - 1] = moved(t.nodes[i]);
+    out[at] = moved(t.serial[0]);
+    for (std::size_t i = 1; i < t.serial_size; ++i) out[below + i - 1] = moved(t.serial[i]);
     return;
   }
-  out[at] = t.nodes[0];
+  out[at] = t.root;
+  if (!t.left) return; // a leaf root
   out[at].left = int(below);
   out[at].right = int(below + 1);
   std::size_t right_below = below + 2, left_below = right_below + t.right->size - 1;
@@ -466,10 +493,12 @@ BinaryBvh build_binned_sah(std::span<const Aabb> boxes, const SahOptions& opt) {
   const int n = int(boxes.size());
   if (n == 0) return bvh;
   const Input in{opt, block_shift_of(opt.leaf_block)};
+  NodeScratch scratch(2 * std::size_t(n));
   if (build_concurrency() == 1 || n < kSubtreeTask) {
-    bvh.nodes = build_serial(in, refs, 0, n);
+    const BinaryNode* nodes = scratch.subtree(0);
+    bvh.nodes.assign(nodes, nodes + build_serial(in, refs, 0, n, scratch.subtree(0)));
   } else {
-    Subtree root = build_tasks(in, refs, 0, n);
+    Subtree root = build_tasks(in, refs, 0, n, scratch);
     bvh.nodes.resize(root.size);
     place(root, bvh.nodes, 0, 1);
   }
