@@ -6,6 +6,11 @@
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
 
 using namespace masq;
 
@@ -112,4 +117,34 @@ TEST(Bvh, MasqueradeMakesOneInstancePerCapsule) {
   // 32 bytes less per capsule, plus one owner (the TLAS nodes may differ: other boxes).
   EXPECT_EQ((masq64.acceleration_bytes() - masq64.node_bytes()) - (masq.acceleration_bytes() - masq.node_bytes()),
             1000u * 32u - 16u);
+}
+
+// round_down and round_up step on the float's bits: they must be nextafter's answer on
+// every side of zero, at float-exact values, at the fp32 range's ends and beyond it.
+TEST(FloatRounding, OutwardAsNextafter) {
+  const float inf = std::numeric_limits<float>::infinity();
+  auto expect_down = [&](double x) {
+    float f = float(x);
+    if (double(f) > x) f = std::nextafter(f, -inf);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(round_down(x)), std::bit_cast<std::uint32_t>(f)) << x;
+  };
+  auto expect_up = [&](double x) {
+    float f = float(x);
+    if (double(f) < x) f = std::nextafter(f, inf);
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(round_up(x)), std::bit_cast<std::uint32_t>(f)) << x;
+  };
+  std::vector<double> xs = {0.0, -0.0, 1e-300, -1e-300, 1e-45, -1e-45, 0.1, -0.1, 1.0, -1.0, 3.0, -3.0,
+                            double(std::numeric_limits<float>::max()), -double(std::numeric_limits<float>::max()),
+                            3.5e38, -3.5e38, 1e300, -1e300, std::numeric_limits<double>::infinity(),
+                            -std::numeric_limits<double>::infinity()};
+  std::uint64_t state = 12345;
+  for (int i = 0; i < 20000; ++i) { // random doubles over many exponents, both signs
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    const double m = double(state >> 11) / double(1ull << 53);
+    xs.push_back((i & 1 ? -1.0 : 1.0) * std::ldexp(m, int(state % 300) - 150));
+  }
+  for (double x : xs) {
+    expect_down(x);
+    expect_up(x);
+  }
 }
