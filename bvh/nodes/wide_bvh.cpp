@@ -8,36 +8,61 @@
 #include <algorithm>
 #include <memory>
 #include <optional>
+#include <span>
+#include <string>
+#include <array>
 #include <type_traits>
 
 namespace masq {
 
 namespace {
 
+// A wide node's binary children, at most the widest format's eight, in place (a vector
+// each was a heap allocation per wide node).
+struct Kids {
+  std::array<int, 8> at{};
+  int size = 0;
+  const int* begin() const { return at.data(); }
+  const int* end() const { return at.data() + size; }
+  operator std::span<const int>() const { return {at.data(), std::size_t(size)}; }
+};
+
 // Children of a wide node of `width`: repeatedly open the inner child of largest area,
 // as long as the node keeps at most max_inner inner children (each one beyond the first
 // is a stack entry that waits while the nearest is traversed).
-std::vector<int> gather(const BinaryBvh& bvh, int binary, int width, int max_inner) {
-  std::vector<int> kids{bvh.nodes[binary].left, bvh.nodes[binary].right};
+Kids gather(const BinaryBvh& bvh, int binary, int width, int max_inner) {
+  if (width > int(Kids{}.at.size())) throw Error("bvh: wide nodes of " + std::to_string(width) + " children");
+  Kids kids;
+  kids.at[0] = bvh.nodes[binary].left;
+  kids.at[1] = bvh.nodes[binary].right;
+  kids.size = 2;
   auto is_inner = [&](int n) { return !bvh.nodes[n].is_leaf(); };
-  while (int(kids.size()) < width) {
+  while (kids.size < width) {
     int inner = int(std::count_if(kids.begin(), kids.end(), is_inner));
     int best = -1;
     double best_area = -1.0;
-    for (int i = 0; i < int(kids.size()); ++i) {
-      const BinaryNode& n = bvh.nodes[kids[i]];
-      if (n.is_leaf() || n.box.area() <= best_area) continue;
+    for (int i = 0; i < kids.size; ++i) {
+      const BinaryNode& n = bvh.nodes[kids.at[std::size_t(i)]];
+      if (n.is_leaf()) continue;
+      const double area = n.box.area();
+      if (area <= best_area) continue;
       if (inner - 1 + int(is_inner(n.left)) + int(is_inner(n.right)) > max_inner) continue;
       best = i;
-      best_area = n.box.area();
+      best_area = area;
     }
     if (best < 0) break;
-    int open = kids[best];
-    kids[best] = bvh.nodes[open].left;
-    kids.push_back(bvh.nodes[open].right);
+    int open = kids.at[std::size_t(best)];
+    kids.at[std::size_t(best)] = bvh.nodes[open].left;
+    kids.at[std::size_t(kids.size++)] = bvh.nodes[open].right;
   }
   return kids;
 }
+Kids leaf_root() {
+  Kids k;
+  k.size = 1; // binary node 0
+  return k;
+}
+std::vector<int> as_vector(const Kids& k) { return {k.begin(), k.end()}; }
 
 // Stack entries below a node. bound: as if popping it pushed all `inner` children (its
 // own entry not counted); the nearest is popped next while the other inner-1 wait below
@@ -105,7 +130,7 @@ std::unique_ptr<FramePlan> plan_frames(const NodeFramer& framer, const BinaryBvh
     if (!bvh.nodes[std::size_t(p->kids[std::size_t(s)])].is_leaf()) inner.push_back(s);
   }
   auto plan_slot = [&](int s) {
-    p->child[std::size_t(s)] = plan_frames(framer, bvh, gather(bvh, p->kids[std::size_t(s)], width, max_inner),
+    p->child[std::size_t(s)] = plan_frames(framer, bvh, as_vector(gather(bvh, p->kids[std::size_t(s)], width, max_inner)),
                                            &p->choice.frame, width, max_inner);
   };
   if (references >= kParallelFramePlan && inner.size() > 1) {
@@ -149,7 +174,7 @@ struct FloatCollapser : Common {
   // Emits the wide node for a list of binary children; returns {index, stack need}.
   // plan: the node's frame plan (o4 with a framer; else null, and every o4 node is
   // axis aligned).
-  std::pair<int, StackNeedOf> emit(const std::vector<int>& kids, const Aabb& box, int depth,
+  std::pair<int, StackNeedOf> emit(std::span<const int> kids, const Aabb& box, int depth,
                                    const FramePlan* plan = nullptr) {
     int index = int(nodes.size());
     nodes.push_back({});
@@ -194,7 +219,7 @@ struct QuantCollapser : Common {
   HugePageVector<kernel::QuantNode8>& nodes;
 
   // Fills node `index` (already allocated); returns its stack need.
-  StackNeedOf fill(int index, const std::vector<int>& kids, int depth) {
+  StackNeedOf fill(int index, std::span<const int> kids, int depth) {
     Aabb box;
     for (int k : kids) box.grow(bvh.nodes[k].box);
     count_node(box, depth);
@@ -244,8 +269,8 @@ WideBvhInfo collapse_float(const BinaryBvh& bvh, const std::vector<std::int32_t>
   const BinaryNode& root = bvh.nodes[0];
   c.root_area = std::max(root.box.area(), 1e-300);
   // A root that is itself a leaf becomes a wide node with one leaf slot.
-  std::vector<int> kids = root.is_leaf() ? std::vector<int>{0} : gather(bvh, 0, Width, max_inner);
-  std::unique_ptr<FramePlan> plan = framer ? plan_frames(*framer, bvh, kids, nullptr, Width, max_inner) : nullptr;
+  const Kids kids = root.is_leaf() ? leaf_root() : gather(bvh, 0, Width, max_inner);
+  std::unique_ptr<FramePlan> plan = framer ? plan_frames(*framer, bvh, as_vector(kids), nullptr, Width, max_inner) : nullptr;
   auto [index, n] = c.emit(kids, root.box, 1, plan.get());
   c.info.root = index;
   need = n;
@@ -258,7 +283,7 @@ WideBvhInfo collapse_quant(const BinaryBvh& bvh, const std::vector<std::int32_t>
   QuantCollapser c{{bvh, max_inner, ref_ids, refs, {}}, nodes};
   const BinaryNode& root = bvh.nodes[0];
   c.root_area = std::max(root.box.area(), 1e-300);
-  std::vector<int> kids = root.is_leaf() ? std::vector<int>{0} : gather(bvh, 0, 8, max_inner);
+  const Kids kids = root.is_leaf() ? leaf_root() : gather(bvh, 0, 8, max_inner);
   int index = int(nodes.size());
   nodes.emplace_back();
   need = c.fill(index, kids, 1);
