@@ -3,7 +3,6 @@
 #include "bvh/binary/partition_in_chunks.h"
 #include "masq/error.h"
 #include <algorithm>
-#include <bit>
 #include <string>
 #include <array>
 #include <cmath>
@@ -12,24 +11,6 @@
 #include <memory>
 
 namespace masq {
-
-// nextafter toward -inf / +inf done on the bits (a library call each before; the wide
-// collapse rounds six coordinates of every child box): f, a float nearest to x, steps
-// one float away from x when it lies on the wrong side of it.
-float round_down(double x) {
-  const float f = static_cast<float>(x);
-  if (!(double(f) > x)) return f;
-  if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
-  const std::uint32_t bits = std::bit_cast<std::uint32_t>(f);
-  return std::bit_cast<float>(f > 0.0f ? bits - 1u : bits + 1u); // +inf steps to FLT_MAX
-}
-float round_up(double x) {
-  const float f = static_cast<float>(x);
-  if (!(double(f) < x)) return f;
-  if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
-  const std::uint32_t bits = std::bit_cast<std::uint32_t>(f);
-  return std::bit_cast<float>(f > 0.0f ? bits + 1u : bits - 1u); // -inf steps to -FLT_MAX
-}
 
 namespace {
 
