@@ -2,13 +2,16 @@
 // as the peers suite's build table times it) repeated in a function of its own,
 // probe_builds, for a profiler to count alone (valgrind's callgrind, or perf record with
 // its software clock: these virtual machines expose no hardware counters).
-//   masq_build_probe FILE|bundle ref|masq|cluster|auto|embree [w4|w8|q8|o4=w4] [capsule|curve|thick|thick-curve=capsule] [builds=10]
+//   masq_build_probe FILE|bundle ref|masq|cluster|auto|embree|peers [w4|w8|q8|o4=w4] [capsule|curve|thick|thick-curve=capsule] [builds=10]
 // (thick: every radius 0.05 x the mean segment, the peers suite's thick rows; embree:
-// Embree's scene as the peers suite's build table times it, robust, on 2 threads)
+// Embree's scene as the peers suite's build table times it, robust, on 2 threads; peers:
+// that table's row itself, ref, masq and Embree round by round (bench/peer_builds.h),
+// builds = its rounds after 1 warm-up, medians (min-max) of CPU time and of masq/Embree)
 //   valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*probe_builds*'
 //     build/bench/masq_build_probe ... (one line)
 // It prints the structure's digest (FNV-1a over every array the kernels read): two builds of masq that print the same digest made the same structure,
 // byte for byte.
+#include "bench/peer_builds.h"
 #include "bench/peer_scenes.h"
 #include "bench/probe_args.h"
 #include "bench/process_clock.h"
@@ -69,11 +72,11 @@ std::uint64_t structure_digest(const PackedScene& scene) {
 int main(int argc, char** argv) {
   try {
     if (argc < 3)
-      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster|auto|embree [w4|w8|q8|o4=w4] "
+      throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster|auto|embree|peers [w4|w8|q8|o4=w4] "
                                   "[capsule|curve|thick|thick-curve=capsule] [builds=10]");
     Scene scene = probe::scene(argv[1]);
-    const bool embree = std::string(argv[2]) == "embree";
-    const Method method = embree ? Method::Ref : probe::method(argv[2]);
+    const bool embree = std::string(argv[2]) == "embree", peers = std::string(argv[2]) == "peers";
+    const Method method = embree || peers ? Method::Ref : probe::method(argv[2]);
     AccelOptions accel;
     accel.builder.kind = Builder::Sah4; // the peers suite's build table
     if (argc > 3) accel.nodes = probe::nodes(argv[3]);
@@ -93,6 +96,25 @@ int main(int argc, char** argv) {
     }
     const int builds = argc > 5 ? std::atoi(argv[5]) : 10;
     if (builds < 1) throw std::invalid_argument("builds must be at least 1");
+    if (peers) {
+      const PeerBuildTimes t = time_peer_builds(scene, accel, 2, true, 1, builds);
+      if (!t.embree_error.empty()) throw std::runtime_error(t.embree_error);
+      auto cpu_ms = [](const std::vector<TraceClock>& v) {
+        std::vector<double> ms;
+        for (const TraceClock& c : v) ms.push_back(1e3 * c.cpu);
+        return spread_of(ms);
+      };
+      auto over_embree = [&](const std::vector<TraceClock>& v) {
+        return spread_of(per_round(v, t.embree, [](const TraceClock& a, const TraceClock& e) { return a.cpu / e.cpu; }));
+      };
+      const Spread ref = cpu_ms(t.ref), masq = cpu_ms(t.masq), emb = cpu_ms(t.embree);
+      const Spread ref_x = over_embree(t.ref), masq_x = over_embree(t.masq);
+      std::printf("%d rounds, CPU ms: ref %.1f (%.1f-%.1f), masq %.1f (%.1f-%.1f), Embree %.1f (%.1f-%.1f); "
+                  "ref/Embree %.2fx (%.2f-%.2f), masq/Embree %.2fx (%.2f-%.2f)\n",
+                  builds, ref.median, ref.min, ref.max, masq.median, masq.min, masq.max, emb.median, emb.min, emb.max,
+                  ref_x.median, ref_x.min, ref_x.max, masq_x.median, masq_x.min, masq_x.max);
+      return 0;
+    }
     if (embree) {
       if (const std::string why = EmbreePeer::unavailable_reason(); !why.empty()) throw std::runtime_error(why);
       EmbreePeer peer(2);

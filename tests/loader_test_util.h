@@ -1,5 +1,6 @@
 // What the loader tests share: the data folder, bytes of a string, the one-error check
-// and a LoadOptions whose warnings are kept (test_loaders_neuro, test_loaders_tracks).
+// and a LoadOptions whose warnings are kept, a geometry's segment end points
+// (test_loaders_neuro, test_loaders_tracks, test_loaders_tck).
 #pragma once
 #include "masq/error.h"
 #include "scenes/loaders/loader.h"
@@ -42,5 +43,12 @@ struct WarnLog {
   }
 };
 
+// Every segment's end points, in order.
+inline std::vector<glm::vec3> segment_points(const Geometry& g) {
+  std::vector<glm::vec3> v;
+  for (const CapsulePrim& c : g.capsules) { v.push_back(c.a); v.push_back(c.b); }
+  for (const RoundConePrim& c : g.round_cones) { v.push_back(c.a); v.push_back(c.b); }
+  return v;
+}
 
 } // namespace masq::test
