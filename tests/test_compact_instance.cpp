@@ -3,9 +3,12 @@
 // error the encoder allows for; the kernel's own fp32 decode stays within that bound;
 // and the box is hardly looser than the 64-byte instance's.
 #include "bvh/nodes/compact_instance.h"
+#include "bvh/nodes/compact_fit.h"
 #include "bvh/bounds/prim_bounds.h"
 #include "kernels/masq_instance.h"
 #include <gtest/gtest.h>
+#include <bit>
+#include <cstdint>
 #include <cstdio>
 #include <random>
 #include "tests/random_affine.h"
@@ -206,4 +209,51 @@ TEST(CompactInstance, OwnerBitsLeaveTheScaleAlone) {
   Affine3 after = decode_masq_instance(cm->inst);
   EXPECT_EQ(before.linear, after.linear);
   EXPECT_THROW(set_masq_owner(cm->inst, 65536), std::runtime_error);
+}
+
+// The first stage of a block of segments runs in lanes (fit_axes_lanes): its axes and
+// first world axis must be the scalar fit_axes's bits, lane by lane, for capsules and
+// round cones of every direction (axes near x, where perpendicular switches its helper,
+// and chords of length 0, where main_axis falls back to z), under identity, rotated and
+// sheared maps, in blocks of one to four.
+TEST(CompactInstance, AxesInLanesAreTheScalarFitsBits) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
+  int compared = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    Geometry g;
+    g.type = trial % 2 ? PrimType::RoundCone : PrimType::Capsule;
+    for (int p = 0; p < 4; ++p) {
+      glm::dvec3 dir = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+      if (p == 1) dir = glm::normalize(glm::dvec3(1.0, 0.01 * u(rng), 0.01 * u(rng))); // |w.x| >= 0.6
+      if (p == 2) dir.x = 0.6 * (u(rng) < 0 ? -1 : 1), dir = glm::normalize(dir);       // about the switch
+      const double len = (trial % 7 == 0 && p == 3) ? 0.0 : std::pow(10.0, -3.0 + 4.0 * u01(rng));
+      const glm::vec3 a(glm::dvec3(u(rng), u(rng), u(rng)) * 10.0);
+      const glm::vec3 b(glm::dvec3(a) + len * dir);
+      const float r = float(0.01 + 0.1 * u01(rng));
+      if (g.type == PrimType::Capsule) g.capsules.push_back({a, b, r});
+      else g.round_cones.push_back({a, r, b, 0.5f * r});
+    }
+    Affine3 xf;
+    if (trial % 3 == 1) xf = test::random_affine(rng, 5.0, 1.0, 0.0);
+    if (trial % 3 == 2) xf = test::random_affine(rng, 5.0, 0.2, 3.0);
+    const int n = 1 + trial % 4;
+    const std::int32_t prims[4] = {0, 1, 2, 3};
+    compact_fit::CompactFit lane[4], alone[4];
+    compact_fit::CompactFit* lanes[4] = {&lane[0], &lane[1], &lane[2], &lane[3]};
+    compact_fit::fit_axes_lanes(lanes, n, g, prims, xf);
+    for (int l = 0; l < n; ++l) {
+      compact_fit::fit_hull(alone[l], g, std::size_t(l));
+      compact_fit::fit_axes(alone[l], g, xf);
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k)
+          EXPECT_EQ(std::bit_cast<std::uint64_t>(lane[l].axes[c][k]), std::bit_cast<std::uint64_t>(alone[l].axes[c][k]))
+              << "trial " << trial << " lane " << l << " axis " << c << " component " << k;
+      for (int k = 0; k < 3; ++k)
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(lane[l].a0[k]), std::bit_cast<std::uint64_t>(alone[l].a0[k]))
+            << "trial " << trial << " lane " << l << " a0 component " << k;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 7500);
 }

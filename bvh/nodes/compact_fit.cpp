@@ -83,13 +83,18 @@ Affine3 decode_with(const QuatMatrix& q, const kernel::MasqInstance& c) {
   return m;
 }
 
-// World axes: the object OBB's axes under the scene instance's map, made orthonormal and
-// right-handed. For a similarity they are the mapped axes; under shear or a non-uniform
-// scale the compact form (a rotation) holds a box fitted along them.
-void fit_axes(CompactFit& f, const Geometry& g, std::size_t prim, const Affine3& xf) {
+// The hull of one primitive, which must have a thickness to have an oriented box.
+void fit_hull(CompactFit& f, const Geometry& g, std::size_t prim) {
   f.h = ball_hull(g, prim);
   if (!(hull_max_radius(f.h) > 0.0))
     throw Error(std::string("obb: a ") + prim_type_name(g.type) + " of radius 0 has no oriented box");
+}
+
+// World axes: the object OBB's axes under the scene instance's map, made orthonormal and
+// right-handed. For a similarity they are the mapped axes; under shear or a non-uniform
+// scale the compact form (a rotation) holds a box fitted along them. (One fit; a block of
+// segments takes fit_axes_lanes's lanes, the same operations.)
+void fit_axes(CompactFit& f, const Geometry& g, const Affine3& xf) {
   f.axes = primitive_obb_axes(g, f.h);
   f.a0 = glm::normalize(xf.linear * f.axes[0]);
 }

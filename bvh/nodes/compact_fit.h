@@ -55,14 +55,18 @@ struct CompactFit {
 };
 
 // The stages in order; each lane stage takes n <= 4 fits (f[0..n)) at once.
-// 1. The hull and the object OBB's axes, and the first world axis (one fit).
-void fit_axes(CompactFit& f, const Geometry& g, std::size_t prim, const Affine3& xf);
+// 1. The hulls of prims[0..n) and their object OBBs' axes (primitive_obb_axes), and the
+//    first world axes.
+void fit_axes_lanes(CompactFit* const* f, int n, const Geometry& g, const std::int32_t* prims, const Affine3& xf);
 // 2. The world axes made orthonormal, as a quaternion of 16-bit integers and its matrix.
 void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf);
 // 3. The hull's world box, centre and half extents along the decoded axes, then each
 //    axis's scale and translation (fit_scale's first try; a lane it does not fit runs
 //    fit_scale on its own).
 void fit_extent_lanes(CompactFit* const* f, int n, const Affine3& xf);
+// Stage 1 for one fit: its hull (throws for a primitive of radius 0), then its axes.
+void fit_hull(CompactFit& f, const Geometry& g, std::size_t prim);
+void fit_axes(CompactFit& f, const Geometry& g, const Affine3& xf);
 // Axis i's bfloat16 scale and fp32 translation, proved conservative; false where none fits.
 bool fit_scale(CompactFit& f, int i, const Affine3& xf);
 // 4. complete_masquerade_box(decode_with(q, c), exact) of the packed entries: *out[l]

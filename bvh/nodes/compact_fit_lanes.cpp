@@ -1,6 +1,7 @@
 // The compact fit's stages four primitives at a time (compact_fit.h), a primitive a lane
 // of one vector register.
 #include "bvh/nodes/compact_fit.h"
+#include "scenes/prim_table.h"
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -150,6 +151,61 @@ void fit_extent_lanes(CompactFit* const* f, int n, const Affine3& xf) {
       } else if (a.live) {
         a.live = fit_scale(a, i, xf);
       }
+    }
+  }
+}
+
+// primitive_obb_axes and the first world axis of a block of segments (two balls each),
+// lane by lane the scalar code's operations (main_axis, perpendicular, glm's cross,
+// normalize and matrix product): a chain of square roots and divisions per primitive,
+// which four lanes overlap. Other blocks (balls, curves, hulls of other sizes) take
+// fit_axes one fit at a time.
+void fit_axes_lanes(CompactFit* const* f, int n, const Geometry& g, const std::int32_t* prims, const Affine3& xf) {
+  bool segments = scene_prim_row(g.type).shape == PrimShape::Segment;
+  for (int l = 0; l < n; ++l) {
+    fit_hull(*f[l], g, std::size_t(prims[l]));
+    segments = segments && f[l]->h.count == 2;
+  }
+  if (!segments) {
+    for (int l = 0; l < n; ++l) fit_axes(*f[l], g, xf);
+    return;
+  }
+  D4 c0[3], c1[3];
+  for (int l = 0; l < 4; ++l) {
+    const BallHull& h = f[l < n ? l : 0]->h; // spare lanes repeat lane 0
+    for (int k = 0; k < 3; ++k) c0[k][l] = h.centre[0][k], c1[k][l] = h.centre[1][k];
+  }
+  auto dot = [](const D4 a[3], const D4 b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  auto cross = [](const D4 a[3], const D4 b[3], D4 out[3]) {
+    out[0] = a[1] * b[2] - b[1] * a[2];
+    out[1] = a[2] * b[0] - b[2] * a[0];
+    out[2] = a[0] * b[1] - b[0] * a[1];
+  };
+  // main_axis: the chord over its length where that is positive, else +z.
+  const D4 d[3] = {c1[0] - c0[0], c1[1] - c0[1], c1[2] - c0[2]};
+  const D4 len = lane_sqrt(dot(d, d));
+  const auto chord = len > splat(0.0);
+  const D4 w[3] = {chord ? d[0] / len : splat(0.0), chord ? d[1] / len : splat(0.0), chord ? d[2] / len : splat(1.0)};
+  // perpendicular: the cross product with x (or y, where |w.x| >= 0.6), normalised.
+  const auto small_x = lane_abs(w[0]) < splat(0.6);
+  const D4 helper[3] = {small_x ? splat(1.0) : splat(0.0), small_x ? splat(0.0) : splat(1.0), splat(0.0)};
+  D4 u1[3], u2[3];
+  cross(w, helper, u1);
+  const D4 inv_u1 = splat(1.0) / lane_sqrt(dot(u1, u1));
+  for (int k = 0; k < 3; ++k) u1[k] = u1[k] * inv_u1;
+  cross(w, u1, u2);
+  // The first world axis: normalize(xf.linear * w).
+  const glm::dmat3& m = xf.linear;
+  D4 a0[3];
+  for (int k = 0; k < 3; ++k) a0[k] = splat(m[0][k]) * w[0] + splat(m[1][k]) * w[1] + splat(m[2][k]) * w[2];
+  const D4 inv_a0 = splat(1.0) / lane_sqrt(dot(a0, a0));
+  for (int l = 0; l < n; ++l) {
+    CompactFit& a = *f[l];
+    for (int k = 0; k < 3; ++k) {
+      a.axes[0][k] = w[k][l];
+      a.axes[1][k] = u1[k][l];
+      a.axes[2][k] = u2[k][l];
+      a.a0[k] = a0[k][l] * inv_a0[l];
     }
   }
 }

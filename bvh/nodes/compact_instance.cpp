@@ -32,10 +32,8 @@ void compact_masquerades(const Geometry& g, std::span<const std::int32_t> prims,
   if (n == 0) return;
   CompactFit f[kCompactLanes];
   CompactFit* lanes[kCompactLanes]; // the live fits, in order
-  for (int l = 0; l < n; ++l) {
-    fit_axes(f[l], g, std::size_t(prims[std::size_t(l)]), xf);
-    lanes[l] = &f[l];
-  }
+  for (int l = 0; l < n; ++l) lanes[l] = &f[l];
+  fit_axes_lanes(lanes, n, g, prims.data(), xf);
   fit_rotation_lanes(lanes, n, xf);
   auto keep_live = [&] {
     int m = 0;
