@@ -212,8 +212,8 @@ TEST(CompactInstance, OwnerBitsLeaveTheScaleAlone) {
 }
 
 // The first stage of a block of segments runs in lanes (fit_axes_lanes): its axes and
-// first world axis must be the scalar fit_axes's bits, lane by lane, for capsules and
-// round cones of every direction (axes near x, where perpendicular switches its helper,
+// first world axis must be the scalar fit_axes's bits, lane by lane, for capsules, round
+// cones and ribbons of every direction (axes near x, where perpendicular switches its helper,
 // and chords of length 0, where main_axis falls back to z), under identity, rotated and
 // sheared maps, in blocks of one to four.
 TEST(CompactInstance, AxesInLanesAreTheScalarFitsBits) {
@@ -222,7 +222,8 @@ TEST(CompactInstance, AxesInLanesAreTheScalarFitsBits) {
   int compared = 0;
   for (int trial = 0; trial < 3000; ++trial) {
     Geometry g;
-    g.type = trial % 2 ? PrimType::RoundCone : PrimType::Capsule;
+    const PrimType types[] = {PrimType::Capsule, PrimType::RoundCone, PrimType::Ribbon};
+    g.type = types[trial % 3];
     for (int p = 0; p < 4; ++p) {
       glm::dvec3 dir = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
       if (p == 1) dir = glm::normalize(glm::dvec3(1.0, 0.01 * u(rng), 0.01 * u(rng))); // |w.x| >= 0.6
@@ -232,11 +233,12 @@ TEST(CompactInstance, AxesInLanesAreTheScalarFitsBits) {
       const glm::vec3 b(glm::dvec3(a) + len * dir);
       const float r = float(0.01 + 0.1 * u01(rng));
       if (g.type == PrimType::Capsule) g.capsules.push_back({a, b, r});
-      else g.round_cones.push_back({a, r, b, 0.5f * r});
+      if (g.type == PrimType::RoundCone) g.round_cones.push_back({a, r, b, 0.5f * r});
+      if (g.type == PrimType::Ribbon) g.ribbons.push_back({a, r, b, 0.5f * r, glm::vec3(0, 0, 1)});
     }
     Affine3 xf;
-    if (trial % 3 == 1) xf = test::random_affine(rng, 5.0, 1.0, 0.0);
-    if (trial % 3 == 2) xf = test::random_affine(rng, 5.0, 0.2, 3.0);
+    if ((trial / 3) % 3 == 1) xf = test::random_affine(rng, 5.0, 1.0, 0.0);
+    if ((trial / 3) % 3 == 2) xf = test::random_affine(rng, 5.0, 0.2, 3.0);
     const int n = 1 + trial % 4;
     const std::int32_t prims[4] = {0, 1, 2, 3};
     compact_fit::CompactFit lane[4], alone[4];
