@@ -17,8 +17,8 @@
 #include "bench/process_clock.h"
 #include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
-#include "peers/embree_peer.h"
 #include "kernels/scene_array_table.h"
+#include "peers/embree_peer.h"
 #include "scenes/curve_tools.h"
 #include <chrono>
 #include <cstdint>

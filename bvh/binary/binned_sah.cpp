@@ -486,8 +486,9 @@ BinaryBvh build_binned_sah(std::span<const Aabb> boxes, const SahOptions& opt) {
   const Input in{opt, block_shift_of(opt.leaf_block)};
   NodeScratch scratch(2 * std::size_t(n));
   if (build_concurrency() == 1 || n < kSubtreeTask) {
-    const BinaryNode* nodes = scratch.subtree(0);
-    bvh.nodes.assign(nodes, nodes + build_serial(in, refs, 0, n, scratch.subtree(0)));
+    BinaryNode* nodes = scratch.subtree(0);
+    const std::size_t size = build_serial(in, refs, 0, n, nodes);
+    bvh.nodes.assign(nodes, nodes + size);
   } else {
     Subtree root = build_tasks(in, refs, 0, n, scratch);
     bvh.nodes.resize(root.size);

@@ -6,11 +6,11 @@
 #include "kernels/variants.h"
 #include "masq/error.h"
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
-#include <array>
 #include <type_traits>
 
 namespace masq {
