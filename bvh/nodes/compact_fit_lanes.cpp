@@ -54,6 +54,18 @@ D4 lane_round_half_away(D4 x) {
   return lane_abs(x - t) >= splat(0.5) ? t + sign : t;
 }
 
+// glm's dot and cross of two lane vectors ([component] -> four lanes), and its dmat3 *
+// dvec3 with every lane under the same matrix: the same operations in the same order.
+D4 lane_dot(const D4 a[3], const D4 b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+void lane_cross(const D4 a[3], const D4 b[3], D4 out[3]) {
+  out[0] = a[1] * b[2] - b[1] * a[2];
+  out[1] = a[2] * b[0] - b[2] * a[0];
+  out[2] = a[0] * b[1] - b[0] * a[1];
+}
+void lane_times(const glm::dmat3& m, const D4 v[3], D4 out[3]) {
+  for (int k = 0; k < 3; ++k) out[k] = splat(m[0][k]) * v[0] + splat(m[1][k]) * v[1] + splat(m[2][k]) * v[2];
+}
+
 struct LaneFits {
   D4 centre_of_ball[4][3]; // [ball][axis]
   D4 radius[4];
@@ -70,10 +82,10 @@ void lane_support_pair(const LaneFits& lf, const Affine3& xf, const D4 v[3], D4&
   const glm::dmat3& m = xf.linear;
   D4 w[3];
   for (int k = 0; k < 3; ++k) w[k] = splat(m[k][0]) * v[0] + splat(m[k][1]) * v[1] + splat(m[k][2]) * v[2];
-  const D4 len = lane_sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  const D4 len = lane_sqrt(lane_dot(w, w));
   plus = minus = splat(-INFINITY);
   for (int b = 0; b < lf.balls; ++b) {
-    const D4 d = w[0] * lf.centre_of_ball[b][0] + w[1] * lf.centre_of_ball[b][1] + w[2] * lf.centre_of_ball[b][2];
+    const D4 d = lane_dot(w, lf.centre_of_ball[b]);
     const D4 r = lf.radius[b] * len;
     plus = lane_max(plus, d + r);
     minus = lane_max(minus, -d + r);
@@ -130,7 +142,7 @@ void fit_extent_lanes(CompactFit* const* f, int n, const Affine3& xf) {
       s[l] = bf16_value(b[l]);
     }
     const D4 row[3] = {s * lf.n[i][0], s * lf.n[i][1], s * lf.n[i][2]};
-    const D4 dot = row[0] * lf.centre[0] + row[1] * lf.centre[1] + row[2] * lf.centre[2];
+    const D4 dot = lane_dot(row, lf.centre);
     float t[4];
     D4 td;
     for (int l = 0; l < 4; ++l) {
@@ -175,30 +187,23 @@ void fit_axes_lanes(CompactFit* const* f, int n, const Geometry& g, const std::i
     const BallHull& h = f[l < n ? l : 0]->h; // spare lanes repeat lane 0
     for (int k = 0; k < 3; ++k) c0[k][l] = h.centre[0][k], c1[k][l] = h.centre[1][k];
   }
-  auto dot = [](const D4 a[3], const D4 b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-  auto cross = [](const D4 a[3], const D4 b[3], D4 out[3]) {
-    out[0] = a[1] * b[2] - b[1] * a[2];
-    out[1] = a[2] * b[0] - b[2] * a[0];
-    out[2] = a[0] * b[1] - b[0] * a[1];
-  };
   // main_axis: the chord over its length where that is positive, else +z.
   const D4 d[3] = {c1[0] - c0[0], c1[1] - c0[1], c1[2] - c0[2]};
-  const D4 len = lane_sqrt(dot(d, d));
+  const D4 len = lane_sqrt(lane_dot(d, d));
   const auto chord = len > splat(0.0);
   const D4 w[3] = {chord ? d[0] / len : splat(0.0), chord ? d[1] / len : splat(0.0), chord ? d[2] / len : splat(1.0)};
   // perpendicular: the cross product with x (or y, where |w.x| >= 0.6), normalised.
   const auto small_x = lane_abs(w[0]) < splat(0.6);
   const D4 helper[3] = {small_x ? splat(1.0) : splat(0.0), small_x ? splat(0.0) : splat(1.0), splat(0.0)};
   D4 u1[3], u2[3];
-  cross(w, helper, u1);
-  const D4 inv_u1 = splat(1.0) / lane_sqrt(dot(u1, u1));
+  lane_cross(w, helper, u1);
+  const D4 inv_u1 = splat(1.0) / lane_sqrt(lane_dot(u1, u1));
   for (int k = 0; k < 3; ++k) u1[k] = u1[k] * inv_u1;
-  cross(w, u1, u2);
+  lane_cross(w, u1, u2);
   // The first world axis: normalize(xf.linear * w).
-  const glm::dmat3& m = xf.linear;
   D4 a0[3];
-  for (int k = 0; k < 3; ++k) a0[k] = splat(m[0][k]) * w[0] + splat(m[1][k]) * w[1] + splat(m[2][k]) * w[2];
-  const D4 inv_a0 = splat(1.0) / lane_sqrt(dot(a0, a0));
+  lane_times(xf.linear, w, a0);
+  const D4 inv_a0 = splat(1.0) / lane_sqrt(lane_dot(a0, a0));
   for (int l = 0; l < n; ++l) {
     CompactFit& a = *f[l];
     for (int k = 0; k < 3; ++k) {
@@ -213,19 +218,19 @@ void fit_axes_lanes(CompactFit* const* f, int n, const Geometry& g, const std::i
 // The second world axis (Gram-Schmidt), the third (a cross product), then the rotation's
 // quaternion (Shepperd: the case of each lane picked per lane), rounded to 16 bits.
 void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
-  const glm::dmat3& m = xf.linear;
   D4 a0[3], v[3];
   for (int l = 0; l < 4; ++l) {
     const CompactFit& a = *f[l < n ? l : 0]; // spare lanes repeat lane 0
     for (int j = 0; j < 3; ++j) a0[j][l] = a.a0[j], v[j][l] = a.axes[1][j];
   }
   D4 a1[3];
-  for (int k = 0; k < 3; ++k) a1[k] = splat(m[0][k]) * v[0] + splat(m[1][k]) * v[1] + splat(m[2][k]) * v[2];
-  const D4 along = a1[0] * a0[0] + a1[1] * a0[1] + a1[2] * a0[2];
+  lane_times(xf.linear, v, a1);
+  const D4 along = lane_dot(a1, a0);
   for (int k = 0; k < 3; ++k) a1[k] = a1[k] - along * a0[k];
-  const D4 inv_len = splat(1.0) / lane_sqrt(a1[0] * a1[0] + a1[1] * a1[1] + a1[2] * a1[2]); // glm::normalize
+  const D4 inv_len = splat(1.0) / lane_sqrt(lane_dot(a1, a1)); // glm::normalize
   for (int k = 0; k < 3; ++k) a1[k] = a1[k] * inv_len;
-  const D4 a2[3] = {a0[1] * a1[2] - a1[1] * a0[2], a0[2] * a1[0] - a1[2] * a0[0], a0[0] * a1[1] - a1[0] * a0[1]};
+  D4 a2[3];
+  lane_cross(a0, a1, a2);
   // quaternion_of(dmat3(a0, a1, a2)): r(row, col) is column col's row.
   const D4* col[3] = {a0, a1, a2};
   auto r = [&](int row, int c) { return col[c][row]; };
@@ -313,10 +318,9 @@ void complete_lanes(CompactFit* const* f, int n, MasqueradeBox* const* out, bool
   }
   // obb_area: 8 (|e0 x e1| + |e1 x e2| + |e2 x e0|), e_c the columns of the inverse.
   auto cross_length = [&](int a, int b) {
-    const D4 cx = u[a][1] * u[b][2] - u[b][1] * u[a][2];
-    const D4 cy = u[a][2] * u[b][0] - u[b][2] * u[a][0];
-    const D4 cz = u[a][0] * u[b][1] - u[b][0] * u[a][1];
-    return lane_sqrt(cx * cx + cy * cy + cz * cz);
+    D4 c[3];
+    lane_cross(u[a], u[b], c);
+    return lane_sqrt(lane_dot(c, c));
   };
   const D4 obb_area = splat(8.0) * (cross_length(0, 1) + cross_length(1, 2) + cross_length(2, 0));
   for (int l = 0; l < n; ++l) {
