@@ -34,12 +34,14 @@ double parallelepiped_area(const Aabb& local, const Affine3& local_to_world) {
                 glm::length(glm::cross(e[2], e[0])));
 }
 
-ClusterBlas build_cluster(const Geometry& g, const Cluster& c, const std::vector<int>& scene_insts,
+ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& c, const std::vector<int>& scene_insts,
                           const SahOptions& sah, std::span<const double> leaf_prices, const BuilderOptions& builder,
                           const PackedScene& ps) {
   ClusterBlas out;
   Affine3 object_to_local = cluster_object_to_local(c);
-  for (std::int32_t p : c.members) out.hulls.push_back(ball_hull(g, std::size_t(p)));
+  std::vector<BallHull> hulls;
+  hulls.reserve(c.members.size());
+  for (std::int32_t p : c.members) hulls.push_back(ball_hull(g, std::size_t(p)));
   // The stored world-to-local matrix of every scene instance, then each member's
   // local box as the union of its hull's exact boxes under the realised maps.
   out.local.resize(c.members.size());
@@ -47,7 +49,7 @@ ClusterBlas build_cluster(const Geometry& g, const Cluster& c, const std::vector
     Mat3x4f frame = frame_matrix(ps, si);
     Mat3x4f w2l = to_mat3x4f(compose(object_to_local, from_mat3x4f(frame)));
     Affine3 realised = realised_object_to_local(w2l, frame);
-    for (std::size_t m = 0; m < out.hulls.size(); ++m) out.local[m].grow(hull_world_box(out.hulls[m], realised));
+    for (std::size_t m = 0; m < hulls.size(); ++m) out.local[m].grow(hull_world_box(hulls[m], realised));
     out.stored.push_back(w2l);
   }
   for (const Aabb& b : out.local)
@@ -58,6 +60,23 @@ ClusterBlas build_cluster(const Geometry& g, const Cluster& c, const std::vector
         out.error = "cluster: a member's local box in geometry ";
         return out;
       }
+  // What every leaf price's instances share, found here once (on all threads) rather
+  // than per price at the append: per scene instance the members' exact world boxes
+  // together, and each member's world AABB and OBB areas (the stats' sums, added there
+  // in this order).
+  const std::size_t members = c.members.size();
+  out.member_areas.resize(scene_insts.size() * members);
+  for (std::size_t k = 0; k < scene_insts.size(); ++k) {
+    const Affine3& o2w = scene.instances[std::size_t(scene_insts[k])].object_to_world;
+    const Affine3 l2w = inverse(from_mat3x4f(out.stored[k]));
+    Aabb exact;
+    for (std::size_t m = 0; m < members; ++m) {
+      Aabb wb = hull_world_box(hulls[m], o2w);
+      exact.grow(wb);
+      out.member_areas[k * members + m] = {wb.area(), parallelepiped_area(out.local[m], l2w)};
+    }
+    out.exact.push_back(exact);
+  }
   // A cluster's members are parallel and side by side, so their local boxes barely
   // overlap and the plain SAH splits down to one primitive per leaf: four times the
   // nodes of ref's BLAS (61 vs 26 B per primitive on the default scene). A traversal
@@ -95,7 +114,7 @@ std::vector<ClusterBlas> build_cluster_blases(const Scene& scene, int geom, cons
   std::vector<ClusterBlas> built(clusters.size());
   parallel_chunks(clusters.size(), 1, [&](std::size_t c0, std::size_t c1) {
     for (std::size_t ci = c0; ci < c1; ++ci)
-      built[ci] = build_cluster(g, clusters[ci], scene_insts, sah, leaf_prices, builder, ps);
+      built[ci] = build_cluster(scene, g, clusters[ci], scene_insts, sah, leaf_prices, builder, ps);
   });
   return built;
 }
@@ -122,9 +141,7 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
     if (price_index >= built[ci].trees.size())
       throw Error("cluster: leaf price " + std::to_string(price_index) + " of " +
                   std::to_string(built[ci].trees.size()) + " built in geometry " + std::to_string(geom));
-    const std::vector<BallHull>& hulls = built[ci].hulls;
     const std::vector<Mat3x4f>& stored = built[ci].stored;
-    const std::vector<Aabb>& local = built[ci].local;
     const BinaryBvh& bvh = built[ci].trees[price_index];
     WideBvhInfo info = append_bvh_nodes(bvh, c.members, ps.features.nodes, ps);
     ps.stats.blas_references += bvh.order.size();
@@ -134,20 +151,19 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
     ps.stats.blas_sah_cost += info.sah_cost;
     ps.features.blas_stack.entries = std::max(ps.features.blas_stack.entries, info.kernel_stack);
     const Aabb& cluster_local = bvh.nodes[0].box;
+    const std::size_t members = c.members.size();
     for (std::size_t k = 0; k < scene_insts.size(); ++k) {
       int si = scene_insts[k];
-      const Affine3& o2w = scene.instances[std::size_t(si)].object_to_world;
       Affine3 l2w = inverse(from_mat3x4f(stored[k]));
       // TLAS box: the members' exact world boxes, clipped by the world image of the
       // cluster's local box (tighter for clusters diagonal to the world axes).
-      Aabb exact, corners;
-      for (std::size_t m = 0; m < hulls.size(); ++m) {
-        Aabb wb = hull_world_box(hulls[m], o2w);
-        exact.grow(wb);
-        ps.stats.aabb_area += wb.area();
-        Affine3 member_l2w = l2w;
-        ps.stats.obb_area += parallelepiped_area(local[m], member_l2w);
+      const Aabb& exact = built[ci].exact[k];
+      for (std::size_t m = 0; m < members; ++m) {
+        const ClusterBlas::MemberAreas& a = built[ci].member_areas[k * members + m];
+        ps.stats.aabb_area += a.aabb;
+        ps.stats.obb_area += a.obb;
       }
+      Aabb corners;
       for (int i = 0; i < 8; ++i)
         corners.grow(l2w.apply_point({i & 1 ? cluster_local.hi.x : cluster_local.lo.x,
                                       i & 2 ? cluster_local.hi.y : cluster_local.lo.y,

@@ -21,12 +21,14 @@ glm::dmat3 frame_along(const glm::dvec3& w) {
   return glm::dmat3(w, u, glm::cross(w, u));
 }
 
-// Hull box in the frame whose axes are the columns of `axes` (about the object origin).
+// Hull box in the frame whose axes are the columns of `axes` (about the object origin);
+// support_pair gives both sides' bits at the cost of one.
 Aabb box_in_frame(const BallHull& h, const glm::dmat3& axes) {
   Aabb b;
   for (int k = 0; k < 3; ++k) {
-    b.lo[k] = -h.support(-axes[k]);
-    b.hi[k] = h.support(axes[k]);
+    const BallHull::Pair side = h.support_pair(axes[k]);
+    b.lo[k] = -side.minus;
+    b.hi[k] = side.plus;
   }
   return b;
 }
@@ -45,13 +47,30 @@ std::vector<glm::dvec3> orientation_classes(int count) {
   return dirs;
 }
 
-glm::dvec3 primitive_axis(const Geometry& g, std::size_t prim) {
-  if (!scene_prim_row(g.type).oriented) return glm::dvec3(0.0);
-  BallHull h = ball_hull(g, prim);
+namespace {
+
+// The axis of a primitive's hull (primitive_axis).
+glm::dvec3 hull_axis(const BallHull& h) {
   glm::dvec3 d = h.centre[h.count - 1] - h.centre[0];
   if (h.count == 4 && glm::length(d) == 0.0) d = h.centre[2] - h.centre[1];
   double l = glm::length(d);
   return l > 0.0 && std::isfinite(l) ? d / l : glm::dvec3(0.0);
+}
+
+// A primitive of a class: its centroid in the class's frame (what the k-d split sorts
+// by) beside its id, so that the split reads one contiguous array rather than a
+// geometry-wide one at scattered ids (perf: those reads, and the hulls read again at
+// scattered ids for the centroids, missed the cache in most of make_clusters' time).
+struct ClassItem {
+  glm::dvec3 centroid;
+  std::int32_t prim;
+};
+
+} // namespace
+
+glm::dvec3 primitive_axis(const Geometry& g, std::size_t prim) {
+  if (!scene_prim_row(g.type).oriented) return glm::dvec3(0.0);
+  return hull_axis(ball_hull(g, prim));
 }
 
 std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int32_t>& prims,
@@ -63,14 +82,19 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
   if (!scene_prim_row(g.type).oriented)
     throw Error(std::string("cluster: a ") + prim_type_name(g.type) + " geometry has no orientation to cluster by");
   const std::vector<glm::dvec3> dirs = orientation_classes(opt.classes);
-  // Each primitive's axis and class on all threads, then the classes filled in the
-  // order of prims (as one pass would fill them).
+  std::vector<glm::dmat3> class_axes(dirs.size());
+  for (std::size_t c = 0; c < dirs.size(); ++c) class_axes[c] = frame_along(dirs[c]);
+  // Each primitive's axis, class and centroid in its class's frame on all threads (one
+  // look at its hull, in the order of prims), then the classes filled in that order (as
+  // one pass would fill them).
   std::vector<glm::dvec3> axis(g.primitive_count(), glm::dvec3(0.0));
   std::vector<std::uint32_t> class_of(prims.size());
+  std::vector<glm::dvec3> centroid(prims.size());
   parallel_chunks(prims.size(), 1024, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       const std::size_t p = std::size_t(prims[i]);
-      glm::dvec3 w = primitive_axis(g, p);
+      const BallHull h = ball_hull(g, p);
+      glm::dvec3 w = hull_axis(h);
       axis[p] = w;
       std::size_t best = 0;
       double best_dot = -1.0;
@@ -79,48 +103,47 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
         if (d > best_dot) best_dot = d, best = c;
       }
       class_of[i] = std::uint32_t(best);
+      centroid[i] = box_in_frame(h, class_axes[best]).center();
     }
   });
-  std::vector<std::vector<std::int32_t>> by_class(dirs.size());
-  for (std::size_t i = 0; i < prims.size(); ++i) by_class[class_of[i]].push_back(prims[i]);
+  std::vector<std::vector<ClassItem>> by_class(dirs.size());
+  for (std::size_t i = 0; i < prims.size(); ++i) by_class[class_of[i]].push_back({centroid[i], prims[i]});
 
   // The classes are split on all threads, each into its own list, joined in class order.
-  // A primitive's centroid in its class's frame: each primitive is in one class, so one
-  // array serves every class.
-  std::vector<glm::dvec3> centroid(g.primitive_count());
   std::vector<std::vector<Cluster>> of_class(dirs.size());
   parallel_chunks(dirs.size(), 1, [&](std::size_t c0, std::size_t c1) {
     for (std::size_t c = c0; c < c1; ++c) {
-      if (by_class[c].empty()) continue;
+      std::vector<ClassItem>& items = by_class[c];
+      if (items.empty()) continue;
       std::vector<Cluster>& out = of_class[c];
-      glm::dmat3 class_axes = frame_along(dirs[c]);
       // Top-down k-d split of the class at the centroids' widest extent (in the class's
       // frame), at a multiple of max_size nearest the middle: every cluster but one per
       // class is full, which keeps the per-cluster instance cost (64 B + a TLAS entry)
-      // spread over max_size members.
-      for (std::int32_t p : by_class[c])
-        centroid[std::size_t(p)] = box_in_frame(ball_hull(g, std::size_t(p)), class_axes).center();
-      std::vector<std::vector<std::int32_t>> parts{by_class[c]};
+      // spread over max_size members. Parts are ranges of items, split in place; the
+      // later half of a split is taken first.
+      std::vector<std::pair<std::size_t, std::size_t>> parts{{0, items.size()}};
       while (!parts.empty()) {
-        std::vector<std::int32_t> part = std::move(parts.back());
+        const auto [first, last] = parts.back();
         parts.pop_back();
-        if (int(part.size()) > opt.max_size) {
+        const auto begin = items.begin() + std::ptrdiff_t(first), end = items.begin() + std::ptrdiff_t(last);
+        const std::size_t size = last - first;
+        if (int(size) > opt.max_size) {
           Aabb cb;
-          for (std::int32_t p : part) cb.grow(centroid[std::size_t(p)]);
+          for (auto it = begin; it != end; ++it) cb.grow(it->centroid);
           glm::dvec3 ext = cb.hi - cb.lo;
           int split_axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
           std::size_t k = std::size_t(opt.max_size);
-          std::size_t mid = std::max<std::size_t>(1, (part.size() / 2 + k / 2) / k) * k;
-          std::nth_element(part.begin(), part.begin() + std::ptrdiff_t(mid), part.end(),
-                           [&](std::int32_t a, std::int32_t b) {
-                             return centroid[std::size_t(a)][split_axis] < centroid[std::size_t(b)][split_axis];
-                           });
-          parts.emplace_back(part.begin(), part.begin() + std::ptrdiff_t(mid));
-          parts.emplace_back(part.begin() + std::ptrdiff_t(mid), part.end());
+          std::size_t mid = std::max<std::size_t>(1, (size / 2 + k / 2) / k) * k;
+          std::nth_element(begin, begin + std::ptrdiff_t(mid), end, [&](const ClassItem& a, const ClassItem& b) {
+            return a.centroid[split_axis] < b.centroid[split_axis];
+          });
+          parts.emplace_back(first, first + mid);
+          parts.emplace_back(first + mid, last);
           continue;
         }
         Cluster cl;
-        cl.members = std::move(part);
+        cl.members.reserve(size);
+        for (auto it = begin; it != end; ++it) cl.members.push_back(it->prim);
         // Dominant axis: the members' axes summed with their signs aligned to the class.
         glm::dvec3 sum(0.0);
         for (std::int32_t p : cl.members) {

@@ -50,8 +50,9 @@ struct Model {
       world.grow(hull_box(h));
       Aabb local;
       for (int k = 0; k < 3; ++k) {
-        local.lo[k] = -h.support(-c.axes[k]);
-        local.hi[k] = h.support(c.axes[k]);
+        const BallHull::Pair side = h.support_pair(c.axes[k]); // support(-a), support(a)
+        local.lo[k] = -side.minus;
+        local.hi[k] = side.plus;
       }
       members += local.area();
     }
