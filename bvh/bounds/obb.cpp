@@ -129,6 +129,10 @@ double unit_extent(const BallHull& h, const Affine3& xf, const Mat3x4f& m) {
   double worst = 0.0;
   for (int k = 0; k < 3; ++k) {
     glm::dvec3 row(g[0][k], g[1][k], g[2][k]);
+    // Two support calls, not one support_pair (the same bits, and half the work): with
+    // the pair, GCC 12.2 at -O3 made maps that leave capsules outside the unit box
+    // (Obb.CapsuleMapsInsideUnitBoxAndTouchesIt fails); -O2, or -O3 with
+    // -fno-tree-slp-vectorize, passes. A miscompile or undefined behaviour not found yet.
     worst = std::max({worst, std::abs(h.support(row) + t[k]), std::abs(-h.support(-row) + t[k])});
   }
   return worst;
