@@ -84,18 +84,16 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
   const std::vector<glm::dvec3> dirs = orientation_classes(opt.classes);
   std::vector<glm::dmat3> class_axes(dirs.size());
   for (std::size_t c = 0; c < dirs.size(); ++c) class_axes[c] = frame_along(dirs[c]);
-  // Each primitive's axis, class and centroid in its class's frame on all threads (one
-  // look at its hull, in the order of prims), then the classes filled in that order (as
-  // one pass would fill them).
-  std::vector<glm::dvec3> axis(g.primitive_count(), glm::dvec3(0.0));
+  // Each primitive's class and centroid in its class's frame on all threads (one look at
+  // its hull, in the order of prims), then the classes filled in that order (as one pass
+  // would fill them).
   std::vector<std::uint32_t> class_of(prims.size());
   std::vector<glm::dvec3> centroid(prims.size());
   parallel_chunks(prims.size(), 1024, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       const std::size_t p = std::size_t(prims[i]);
       const BallHull h = ball_hull(g, p);
-      glm::dvec3 w = hull_axis(h);
-      axis[p] = w;
+      const glm::dvec3 w = hull_axis(h);
       std::size_t best = 0;
       double best_dot = -1.0;
       for (std::size_t c = 0; c < dirs.size(); ++c) {
@@ -112,6 +110,7 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
   // The classes are split on all threads, each into its own list, joined in class order.
   std::vector<std::vector<Cluster>> of_class(dirs.size());
   parallel_chunks(dirs.size(), 1, [&](std::size_t c0, std::size_t c1) {
+    std::vector<BallHull> hulls; // a cluster's members', reused from cluster to cluster
     for (std::size_t c = c0; c < c1; ++c) {
       std::vector<ClassItem>& items = by_class[c];
       if (items.empty()) continue;
@@ -144,16 +143,21 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
         Cluster cl;
         cl.members.reserve(size);
         for (auto it = begin; it != end; ++it) cl.members.push_back(it->prim);
+        // The members' hulls first, in one loop of independent reads (the members lie
+        // anywhere in the geometry's arrays: between the box arithmetic each read missed
+        // the cache on its own).
+        hulls.clear();
+        for (std::int32_t p : cl.members) hulls.push_back(ball_hull(g, std::size_t(p)));
         // Dominant axis: the members' axes summed with their signs aligned to the class.
         glm::dvec3 sum(0.0);
-        for (std::int32_t p : cl.members) {
-          const glm::dvec3& w = axis[std::size_t(p)];
+        for (const BallHull& h : hulls) {
+          const glm::dvec3 w = hull_axis(h);
           sum += glm::dot(w, dirs[c]) < 0.0 ? -w : w;
         }
         double l = glm::length(sum);
         cl.axes = frame_along(l > 1e-12 ? sum / l : dirs[c]);
         Aabb about_origin;
-        for (std::int32_t p : cl.members) about_origin.grow(box_in_frame(ball_hull(g, std::size_t(p)), cl.axes));
+        for (const BallHull& h : hulls) about_origin.grow(box_in_frame(h, cl.axes));
         glm::dvec3 mid_pt = about_origin.center();
         cl.centre = cl.axes * mid_pt;
         cl.local_box.lo = about_origin.lo - mid_pt;
