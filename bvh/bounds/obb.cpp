@@ -150,7 +150,10 @@ glm::dmat3 primitive_obb_axes(const Geometry& g, const BallHull& h) {
 }
 
 ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb) {
-  BallHull h = ball_hull(g, prim);
+  return primitive_obb(g, ball_hull(g, prim), curve_obb);
+}
+
+ObbFrame primitive_obb(const Geometry& g, const BallHull& h, CurveObb curve_obb) {
   if (scene_prim_row(g.type).shape == PrimShape::Bezier) return curve_obb_fit(h, curve_obb);
   return fit_along(h, primitive_obb_axes(g, h));
 }

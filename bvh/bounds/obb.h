@@ -23,6 +23,8 @@ struct ObbFrame {
 // round cones (axis and perpendicular radii, both end balls covered), a cube for spheres,
 // `curve_obb` for curves. Conservative for the hull of ball_hull().
 ObbFrame primitive_obb(const Geometry& g, std::size_t prim, CurveObb curve_obb = CurveObb::Tight);
+// The same from the primitive's ball hull h (ball_hull(g, prim)), for callers that hold it.
+ObbFrame primitive_obb(const Geometry& g, const BallHull& h, CurveObb curve_obb = CurveObb::Tight);
 // primitive_obb's axes alone (the same bits, either curve OBB mode), from the primitive's
 // ball hull h (ball_hull(g, prim)), without the box fitted along them: the compact
 // masquerade entries fit their own box along the quantised axes.

@@ -110,7 +110,7 @@ void append_clusters(const Scene& scene, int gi, const std::vector<Cluster>& clu
   if (index == prices.size()) throw Error("accel: a cluster shape auto did not plan");
   std::optional<std::vector<ClusterBlas>>& built = shared->blas.at(shape).at(std::size_t(gi));
   if (!built) built = build_cluster_blases(scene, gi, clusters, insts, opt.sah, prices, opt.builder, ps);
-  append_cluster_instances(scene, gi, clusters, insts, *built, index, ps, inst_boxes);
+  append_cluster_instances(gi, clusters, insts, *built, index, ps, inst_boxes);
   if (index + 1 == prices.size()) built.reset();
 }
 

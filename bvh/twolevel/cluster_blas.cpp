@@ -123,12 +123,12 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
                               const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
                               const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes) {
   const double prices[] = {leaf_price};
-  append_cluster_instances(scene, geom, clusters, scene_insts,
+  append_cluster_instances(geom, clusters, scene_insts,
                            build_cluster_blases(scene, geom, clusters, scene_insts, sah, prices, builder, ps), 0, ps,
                            inst_boxes);
 }
 
-void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
+void append_cluster_instances(int geom, const std::vector<Cluster>& clusters,
                               const std::vector<int>& scene_insts, const std::vector<ClusterBlas>& built,
                               std::size_t price_index, PackedScene& ps, HugePageVector<Aabb>& inst_boxes) {
   if (built.size() != clusters.size())

@@ -59,7 +59,7 @@ std::vector<ClusterBlas> build_cluster_blases(const Scene& scene, int geom, cons
 // append_cluster_instances with the clusters' BLAS built (`built[i]` the BLAS of
 // clusters[i], from build_cluster_blases with the same clusters, instances and frames):
 // the tree of leaf price `price_index`. Throws masq::Error when they do not match.
-void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
+void append_cluster_instances(int geom, const std::vector<Cluster>& clusters,
                               const std::vector<int>& scene_insts, const std::vector<ClusterBlas>& built,
                               std::size_t price_index, PackedScene& ps, HugePageVector<Aabb>& inst_boxes);
 

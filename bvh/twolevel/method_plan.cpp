@@ -4,6 +4,7 @@
 #include "masq/error.h"
 #include "scenes/prim_table.h"
 #include <algorithm>
+#include <span>
 
 namespace masq {
 
@@ -28,25 +29,25 @@ struct PrimPrices {
 struct Model {
   const Geometry& g;
   const PlanOptions& opt;
-  PrimPrices prices(std::int32_t p) const {
-    const BallHull h = ball_hull(g, std::size_t(p));
+  PrimPrices prices(std::int32_t p) const { return prices(ball_hull(g, std::size_t(p))); }
+  PrimPrices prices(const BallHull& h) const {
     const double aabb = hull_box(h).area();
     PrimPrices out;
     out.ref = (opt.prices.node + opt.prices.isect) * aabb;
     out.surface = hull_max_radius(h) > 0.0;
     out.masq = out.ref;
     if (out.surface) {
-      double obb = primitive_obb(g, std::size_t(p), opt.curve_obb).area();
+      double obb = primitive_obb(g, h, opt.curve_obb).area();
       out.masq = (opt.prices.node + opt.prices.transform) * aabb + opt.prices.isect * obb;
     }
     return out;
   }
-  double cluster(const Cluster& c) const {
+  // hulls: the cluster's members' (ball_hull), in member order.
+  double cluster(const Cluster& c, std::span<const BallHull> hulls) const {
     // What the TLAS sees: the members' AABBs together.
     Aabb world;
     double members = 0;
-    for (std::int32_t p : c.members) {
-      BallHull h = ball_hull(g, std::size_t(p));
+    for (const BallHull& h : hulls) {
       world.grow(hull_box(h));
       Aabb local;
       for (int k = 0; k < 3; ++k) {
@@ -104,15 +105,18 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
   std::vector<std::vector<char>> member(clusters.size()); // else per member: kBlas or kMasq
   parallel_chunks(clusters.size(), 16, [&](std::size_t c0, std::size_t c1) {
     std::vector<PrimPrices> pp;
+    std::vector<BallHull> hulls; // read first, in one loop (make_clusters says why)
     for (std::size_t ci = c0; ci < c1; ++ci) {
       const Cluster& c = clusters[ci];
+      hulls.clear();
+      for (std::int32_t p : c.members) hulls.push_back(ball_hull(g, std::size_t(p)));
       pp.resize(c.members.size());
       double alone = 0;
       for (std::size_t j = 0; j < c.members.size(); ++j) {
-        pp[j] = model.prices(c.members[j]);
+        pp[j] = model.prices(hulls[j]);
         alone += std::min(pp[j].ref, pp[j].masq);
       }
-      if (c.members.size() > 1 && model.cluster(c) < alone) {
+      if (c.members.size() > 1 && model.cluster(c, hulls) < alone) {
         whole[ci] = 1;
         continue;
       }
@@ -137,15 +141,18 @@ PlanCosts plan_costs(const Geometry& g, const PlanOptions& opt) {
   PlanCosts pc;
   if (!clusterable(g.type)) return pc;
   Model model{g, opt};
+  std::vector<BallHull> hulls;
   for (const Cluster& c : make_clusters(g, all_prims(g), opt.cluster)) {
+    hulls.clear();
+    for (std::int32_t p : c.members) hulls.push_back(ball_hull(g, std::size_t(p)));
     double alone = 0;
-    for (std::int32_t p : c.members) {
-      const PrimPrices pp = model.prices(p);
+    for (const BallHull& h : hulls) {
+      const PrimPrices pp = model.prices(h);
       pc.ref += pp.ref;
       pc.masq += pp.masq;
       alone += std::min(pp.ref, pp.masq);
     }
-    double cl = model.cluster(c);
+    double cl = model.cluster(c, hulls);
     pc.cluster += cl;
     pc.chosen += c.members.size() > 1 ? std::min(cl, alone) : alone;
   }
