@@ -40,8 +40,7 @@ ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& 
   ClusterBlas out;
   Affine3 object_to_local = cluster_object_to_local(c);
   std::vector<BallHull> hulls;
-  hulls.reserve(c.members.size());
-  for (std::int32_t p : c.members) hulls.push_back(ball_hull(g, std::size_t(p)));
+  member_hulls(g, c.members, hulls);
   // The stored world-to-local matrix of every scene instance, then each member's
   // local box as the union of its hull's exact boxes under the realised maps.
   out.local.resize(c.members.size());

@@ -143,11 +143,7 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
         Cluster cl;
         cl.members.reserve(size);
         for (auto it = begin; it != end; ++it) cl.members.push_back(it->prim);
-        // The members' hulls first, in one loop of independent reads (the members lie
-        // anywhere in the geometry's arrays: between the box arithmetic each read missed
-        // the cache on its own).
-        hulls.clear();
-        for (std::int32_t p : cl.members) hulls.push_back(ball_hull(g, std::size_t(p)));
+        member_hulls(g, cl.members, hulls);
         // Dominant axis: the members' axes summed with their signs aligned to the class.
         glm::dvec3 sum(0.0);
         for (const BallHull& h : hulls) {
@@ -170,6 +166,12 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
   for (std::vector<Cluster>& part : of_class)
     for (Cluster& cl : part) out.push_back(std::move(cl));
   return out;
+}
+
+void member_hulls(const Geometry& g, std::span<const std::int32_t> members, std::vector<BallHull>& out) {
+  out.clear();
+  out.reserve(members.size());
+  for (std::int32_t p : members) out.push_back(ball_hull(g, std::size_t(p)));
 }
 
 Affine3 cluster_object_to_local(const Cluster& c) {

@@ -9,6 +9,7 @@
 #include "bvh/bounds/prim_bounds.h"
 #include "scenes/scene.h"
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace masq {
@@ -45,5 +46,11 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
 
 // Object space -> the cluster's local frame (rotation and translation).
 Affine3 cluster_object_to_local(const Cluster& c);
+
+// out (cleared first) := ball_hull of each of `members`, in order. One loop of
+// independent reads: a cluster's members lie anywhere in the geometry's arrays, and read
+// one at a time between the box arithmetic each read missed the cache on its own (perf:
+// most of a cluster build's hull reads).
+void member_hulls(const Geometry& g, std::span<const std::int32_t> members, std::vector<BallHull>& out);
 
 } // namespace masq

@@ -105,11 +105,10 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
   std::vector<std::vector<char>> member(clusters.size()); // else per member: kBlas or kMasq
   parallel_chunks(clusters.size(), 16, [&](std::size_t c0, std::size_t c1) {
     std::vector<PrimPrices> pp;
-    std::vector<BallHull> hulls; // read first, in one loop (make_clusters says why)
+    std::vector<BallHull> hulls; // read first, in one loop (member_hulls)
     for (std::size_t ci = c0; ci < c1; ++ci) {
       const Cluster& c = clusters[ci];
-      hulls.clear();
-      for (std::int32_t p : c.members) hulls.push_back(ball_hull(g, std::size_t(p)));
+      member_hulls(g, c.members, hulls);
       pp.resize(c.members.size());
       double alone = 0;
       for (std::size_t j = 0; j < c.members.size(); ++j) {
@@ -143,8 +142,7 @@ PlanCosts plan_costs(const Geometry& g, const PlanOptions& opt) {
   Model model{g, opt};
   std::vector<BallHull> hulls;
   for (const Cluster& c : make_clusters(g, all_prims(g), opt.cluster)) {
-    hulls.clear();
-    for (std::int32_t p : c.members) hulls.push_back(ball_hull(g, std::size_t(p)));
+    member_hulls(g, c.members, hulls);
     double alone = 0;
     for (const BallHull& h : hulls) {
       const PrimPrices pp = model.prices(h);
