@@ -517,28 +517,33 @@ std::vector<BinaryBvh> build_binned_sah_costs(std::span<const Aabb> boxes, const
   // that made a leaf above it. A tree's nodes are allocated in the order of its own
   // serial build (its nodes are visited in the same relative order), and a tree that
   // makes a leaf of a range takes the range's order then, as its own build leaves it.
+  // A job's node per tree lives in `job_nodes` from job.nodes on (trees entries), not in
+  // a vector of its own: a cluster BLAS is a few dozen jobs, and their allocations were
+  // a tenth of its build.
   struct Job {
     int first, count;
-    std::vector<int> node; // per tree
+    std::size_t nodes; // index of its first entry in job_nodes
   };
-  std::vector<Job> jobs{{0, n, std::vector<int>(trees, 0)}};
+  std::vector<int> job_nodes(trees, 0);
+  std::vector<Job> jobs{{0, n, 0}};
   Bins bins(opt.bins);
   std::vector<char> split(trees, 0);
   while (!jobs.empty()) {
-    Job job = std::move(jobs.back());
+    const Job job = jobs.back();
     jobs.pop_back();
+    auto job_node = [&](std::size_t t) { return job_nodes[job.nodes + t]; };
     // A range that every tree still walking it keeps as a leaf needs its box alone.
     bool leaf_in_all = true;
     for (std::size_t t = 0; t < trees && leaf_in_all; ++t) {
-      if (job.node[t] < 0) continue;
+      if (job_node(t) < 0) continue;
       leaf_in_all = leaf_whatever_plane(in, job.count, traversal_costs[t]);
     }
     const NodeChoice c = choose_split(in, refs, job.first, job.count, bins, !leaf_in_all);
     bool any = false;
     for (std::size_t t = 0; t < trees; ++t) {
       split[t] = 0;
-      if (job.node[t] < 0) continue;
-      BinaryNode& node = out[t].nodes[std::size_t(job.node[t])];
+      if (job_node(t) < 0) continue;
+      BinaryNode& node = out[t].nodes[std::size_t(job_node(t))];
       node.box = c.box;
       split[t] = splits(in, c, traversal_costs[t]) ? 1 : 0;
       any = any || split[t] != 0;
@@ -549,21 +554,22 @@ std::vector<BinaryBvh> build_binned_sah_costs(std::span<const Aabb> boxes, const
     }
     if (!any) continue;
     const int mid = partition_node(refs, job.first, c);
-    Job left{job.first, mid - job.first, std::vector<int>(trees, -1)};
-    Job right{mid, job.first + job.count - mid, std::vector<int>(trees, -1)};
+    const Job left{job.first, mid - job.first, job_nodes.size()};
+    const Job right{mid, job.first + job.count - mid, job_nodes.size() + trees};
+    job_nodes.resize(job_nodes.size() + 2 * trees, -1);
     for (std::size_t t = 0; t < trees; ++t) {
       if (!split[t]) continue;
       HugePageVector<BinaryNode>& nodes = out[t].nodes;
       const int l = int(nodes.size());
       nodes.push_back({});
       nodes.push_back({});
-      nodes[std::size_t(job.node[t])].left = l;
-      nodes[std::size_t(job.node[t])].right = l + 1;
-      left.node[t] = l;
-      right.node[t] = l + 1;
+      nodes[std::size_t(job_node(t))].left = l;
+      nodes[std::size_t(job_node(t))].right = l + 1;
+      job_nodes[left.nodes + t] = l;
+      job_nodes[right.nodes + t] = l + 1;
     }
-    jobs.push_back(std::move(left));
-    jobs.push_back(std::move(right));
+    jobs.push_back(left);
+    jobs.push_back(right);
   }
   return out;
 }
