@@ -43,15 +43,15 @@ ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& 
   member_hulls(g, c.members, hulls);
   // The stored world-to-local matrix of every scene instance, then each member's
   // local box as the union of its hull's exact boxes under the realised maps.
-  out.local.resize(c.members.size());
+  std::vector<Aabb> local(c.members.size());
   for (int si : scene_insts) {
     Mat3x4f frame = frame_matrix(ps, si);
     Mat3x4f w2l = to_mat3x4f(compose(object_to_local, from_mat3x4f(frame)));
     Affine3 realised = realised_object_to_local(w2l, frame);
-    for (std::size_t m = 0; m < hulls.size(); ++m) out.local[m].grow(hull_world_box(hulls[m], realised));
+    for (std::size_t m = 0; m < hulls.size(); ++m) local[m].grow(hull_world_box(hulls[m], realised));
     out.stored.push_back(w2l);
   }
-  for (const Aabb& b : out.local)
+  for (const Aabb& b : local)
     for (int k = 0; k < 3; ++k)
       if (!std::isfinite(b.lo[k]) || !std::isfinite(b.hi[k])) {
         // Thrown by the caller, in cluster order, so the first bad cluster is named
@@ -60,19 +60,20 @@ ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& 
         return out;
       }
   // What every leaf price's instances share, found here once (on all threads) rather
-  // than per price at the append: per scene instance the members' exact world boxes
-  // together, and each member's world AABB and OBB areas (the stats' sums, added there
-  // in this order).
+  // than per price at the append: per scene instance the local-to-world map and the
+  // members' exact world boxes together, and each member's world AABB and OBB areas
+  // (the stats' sums, added there in this order).
   const std::size_t members = c.members.size();
   out.member_areas.resize(scene_insts.size() * members);
   for (std::size_t k = 0; k < scene_insts.size(); ++k) {
     const Affine3& o2w = scene.instances[std::size_t(scene_insts[k])].object_to_world;
     const Affine3 l2w = inverse(from_mat3x4f(out.stored[k]));
+    out.local_to_world.push_back(l2w);
     Aabb exact;
     for (std::size_t m = 0; m < members; ++m) {
       Aabb wb = hull_world_box(hulls[m], o2w);
       exact.grow(wb);
-      out.member_areas[k * members + m] = {wb.area(), parallelepiped_area(out.local[m], l2w)};
+      out.member_areas[k * members + m] = {wb.area(), parallelepiped_area(local[m], l2w)};
     }
     out.exact.push_back(exact);
   }
@@ -86,7 +87,7 @@ ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& 
   std::vector<double> traversal(leaf_prices.size());
   for (std::size_t i = 0; i < leaf_prices.size(); ++i)
     traversal[i] = std::max(sah.traversal_cost, leaf_prices[i] * sah.intersection_cost);
-  out.trees = build_binned_sah_costs(out.local, sah, traversal);
+  out.trees = build_binned_sah_costs(local, sah, traversal);
   if (builder_reinserts(builder.kind))
     for (std::size_t i = 0; i < out.trees.size(); ++i) {
       SahOptions leaf_sah = sah;
@@ -153,7 +154,7 @@ void append_cluster_instances(int geom, const std::vector<Cluster>& clusters,
     const std::size_t members = c.members.size();
     for (std::size_t k = 0; k < scene_insts.size(); ++k) {
       int si = scene_insts[k];
-      Affine3 l2w = inverse(from_mat3x4f(stored[k]));
+      const Affine3& l2w = built[ci].local_to_world[k];
       // TLAS box: the members' exact world boxes, clipped by the world image of the
       // cluster's local box (tighter for clusters diagonal to the world axes).
       const Aabb& exact = built[ci].exact[k];

@@ -33,16 +33,16 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
                               const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes);
 
 // One cluster's BLAS before its nodes are appended: per scene instance its
-// world-to-local matrix as stored and its members' exact world boxes together, per
-// member its local box under every realised map, per (instance, member) the member's
-// world AABB and OBB areas, and a binary tree per leaf price.
+// world-to-local matrix as stored, that matrix's inverse and its members' exact world
+// boxes together, per (instance, member) the member's world AABB and OBB areas, and a
+// binary tree per leaf price (over the members' local boxes under every realised map).
 struct ClusterBlas {
   struct MemberAreas {
     double aabb = 0, obb = 0;
   };
   std::vector<Mat3x4f> stored;
+  std::vector<Affine3> local_to_world;
   std::vector<Aabb> exact;
-  std::vector<Aabb> local;
   std::vector<MemberAreas> member_areas; // instance k, member m: [k * members + m]
   std::vector<BinaryBvh> trees;
   std::string error; // set (and the rest incomplete) when a local box is not finite

@@ -49,7 +49,8 @@ std::vector<glm::dvec3> orientation_classes(int count) {
 
 namespace {
 
-// The axis of a primitive's hull (primitive_axis).
+// The axis a primitive is oriented along, from its hull (unit; the chord for curves), or
+// zero when it has none (both ends at one point).
 glm::dvec3 hull_axis(const BallHull& h) {
   glm::dvec3 d = h.centre[h.count - 1] - h.centre[0];
   if (h.count == 4 && glm::length(d) == 0.0) d = h.centre[2] - h.centre[1];
@@ -67,11 +68,6 @@ struct ClassItem {
 };
 
 } // namespace
-
-glm::dvec3 primitive_axis(const Geometry& g, std::size_t prim) {
-  if (!scene_prim_row(g.type).oriented) return glm::dvec3(0.0);
-  return hull_axis(ball_hull(g, prim));
-}
 
 std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int32_t>& prims,
                                    const ClusterOptions& opt) {

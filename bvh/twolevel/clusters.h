@@ -34,10 +34,6 @@ struct Cluster {
 // The class directions: `count` points spread evenly over the upper hemisphere (z >= 0).
 std::vector<glm::dvec3> orientation_classes(int count);
 
-// The axis a primitive is oriented along (unit; chord for curves), or zero when it has
-// none (a sphere, or both ends at one point).
-glm::dvec3 primitive_axis(const Geometry& g, std::size_t prim);
-
 // Clusters of the primitives `prims` of a capsule, round-cone or curve geometry: each
 // orientation class split top-down (k-d, at multiples of max_size) until every part
 // has at most opt.max_size members. Primitives without an axis join class 0.
