@@ -5,6 +5,7 @@
 #include "bvh/twolevel/build_accel.h"
 #include "bvh/twolevel/cluster_blas.h"
 #include "host/backend.h"
+#include "masq/error.h"
 #include "scenes/camera.h"
 #include "scenes/generators.h"
 #include <gtest/gtest.h>
@@ -94,6 +95,42 @@ TEST_P(ClusterTypes, ClustersPartitionThePrimitives) {
   EXPECT_EQ(seen.size(), all.size());
   EXPECT_EQ(std::set<std::int32_t>(seen.begin(), seen.end()).size(), all.size());
   EXPECT_LT(cs.size(), all.size() / 4) << "clusters should be mostly full";
+}
+
+// Auto's cluster sizes share one class assignment: the clusters are the ones each size
+// makes alone, and a cluster's member_area is its members' boxes in its frame, summed.
+TEST_P(ClusterTypes, SharedClassAssignmentGivesEachSizesClusters) {
+  Geometry g = make_random_geometry(GetParam(), 700, 0.004f, 0.05f, 1.0, 8);
+  const std::vector<std::int32_t> all = every_primitive(g);
+  ClusterOptions opt;
+  const ClassAssignment assigned = assign_classes(g, all, opt.classes);
+  for (int size : {8, 32, 256}) {
+    opt.max_size = size;
+    const std::vector<Cluster> alone = make_clusters(g, all, opt);
+    const std::vector<Cluster> shared = make_clusters(g, all, opt, &assigned);
+    ASSERT_EQ(alone.size(), shared.size()) << size;
+    for (std::size_t i = 0; i < alone.size(); ++i) {
+      EXPECT_EQ(alone[i].members, shared[i].members) << size;
+      EXPECT_EQ(std::memcmp(&alone[i].axes, &shared[i].axes, sizeof(glm::dmat3)), 0) << size;
+      EXPECT_EQ(alone[i].member_area, shared[i].member_area) << size;
+      double sum = 0;
+      for (std::int32_t p : alone[i].members) {
+        const BallHull h = ball_hull(g, std::size_t(p));
+        Aabb own;
+        for (int k = 0; k < 3; ++k) {
+          own.lo[k] = -h.support(-alone[i].axes[k]);
+          own.hi[k] = h.support(alone[i].axes[k]);
+        }
+        sum += own.area();
+      }
+      EXPECT_EQ(alone[i].member_area, sum) << size;
+    }
+  }
+  ClusterOptions other;
+  other.classes = opt.classes / 2;
+  EXPECT_THROW(make_clusters(g, all, other, &assigned), Error);
+  const std::vector<std::int32_t> fewer(all.begin(), all.begin() + 100);
+  EXPECT_THROW(make_clusters(g, fewer, opt, &assigned), Error);
 }
 
 TEST_P(ClusterTypes, AutoPlacesEveryPrimitiveOnce) {

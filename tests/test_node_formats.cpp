@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <bit>
 #include <cfloat>
+#include <cstring>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -356,6 +357,48 @@ TEST_P(EveryFormat, StackBoundHoldsAndIsReached) {
     EXPECT_LT(info.kernel_stack, info.stack_need) << octaves;
     EXPECT_EQ(ps.refs.size(), ids.size());
   }
+}
+
+// A tree collapsed on its own and placed later (the cluster BLAS: collapsed on all
+// threads, appended in order) is the bytes append_bvh_nodes appends at the same ends:
+// three trees, the later two placed after the nodes and references already there, in
+// the reverse of their order (as threads may place them).
+TEST_P(EveryFormat, CollapsedTreesPlacedLaterAreTheAppendedBytes) {
+  std::vector<std::vector<std::int32_t>> ids(3);
+  std::vector<BinaryBvh> trees;
+  for (int t = 0; t < 3; ++t) trees.push_back(random_tree(500 + 700 * t, 6.0, 11 + t, ids[std::size_t(t)]));
+  PackedScene appended, placed;
+  appended.features.nodes = placed.features.nodes = GetParam();
+  std::vector<WideBvhInfo> want;
+  std::vector<CollapsedBvh> collapsed;
+  for (std::size_t t = 0; t < 3; ++t) {
+    want.push_back(append_bvh_nodes(trees[t], ids[t], GetParam(), appended));
+    collapsed.push_back(collapse_bvh(trees[t], ids[t], GetParam()));
+  }
+  grow_node_arrays(placed, collapsed_nodes(collapsed[0]), collapsed[0].refs.size());
+  EXPECT_EQ(place_collapsed(collapsed[0], placed, 0, 0).root, want[0].root);
+  const std::size_t node_at = placed.node_count(), ref_at = placed.refs.size();
+  const std::size_t nodes1 = collapsed_nodes(collapsed[1]), refs1 = collapsed[1].refs.size();
+  grow_node_arrays(placed, nodes1 + collapsed_nodes(collapsed[2]), refs1 + collapsed[2].refs.size());
+  const WideBvhInfo second_last = place_collapsed(collapsed[2], placed, node_at + nodes1, ref_at + refs1);
+  const WideBvhInfo first = place_collapsed(collapsed[1], placed, node_at, ref_at);
+  EXPECT_EQ(first.root, want[1].root);
+  EXPECT_EQ(second_last.root, want[2].root);
+  EXPECT_EQ(first.nodes, want[1].nodes);
+  EXPECT_EQ(second_last.sah_cost, want[2].sah_cost);
+  EXPECT_EQ(placed.node_bytes(), appended.node_bytes());
+  EXPECT_EQ(placed.refs, appended.refs);
+  auto bytes_equal = [](const auto& a, const auto& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+  };
+  EXPECT_TRUE(bytes_equal(placed.nodes, appended.nodes));
+  EXPECT_TRUE(bytes_equal(placed.nodes8, appended.nodes8));
+  EXPECT_TRUE(bytes_equal(placed.qnodes, appended.qnodes));
+  EXPECT_TRUE(bytes_equal(placed.onodes, appended.onodes));
+  // Into a scene of another node format: refused.
+  PackedScene other;
+  other.features.nodes = GetParam() == NodeFormat::W4 ? NodeFormat::W8 : NodeFormat::W4;
+  EXPECT_THROW(place_collapsed(collapsed[0], other, 0, 0), Error);
 }
 
 TEST_P(EveryFormat, DeepTreesGetFewerInnerChildrenPerNode) {

@@ -374,6 +374,96 @@ WideBvhInfo append_bvh_nodes(const BinaryBvh& bvh, const std::vector<std::int32_
   return append_wide_bvh(bvh, ref_ids, ps.nodes, ps.refs);
 }
 
+CollapsedBvh collapse_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, NodeFormat format) {
+  CollapsedBvh c;
+  c.format = format;
+  switch (format) {
+    case NodeFormat::O4: c.info = append_float<kernel::OrientedNode4, MASQ_WIDTH>(bvh, ref_ids, c.onodes, c.refs); break;
+    case NodeFormat::W8: c.info = append_float<kernel::WideNode8, MASQ_WIDTH8>(bvh, ref_ids, c.nodes8, c.refs); break;
+    case NodeFormat::Q8: c.info = append_quant(bvh, ref_ids, c.qnodes, c.refs); break;
+    case NodeFormat::W4: c.info = append_float<kernel::WideNode, MASQ_WIDTH>(bvh, ref_ids, c.nodes, c.refs); break;
+  }
+  return c;
+}
+
+namespace {
+
+// A float node's slots moved: an inner child's node index by node_base, a leaf's first
+// reference by ref_base; empty slots (count < 0) keep their zero.
+template <int Width, class Boxes>
+void move_slots(Boxes& w, std::int32_t node_base, std::int32_t ref_base) {
+  for (int s = 0; s < Width; ++s)
+    if (w.count[s] == 0) w.child[s] += node_base;
+    else if (w.count[s] > 0) w.child[s] += ref_base;
+}
+
+// from's nodes written to to[at ...], each moved.
+template <class Node, class Move>
+void place_moved(const HugePageVector<Node>& from, HugePageVector<Node>& to, std::size_t at, Move move) {
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    Node n = from[i];
+    move(n);
+    to[at + i] = n;
+  }
+}
+
+// body(c's node array, ps's node array of that format).
+template <class Body>
+void with_node_arrays(const CollapsedBvh& c, PackedScene& ps, Body body) {
+  switch (c.format) {
+    case NodeFormat::W4: return body(c.nodes, ps.nodes);
+    case NodeFormat::W8: return body(c.nodes8, ps.nodes8);
+    case NodeFormat::O4: return body(c.onodes, ps.onodes);
+    case NodeFormat::Q8: return body(c.qnodes, ps.qnodes);
+  }
+}
+
+} // namespace
+
+std::size_t collapsed_nodes(const CollapsedBvh& c) {
+  switch (c.format) {
+    case NodeFormat::W4: return c.nodes.size();
+    case NodeFormat::W8: return c.nodes8.size();
+    case NodeFormat::O4: return c.onodes.size();
+    case NodeFormat::Q8: return c.qnodes.size();
+  }
+  return 0;
+}
+
+void grow_node_arrays(PackedScene& ps, std::size_t nodes, std::size_t refs) {
+  switch (ps.features.nodes) {
+    case NodeFormat::W4: ps.nodes.resize(ps.nodes.size() + nodes); break;
+    case NodeFormat::W8: ps.nodes8.resize(ps.nodes8.size() + nodes); break;
+    case NodeFormat::O4: ps.onodes.resize(ps.onodes.size() + nodes); break;
+    case NodeFormat::Q8: ps.qnodes.resize(ps.qnodes.size() + nodes); break;
+  }
+  ps.refs.resize(ps.refs.size() + refs);
+}
+
+WideBvhInfo place_collapsed(const CollapsedBvh& c, PackedScene& ps, std::size_t node_at, std::size_t ref_at) {
+  if (c.format != ps.features.nodes) throw Error("bvh: a collapsed BVH of another node format than the scene's");
+  WideBvhInfo info = c.info;
+  if (info.root < 0) return info;
+  const std::int32_t node_base = std::int32_t(node_at), ref_base = std::int32_t(ref_at);
+  auto move = [&](auto& n) {
+    using Node = std::decay_t<decltype(n)>;
+    if constexpr (std::is_same_v<Node, kernel::QuantNode8>) {
+      n.child_base += node_base;
+      n.ref_base += ref_base;
+    } else if constexpr (std::is_same_v<Node, kernel::OrientedNode4>) {
+      move_slots<MASQ_WIDTH>(n.boxes, node_base, ref_base);
+    } else if constexpr (std::is_same_v<Node, kernel::WideNode8>) {
+      move_slots<MASQ_WIDTH8>(n, node_base, ref_base);
+    } else {
+      move_slots<MASQ_WIDTH>(n, node_base, ref_base);
+    }
+  };
+  with_node_arrays(c, ps, [&](const auto& from, auto& to) { place_moved(from, to, node_at, move); });
+  std::copy(c.refs.begin(), c.refs.end(), ps.refs.begin() + std::ptrdiff_t(ref_at));
+  info.root += node_base;
+  return info;
+}
+
 NodeSlots node_slots(const PackedScene& ps, std::int32_t node) {
   NodeSlots out;
   const std::size_t i = std::size_t(node);

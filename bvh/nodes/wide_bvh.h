@@ -34,6 +34,29 @@ struct WideBvhInfo {
 WideBvhInfo append_bvh_nodes(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, NodeFormat format,
                              PackedScene& ps, const NodeFraming* framing = nullptr);
 
+// A BVH collapsed on its own, its indices from 0: what append_bvh_nodes (without a
+// framing) would append, made where it cannot append yet (the cluster BLAS, collapsed
+// on all threads and appended in cluster order; bvh/twolevel/cluster_blas.cpp).
+struct CollapsedBvh {
+  NodeFormat format = NodeFormat::W4;
+  HugePageVector<kernel::WideNode> nodes;        // w4
+  HugePageVector<kernel::WideNode8> nodes8;      // w8
+  HugePageVector<kernel::QuantNode8> qnodes;     // q8
+  HugePageVector<kernel::OrientedNode4> onodes;  // o4 (every node axis aligned)
+  HugePageVector<std::int32_t> refs;
+  WideBvhInfo info;
+};
+CollapsedBvh collapse_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids, NodeFormat format);
+// The nodes c holds.
+std::size_t collapsed_nodes(const CollapsedBvh& c);
+// Room for that many more nodes (of ps's format) and references at the ends of ps's arrays.
+void grow_node_arrays(PackedScene& ps, std::size_t nodes, std::size_t refs);
+// Writes c into ps's arrays (c's format must be ps's) from node node_at and reference
+// ref_at on, within room the caller made, its node and reference indices moved there: the
+// bytes append_bvh_nodes would have appended at those ends. Returns c's info with the
+// root so moved. Collapsed BVHs placed at disjoint ranges may be written at once.
+WideBvhInfo place_collapsed(const CollapsedBvh& c, PackedScene& ps, std::size_t node_at, std::size_t ref_at);
+
 // The w4 case on bare arrays.
 WideBvhInfo append_wide_bvh(const BinaryBvh& bvh, const std::vector<std::int32_t>& ref_ids,
                             HugePageVector<kernel::WideNode>& nodes, HugePageVector<std::int32_t>& refs);

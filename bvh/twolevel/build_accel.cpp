@@ -86,8 +86,11 @@ void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids
 // So the first cluster shape of a size builds its clusters' BLAS for every leaf price
 // of that size at once (`leaf_prices`, in the order the shapes build), and the later
 // shapes take theirs (`blas`); the last one frees them.
+// Every size's clustering starts from the same orientation classes (assign_classes: one
+// look at every hull), made once per geometry before the candidates build.
 struct SharedClusterings {
   using Shape = std::pair<int, int>; // (cluster size, orientation classes)
+  std::vector<std::optional<ClassAssignment>> classes; // per geometry, of the shapes' class count
   std::map<Shape, std::vector<std::optional<std::vector<Cluster>>>> by_shape;
   std::map<Shape, std::vector<double>> leaf_prices;
   std::map<Shape, std::vector<std::optional<std::vector<ClusterBlas>>>> blas; // per geometry
@@ -159,6 +162,10 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     for (std::size_t gi = g0; gi < g1; ++gi) {
       if (insts_of[gi].empty() || scene.geometries[gi].primitive_count() == 0) continue;
       std::optional<std::vector<Cluster>>* known = clusterings ? &(*clusterings)[gi] : nullptr;
+      if (known && !*known && method == Method::Cluster && gi < shared->classes.size() && shared->classes[gi] &&
+          shared->classes[gi]->classes == opt.cluster.classes)
+        *known = make_clusters(scene.geometries[gi], every_primitive(scene.geometries[gi]), opt.cluster,
+                               &*shared->classes[gi]);
       plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt, known && *known ? &**known : nullptr);
       if (known && !*known && method == Method::Cluster && !plans[gi].clusters.empty()) *known = plans[gi].clusters;
     }
@@ -434,6 +441,15 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     // Each candidate is the one a serial build makes, and the choice below reads them in
     // the serial order.
     SharedClusterings shared;
+    shared.classes.resize(scene.geometries.size());
+    std::vector<bool> instanced(scene.geometries.size(), false);
+    for (const Instance& inst : scene.instances) instanced[std::size_t(inst.geometry)] = true;
+    for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
+      const Geometry& g = scene.geometries[gi];
+      const ScenePrimRow& row = scene_prim_row(g.type);
+      if (instanced[gi] && !row.mesh && row.oriented && g.primitive_count() > 0)
+        shared.classes[gi] = assign_classes(g, every_primitive(g), opt.cluster.classes);
+    }
     for (const ClusterOptions& c : shapes) {
       shared.by_shape[{c.max_size, c.classes}].resize(scene.geometries.size());
       shared.leaf_prices[{c.max_size, c.classes}].push_back(c.leaf_price);

@@ -6,6 +6,7 @@
 #include "bvh/binary/binned_sah.h"
 #include "bvh/binary/builder.h"
 #include "bvh/bounds/prim_bounds.h"
+#include "bvh/nodes/wide_bvh.h"
 #include "bvh/twolevel/clusters.h"
 #include "bvh/packed_scene.h"
 #include "scenes/scene.h"
@@ -34,23 +35,31 @@ void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cl
 
 // One cluster's BLAS before its nodes are appended: per scene instance its
 // world-to-local matrix as stored, that matrix's inverse and its members' exact world
-// boxes together, per (instance, member) the member's world AABB and OBB areas, and a
-// binary tree per leaf price (over the members' local boxes under every realised map).
+// boxes together, per (instance, member) the member's world AABB and OBB areas, and per
+// leaf price a tree (over the members' local boxes under every realised map) collapsed
+// into the packed scene's node format.
 struct ClusterBlas {
   struct MemberAreas {
     double aabb = 0, obb = 0;
+  };
+  struct Tree {
+    CollapsedBvh nodes;
+    Aabb root_box;              // the members' local boxes together
+    std::size_t references = 0; // leaf references
   };
   std::vector<Mat3x4f> stored;
   std::vector<Affine3> local_to_world;
   std::vector<Aabb> exact;
   std::vector<MemberAreas> member_areas; // instance k, member m: [k * members + m]
-  std::vector<BinaryBvh> trees;
+  std::vector<Tree> trees;
   std::string error; // set (and the rest incomplete) when a local box is not finite
+  std::string collapse_error; // a tree's collapse failed (masq::Error's message)
 };
 
 // Every cluster's BLAS of geometry `geom` for each of `leaf_prices` (their trees from
-// one binning: build_binned_sah_costs), on all threads: auto's cluster shapes of one
-// size differ in the leaf price alone, and build theirs once.
+// one binning: build_binned_sah_costs), on all threads, collapsed into ps's node format
+// there too: auto's cluster shapes of one size differ in the leaf price alone, and
+// build theirs once.
 std::vector<ClusterBlas> build_cluster_blases(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
                                               const std::vector<int>& scene_insts, const SahOptions& sah,
                                               std::span<const double> leaf_prices, const BuilderOptions& builder,

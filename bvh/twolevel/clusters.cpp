@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 namespace masq {
 
@@ -67,24 +68,31 @@ struct ClassItem {
   std::int32_t prim;
 };
 
-} // namespace
-
-std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int32_t>& prims,
-                                   const ClusterOptions& opt) {
-  if (opt.max_size < 2 || opt.max_size > 256)
-    throw Error("cluster: max_size " + std::to_string(opt.max_size) + " outside 2..256");
-  if (opt.classes < 1 || opt.classes > 1024)
-    throw Error("cluster: classes " + std::to_string(opt.classes) + " outside 1..1024");
+void check_cluster_input(const Geometry& g, int classes) {
+  if (classes < 1 || classes > 1024)
+    throw Error("cluster: classes " + std::to_string(classes) + " outside 1..1024");
   if (!scene_prim_row(g.type).oriented)
     throw Error(std::string("cluster: a ") + prim_type_name(g.type) + " geometry has no orientation to cluster by");
-  const std::vector<glm::dvec3> dirs = orientation_classes(opt.classes);
-  std::vector<glm::dmat3> class_axes(dirs.size());
-  for (std::size_t c = 0; c < dirs.size(); ++c) class_axes[c] = frame_along(dirs[c]);
+}
+
+std::vector<glm::dmat3> class_frames(const std::vector<glm::dvec3>& dirs) {
+  std::vector<glm::dmat3> out(dirs.size());
+  for (std::size_t c = 0; c < dirs.size(); ++c) out[c] = frame_along(dirs[c]);
+  return out;
+}
+
+} // namespace
+
+ClassAssignment assign_classes(const Geometry& g, const std::vector<std::int32_t>& prims, int classes) {
+  check_cluster_input(g, classes);
+  const std::vector<glm::dvec3> dirs = orientation_classes(classes);
+  const std::vector<glm::dmat3> class_axes = class_frames(dirs);
   // Each primitive's class and centroid in its class's frame on all threads (one look at
-  // its hull, in the order of prims), then the classes filled in that order (as one pass
-  // would fill them).
-  std::vector<std::uint32_t> class_of(prims.size());
-  std::vector<glm::dvec3> centroid(prims.size());
+  // its hull, in the order of prims).
+  ClassAssignment out;
+  out.classes = classes;
+  out.class_of.resize(prims.size());
+  out.centroid.resize(prims.size());
   parallel_chunks(prims.size(), 1024, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       const std::size_t p = std::size_t(prims[i]);
@@ -96,10 +104,28 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
         double d = std::abs(glm::dot(w, dirs[c])); // antipodal axes are the same orientation
         if (d > best_dot) best_dot = d, best = c;
       }
-      class_of[i] = std::uint32_t(best);
-      centroid[i] = box_in_frame(h, class_axes[best]).center();
+      out.class_of[i] = std::uint32_t(best);
+      out.centroid[i] = box_in_frame(h, class_axes[best]).center();
     }
   });
+  return out;
+}
+
+std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int32_t>& prims,
+                                   const ClusterOptions& opt, const ClassAssignment* assigned) {
+  if (opt.max_size < 2 || opt.max_size > 256)
+    throw Error("cluster: max_size " + std::to_string(opt.max_size) + " outside 2..256");
+  check_cluster_input(g, opt.classes);
+  if (assigned && (assigned->classes != opt.classes || assigned->class_of.size() != prims.size()))
+    throw Error("cluster: a class assignment of " + std::to_string(assigned->classes) + " classes and " +
+                std::to_string(assigned->class_of.size()) + " primitives for " + std::to_string(opt.classes) +
+                " classes and " + std::to_string(prims.size()) + " primitives");
+  const std::vector<glm::dvec3> dirs = orientation_classes(opt.classes);
+  std::optional<ClassAssignment> made;
+  if (!assigned) assigned = &made.emplace(assign_classes(g, prims, opt.classes));
+  const std::vector<std::uint32_t>& class_of = assigned->class_of;
+  const std::vector<glm::dvec3>& centroid = assigned->centroid;
+  // The classes filled in the order of prims (as one pass would fill them).
   std::vector<std::vector<ClassItem>> by_class(dirs.size());
   for (std::size_t i = 0; i < prims.size(); ++i) by_class[class_of[i]].push_back({centroid[i], prims[i]});
 
@@ -149,7 +175,11 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
         double l = glm::length(sum);
         cl.axes = frame_along(l > 1e-12 ? sum / l : dirs[c]);
         Aabb about_origin;
-        for (const BallHull& h : hulls) about_origin.grow(box_in_frame(h, cl.axes));
+        for (const BallHull& h : hulls) {
+          const Aabb own = box_in_frame(h, cl.axes);
+          about_origin.grow(own);
+          cl.member_area += own.area();
+        }
         glm::dvec3 mid_pt = about_origin.center();
         cl.centre = cl.axes * mid_pt;
         cl.local_box.lo = about_origin.lo - mid_pt;

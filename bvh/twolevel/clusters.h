@@ -29,16 +29,32 @@ struct Cluster {
   glm::dmat3 axes{1.0};              // orthonormal columns; axes[0]: the dominant axis
   glm::dvec3 centre{0.0};            // object-space centre of the members' local box
   Aabb local_box;                    // members' hull box in the frame (axes, centre), exact in double
+  // The members' own hull boxes in the frame, their areas summed in member order: the
+  // cost model's price of the members inside the cluster (bvh/twolevel/method_plan.cpp),
+  // found here beside local_box from the same supports.
+  double member_area = 0;
 };
 
 // The class directions: `count` points spread evenly over the upper hemisphere (z >= 0).
 std::vector<glm::dvec3> orientation_classes(int count);
 
+// Each of `prims`' orientation class (of `classes`, orientation_classes) and its
+// centroid in that class's frame, in the order of prims: the first pass of
+// make_clusters, over every primitive's hull. It depends on the class count alone, so
+// the cluster sizes auto tries share one (bvh/twolevel/build_accel.cpp).
+struct ClassAssignment {
+  int classes = 0;
+  std::vector<std::uint32_t> class_of;
+  std::vector<glm::dvec3> centroid;
+};
+ClassAssignment assign_classes(const Geometry& g, const std::vector<std::int32_t>& prims, int classes);
+
 // Clusters of the primitives `prims` of a capsule, round-cone or curve geometry: each
 // orientation class split top-down (k-d, at multiples of max_size) until every part
 // has at most opt.max_size members. Primitives without an axis join class 0.
+// assigned: assign_classes(g, prims, opt.classes), when the caller has it; else made here.
 std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int32_t>& prims,
-                                   const ClusterOptions& opt);
+                                   const ClusterOptions& opt, const ClassAssignment* assigned = nullptr);
 
 // Object space -> the cluster's local frame (rotation and translation).
 Affine3 cluster_object_to_local(const Cluster& c);

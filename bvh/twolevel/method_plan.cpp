@@ -42,49 +42,40 @@ struct Model {
     }
     return out;
   }
-  // hulls: the cluster's members' (ball_hull), in member order.
+  // hulls: the cluster's members' (ball_hull), in member order. The members' local
+  // boxes are make_clusters' (Cluster::member_area).
   double cluster(const Cluster& c, std::span<const BallHull> hulls) const {
     // What the TLAS sees: the members' AABBs together.
     Aabb world;
-    double members = 0;
-    for (const BallHull& h : hulls) {
-      world.grow(hull_box(h));
-      Aabb local;
-      for (int k = 0; k < 3; ++k) {
-        const BallHull::Pair side = h.support_pair(c.axes[k]); // support(-a), support(a)
-        local.lo[k] = -side.minus;
-        local.hi[k] = side.plus;
-      }
-      members += local.area();
-    }
-    return (opt.prices.node + opt.prices.transform) * world.area() + (opt.prices.node + opt.prices.isect) * members;
+    for (const BallHull& h : hulls) world.grow(hull_box(h));
+    return (opt.prices.node + opt.prices.transform) * world.area() + (opt.prices.node + opt.prices.isect) * c.member_area;
   }
 };
-
-std::vector<std::int32_t> all_prims(const Geometry& g) {
-  std::vector<std::int32_t> ids(g.primitive_count());
-  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
-  return ids;
-}
 
 bool clusterable(PrimType t) { return scene_prim_row(t).oriented; }
 
 } // namespace
 
+std::vector<std::int32_t> every_primitive(const Geometry& g) {
+  std::vector<std::int32_t> ids(g.primitive_count());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::int32_t(i);
+  return ids;
+}
+
 GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& opt, const std::vector<Cluster>* given) {
   GeometryPlan plan;
   if (scene_prim_row(g.type).mesh || method == Method::Ref) {
-    plan.blas_prims = all_prims(g);
+    plan.blas_prims = every_primitive(g);
     return plan;
   }
   if (method == Method::Masq) {
-    for (std::int32_t p : all_prims(g))
+    for (std::int32_t p : every_primitive(g))
       if (has_surface(g, std::size_t(p))) plan.masq_prims.push_back(p); // no surface: nothing to box
     return plan;
   }
   Model model{g, opt};
   if (!clusterable(g.type)) { // spheres: no orientation
-    for (std::int32_t p : all_prims(g)) {
+    for (std::int32_t p : every_primitive(g)) {
       const PrimPrices pp = model.prices(p);
       if (method == Method::Auto && pp.masq < pp.ref)
         plan.masq_prims.push_back(p);
@@ -93,9 +84,12 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
     }
     return plan;
   }
-  std::vector<Cluster> clusters = given ? *given : make_clusters(g, all_prims(g), opt.cluster);
+  std::vector<Cluster> made;
+  if (!given) made = make_clusters(g, every_primitive(g), opt.cluster);
+  const std::vector<Cluster>& clusters = given ? *given : made;
   if (method == Method::Cluster) {
-    plan.clusters = std::move(clusters);
+    if (given) plan.clusters = *given;
+    else plan.clusters = std::move(made);
     return plan;
   }
   // Each cluster's verdict on all threads (each member's two prices found once), then
@@ -124,15 +118,22 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
         member[ci][j] = pp[j].masq < pp[j].ref && pp[j].surface ? kMasq : kBlas;
     }
   });
+  // The BLAS's primitives go in increasing id order: marked, then read in order (a sort
+  // of all of them was a fifth of the plan, where the plan is ref's).
+  std::vector<char> in_blas(g.primitive_count(), 0);
   for (std::size_t ci = 0; ci < clusters.size(); ++ci) {
     if (whole[ci]) {
-      plan.clusters.push_back(std::move(clusters[ci]));
+      plan.clusters.push_back(given ? clusters[ci] : std::move(made[ci])); // a given clustering is shared
       continue;
     }
-    for (std::size_t j = 0; j < clusters[ci].members.size(); ++j)
-      (member[ci][j] == kMasq ? plan.masq_prims : plan.blas_prims).push_back(clusters[ci].members[j]);
+    for (std::size_t j = 0; j < clusters[ci].members.size(); ++j) {
+      const std::int32_t p = clusters[ci].members[j];
+      if (member[ci][j] == kMasq) plan.masq_prims.push_back(p);
+      else in_blas[std::size_t(p)] = 1;
+    }
   }
-  std::sort(plan.blas_prims.begin(), plan.blas_prims.end());
+  for (std::size_t p = 0; p < in_blas.size(); ++p)
+    if (in_blas[p]) plan.blas_prims.push_back(std::int32_t(p));
   return plan;
 }
 
@@ -141,7 +142,7 @@ PlanCosts plan_costs(const Geometry& g, const PlanOptions& opt) {
   if (!clusterable(g.type)) return pc;
   Model model{g, opt};
   std::vector<BallHull> hulls;
-  for (const Cluster& c : make_clusters(g, all_prims(g), opt.cluster)) {
+  for (const Cluster& c : make_clusters(g, every_primitive(g), opt.cluster)) {
     member_hulls(g, c.members, hulls);
     double alone = 0;
     for (const BallHull& h : hulls) {

@@ -45,6 +45,9 @@ struct PlanOptions {
   CostPrices prices;
 };
 
+// 0 .. primitive_count - 1: the primitives a plan places (make_clusters' prims).
+std::vector<std::int32_t> every_primitive(const Geometry& g);
+
 // clusters: what make_clusters gives for this geometry and opt.cluster's size and
 // classes, when the caller has it already (auto's candidates that cluster alike share
 // one clustering, bvh/twolevel/build_accel.cpp); nullptr: made here.
