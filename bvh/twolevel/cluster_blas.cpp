@@ -96,11 +96,15 @@ ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& 
     }
   // Collapsed here, on the build's threads, instead of at the append, which runs on one
   // (perf: a tenth of auto's build of the bear, on one thread, for its four shapes).
-  try {
-    for (const BinaryBvh& t : trees)
-      out.trees.push_back({collapse_bvh(t, c.members, ps.features.nodes), t.nodes[0].box, t.order.size()});
-  } catch (const Error& e) {
-    out.collapse_error = e.what(); // thrown by the append, in cluster order
+  for (const BinaryBvh& t : trees) {
+    ClusterBlas::Tree& tree = out.trees.emplace_back();
+    tree.root_box = t.nodes[0].box;
+    tree.references = t.order.size();
+    try {
+      tree.nodes = collapse_bvh(t, c.members, ps.features.nodes);
+    } catch (const Error& e) {
+      tree.error = e.what(); // thrown by the append of this price, in cluster order
+    }
   }
   return out;
 }
@@ -148,10 +152,10 @@ void append_cluster_instances(int geom, const std::vector<Cluster>& clusters,
   std::size_t nodes = 0, refs = 0;
   for (std::size_t ci = 0; ci < clusters.size(); ++ci) {
     if (!built[ci].error.empty()) throw Error(built[ci].error + std::to_string(geom) + " is not finite");
-    if (!built[ci].collapse_error.empty()) throw Error(built[ci].collapse_error);
     if (price_index >= built[ci].trees.size())
       throw Error("cluster: leaf price " + std::to_string(price_index) + " of " +
                   std::to_string(built[ci].trees.size()) + " built in geometry " + std::to_string(geom));
+    if (!built[ci].trees[price_index].error.empty()) throw Error(built[ci].trees[price_index].error);
     const CollapsedBvh& tree = built[ci].trees[price_index].nodes;
     node_at[ci] = nodes;
     ref_at[ci] = refs;

@@ -46,6 +46,7 @@ struct ClusterBlas {
     CollapsedBvh nodes;
     Aabb root_box;              // the members' local boxes together
     std::size_t references = 0; // leaf references
+    std::string error;          // the collapse failed (masq::Error's message; nodes empty)
   };
   std::vector<Mat3x4f> stored;
   std::vector<Affine3> local_to_world;
@@ -53,7 +54,6 @@ struct ClusterBlas {
   std::vector<MemberAreas> member_areas; // instance k, member m: [k * members + m]
   std::vector<Tree> trees;
   std::string error; // set (and the rest incomplete) when a local box is not finite
-  std::string collapse_error; // a tree's collapse failed (masq::Error's message)
 };
 
 // Every cluster's BLAS of geometry `geom` for each of `leaf_prices` (their trees from
