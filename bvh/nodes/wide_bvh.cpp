@@ -6,6 +6,7 @@
 #include "kernels/variants.h"
 #include "masq/error.h"
 #include <algorithm>
+#include <iterator>
 #include <array>
 #include <memory>
 #include <optional>
@@ -390,9 +391,9 @@ namespace {
 
 // A float node's slots moved: an inner child's node index by node_base, a leaf's first
 // reference by ref_base; empty slots (count < 0) keep their zero.
-template <int Width, class Boxes>
+template <class Boxes>
 void move_slots(Boxes& w, std::int32_t node_base, std::int32_t ref_base) {
-  for (int s = 0; s < Width; ++s)
+  for (std::size_t s = 0; s < std::size(w.count); ++s)
     if (w.count[s] == 0) w.child[s] += node_base;
     else if (w.count[s] > 0) w.child[s] += ref_base;
 }
@@ -450,12 +451,8 @@ WideBvhInfo place_collapsed(const CollapsedBvh& c, PackedScene& ps, std::size_t 
     if constexpr (std::is_same_v<Node, kernel::QuantNode8>) {
       n.child_base += node_base;
       n.ref_base += ref_base;
-    } else if constexpr (std::is_same_v<Node, kernel::OrientedNode4>) {
-      move_slots<MASQ_WIDTH>(n.boxes, node_base, ref_base);
-    } else if constexpr (std::is_same_v<Node, kernel::WideNode8>) {
-      move_slots<MASQ_WIDTH8>(n, node_base, ref_base);
     } else {
-      move_slots<MASQ_WIDTH>(n, node_base, ref_base);
+      move_slots(boxes_of(n), node_base, ref_base);
     }
   };
   with_node_arrays(c, ps, [&](const auto& from, auto& to) { place_moved(from, to, node_at, move); });

@@ -162,12 +162,12 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     for (std::size_t gi = g0; gi < g1; ++gi) {
       if (insts_of[gi].empty() || scene.geometries[gi].primitive_count() == 0) continue;
       std::optional<std::vector<Cluster>>* known = clusterings ? &(*clusterings)[gi] : nullptr;
-      if (known && !*known && method == Method::Cluster && gi < shared->classes.size() && shared->classes[gi] &&
-          shared->classes[gi]->classes == opt.cluster.classes)
+      // The first cluster shape of a size clusters every clusterable geometry (those
+      // auto_candidates assigned classes to), and the later ones take its clusters.
+      if (known && !*known && method == Method::Cluster && shared->classes[gi])
         *known = make_clusters(scene.geometries[gi], every_primitive(scene.geometries[gi]), opt.cluster,
                                &*shared->classes[gi]);
       plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt, known && *known ? &**known : nullptr);
-      if (known && !*known && method == Method::Cluster && !plans[gi].clusters.empty()) *known = plans[gi].clusters;
     }
   });
   if (method == Method::Auto && same_as_ref && plans_are_ref(scene, plans)) {

@@ -99,7 +99,6 @@ ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& 
   for (const BinaryBvh& t : trees) {
     ClusterBlas::Tree& tree = out.trees.emplace_back();
     tree.root_box = t.nodes[0].box;
-    tree.references = t.order.size();
     try {
       tree.nodes = collapse_bvh(t, c.members, ps.features.nodes);
     } catch (const Error& e) {
@@ -175,7 +174,7 @@ void append_cluster_instances(int geom, const std::vector<Cluster>& clusters,
     const std::vector<Mat3x4f>& stored = built[ci].stored;
     const ClusterBlas::Tree& tree = built[ci].trees[price_index];
     const WideBvhInfo& info = infos[ci];
-    ps.stats.blas_references += tree.references;
+    ps.stats.blas_references += tree.nodes.refs.size(); // each leaf reference once
     ps.stats.blas_primitives += c.members.size();
     ps.stats.blas_nodes += info.nodes;
     ps.stats.blas_leaves += info.leaves;

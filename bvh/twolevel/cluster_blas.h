@@ -44,9 +44,8 @@ struct ClusterBlas {
   };
   struct Tree {
     CollapsedBvh nodes;
-    Aabb root_box;              // the members' local boxes together
-    std::size_t references = 0; // leaf references
-    std::string error;          // the collapse failed (masq::Error's message; nodes empty)
+    Aabb root_box;     // the members' local boxes together
+    std::string error; // the collapse failed (masq::Error's message; nodes empty)
   };
   std::vector<Mat3x4f> stored;
   std::vector<Affine3> local_to_world;
