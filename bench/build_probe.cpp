@@ -12,14 +12,12 @@
 // It prints the structure's digest (FNV-1a over every array the kernels read): two builds of masq that print the same digest made the same structure,
 // byte for byte.
 #include "bench/peer_builds.h"
-#include "bench/peer_scenes.h"
 #include "bench/probe_args.h"
 #include "bench/process_clock.h"
 #include "bvh/twolevel/build_accel.h"
 #include "host/backend.h"
 #include "kernels/scene_array_table.h"
 #include "peers/embree_peer.h"
-#include "scenes/curve_tools.h"
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -80,20 +78,9 @@ int main(int argc, char** argv) {
     AccelOptions accel;
     accel.builder.kind = Builder::Sah4; // the peers suite's build table
     if (argc > 3) accel.nodes = probe::nodes(argv[3]);
-    struct Prims {
-      bool curves, thick;
-    };
-    const Prims prims = argc > 4 ? probe::pick<Prims>("primitive", argv[4],
-                                                      {{"capsule", {false, false}},
-                                                       {"curve", {true, false}},
-                                                       {"thick", {false, true}},
-                                                       {"thick-curve", {true, true}}})
-                                 : Prims{false, false};
-    if (prims.thick) thicken(scene); // before the curves, as the peers suite's scenes
-    if (prims.curves) {
-      scene = segments_to_curves(scene);
-      accel.curve_isect = CurveIsect::Roving;
-    }
+    const probe::Prims prims = argc > 4 ? probe::prims(argv[4]) : probe::Prims{};
+    probe::shape(scene, prims);
+    if (prims.curves) accel.curve_isect = CurveIsect::Roving;
     const int builds = argc > 5 ? std::atoi(argv[5]) : 10;
     if (builds < 1) throw std::invalid_argument("builds must be at least 1");
     if (peers) {

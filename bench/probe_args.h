@@ -1,7 +1,9 @@
 // The profiling probes' command-line words (masq_trace_probe, masq_build_probe): each
 // probe is a plain main() for valgrind or perf, so its arguments are positional words.
 #pragma once
+#include "bench/peer_scenes.h"
 #include "bvh/options.h"
+#include "scenes/curve_tools.h"
 #include "scenes/generators.h"
 #include "scenes/loaders/load_any.h"
 #include <cstdint>
@@ -39,6 +41,25 @@ inline Method method(const std::string& arg) {
 inline NodeFormat nodes(const std::string& arg) {
   return pick<NodeFormat>("nodes", arg,
                           {{"w4", NodeFormat::W4}, {"w8", NodeFormat::W8}, {"q8", NodeFormat::Q8}, {"o4", NodeFormat::O4}});
+}
+
+// capsule|curve|thick|thick-curve: a hair file's segments as capsules or as its strands'
+// Catmull-Rom cubics, at the file's radius or thick (every radius kThickRadius x the mean
+// segment), as the peers suite's rows (bench/peer_scenes.h).
+struct Prims {
+  bool curves = false;
+  bool thick = false;
+};
+
+inline Prims prims(const std::string& arg) {
+  return pick<Prims>("primitive", arg,
+                     {{"capsule", {false, false}}, {"curve", {true, false}}, {"thick", {false, true}}, {"thick-curve", {true, true}}});
+}
+
+// The scene in that form: thickened first, then made curves, as load_peer_scene does.
+inline void shape(Scene& scene, Prims p) {
+  if (p.thick) thicken(scene);
+  if (p.curves) scene = segments_to_curves(scene);
 }
 
 } // namespace masq::probe

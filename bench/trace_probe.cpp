@@ -6,7 +6,7 @@
 // width x width, and the shadow or diffuse rays from their hits.
 // FILE "bundle" is the embedded default scene (the peers suite's bundle row); "bundle-hair" and
 // "bundle-ground" keep only its strands or only its ground plane.
-//   masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last] [repeat=1]
+//   masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse [capsule|curve|thick|thick-curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last] [repeat=1]
 // (nearest|starts-last: AccelOptions::blas_occlusion, the BLAS order of occlusion queries;
 // repeat: each ray traced that many times in a row. A repeat finds the ray's nodes and
 // primitives in cache and its branches just taken, so with T(k) the time at repeat k,
@@ -23,7 +23,6 @@
 #include "host/backend.h"
 #include "masq/knobs.h"
 #include "peers/embree_peer.h"
-#include "scenes/curve_tools.h"
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -54,13 +53,14 @@ __attribute__((noinline)) void probe_traces(Backend* be, EmbreePeer* embree, Emb
 int main(int argc, char** argv) {
   try {
     if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse "
-                                              "[capsule|curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last] [repeat=1]");
+                                              "[capsule|curve|thick|thick-curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last] [repeat=1]");
     Scene scene = probe::scene(argv[1]);
     const Method method = probe::method(argv[2]);
     const NodeFormat nodes = probe::nodes(argv[3]);
     const RaySet set = probe::pick<RaySet>("ray set", argv[4],
                                     {{"primary", RaySet::Primary}, {"shadow", RaySet::Shadow}, {"diffuse", RaySet::Diffuse}});
-    const bool curves = argc > 5 && probe::pick<bool>("primitive", argv[5], {{"capsule", false}, {"curve", true}});
+    const probe::Prims prims = argc > 5 ? probe::prims(argv[5]) : probe::Prims{};
+    const bool curves = prims.curves;
     // embree: rtcIntersect1 / rtcOccluded1 per ray; embree1m: the stream API, with the
     // coherent hint on camera rays (the peers suite times both and keeps the faster).
     const int tracer = argc > 6 ? probe::pick<int>("tracer", argv[6], {{"masq", 0}, {"embree", 1}, {"embree1m", 2}}) : 0;
@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
     const int traces = argc > 8 ? std::atoi(argv[8]) : 4;
     const int repeat = argc > 10 ? std::atoi(argv[10]) : 1;
     if (width < 1 || traces < 1 || repeat < 1) throw std::invalid_argument("width, traces and repeat must be at least 1");
-    if (curves) scene = segments_to_curves(scene); // the strands' Catmull-Rom cubics
+    probe::shape(scene, prims);
     BenchOptions opt;
     opt.backends = {"cpu"};
     opt.methods = {method};
