@@ -72,13 +72,13 @@ int main(int argc, char** argv) {
     if (argc < 3)
       throw std::invalid_argument("usage: masq_build_probe FILE|bundle ref|masq|cluster|auto|embree|peers [w4|w8|q8|o4=w4] "
                                   "[capsule|curve|thick|thick-curve=capsule] [builds=10]");
-    Scene scene = probe::scene(argv[1]);
+    const probe::Prims prims = argc > 4 ? probe::prims(argv[4]) : probe::Prims{};
+    Scene scene = probe::scene(argv[1], prims);
     const bool embree = std::string(argv[2]) == "embree", peers = std::string(argv[2]) == "peers";
     const Method method = embree || peers ? Method::Ref : probe::method(argv[2]);
     AccelOptions accel;
     accel.builder.kind = Builder::Sah4; // the peers suite's build table
     if (argc > 3) accel.nodes = probe::nodes(argv[3]);
-    const probe::Prims prims = argc > 4 ? probe::prims(argv[4]) : probe::Prims{};
     probe::shape(scene, prims);
     if (prims.curves) accel.curve_isect = CurveIsect::Roving;
     const int builds = argc > 5 ? std::atoi(argv[5]) : 10;

@@ -21,12 +21,30 @@ template <class T> T pick(const std::string& what, const std::string& v, std::in
   throw std::invalid_argument(what + " '" + v + "' is not one of the choices (see the usage line)");
 }
 
+// capsule|curve|thick|thick-curve: a hair file's segments as capsules or as its strands'
+// Catmull-Rom cubics, at the file's radius or thick (every radius kThickRadius x the mean
+// segment), as the peers suite's rows (bench/peer_scenes.h).
+struct Prims {
+  bool curves = false;
+  bool thick = false;
+};
+
+inline Prims prims(const std::string& arg) {
+  return pick<Prims>("primitive", arg,
+                     {{"capsule", {false, false}}, {"curve", {true, false}}, {"thick", {false, true}}, {"thick-curve", {true, true}}});
+}
+
 // FILE, or "bundle": the embedded default scene (the peers suite's bundle row);
 // "bundle-hair" and "bundle-ground": that scene with only its strands or only its ground
-// plane, under the same camera (what each part of the bundle row's rays costs).
-inline Scene scene(const std::string& arg) {
+// plane, under the same camera (what each part of the bundle row's rays costs). A file
+// whose strands become curves is read as round cones, as load_peer_scene reads it.
+inline Scene scene(const std::string& arg, Prims p = {}) {
   if (arg == "bundle") return make_default_scene();
-  if (arg != "bundle-hair" && arg != "bundle-ground") return load_scene_file(arg);
+  if (arg != "bundle-hair" && arg != "bundle-ground") {
+    LoadOptions lo;
+    if (p.curves) lo.strand_type = PrimType::RoundCone;
+    return load_scene_file(arg, lo);
+  }
   Scene s = make_default_scene();
   const std::uint32_t kept = arg == "bundle-hair" ? 0 : 1; // make_default_scene: strands, then the ground
   s.geometries = {s.geometries[kept]};
@@ -41,19 +59,6 @@ inline Method method(const std::string& arg) {
 inline NodeFormat nodes(const std::string& arg) {
   return pick<NodeFormat>("nodes", arg,
                           {{"w4", NodeFormat::W4}, {"w8", NodeFormat::W8}, {"q8", NodeFormat::Q8}, {"o4", NodeFormat::O4}});
-}
-
-// capsule|curve|thick|thick-curve: a hair file's segments as capsules or as its strands'
-// Catmull-Rom cubics, at the file's radius or thick (every radius kThickRadius x the mean
-// segment), as the peers suite's rows (bench/peer_scenes.h).
-struct Prims {
-  bool curves = false;
-  bool thick = false;
-};
-
-inline Prims prims(const std::string& arg) {
-  return pick<Prims>("primitive", arg,
-                     {{"capsule", {false, false}}, {"curve", {true, false}}, {"thick", {false, true}}, {"thick-curve", {true, true}}});
 }
 
 // The scene in that form: thickened first, then made curves, as load_peer_scene does.

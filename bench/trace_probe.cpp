@@ -54,12 +54,12 @@ int main(int argc, char** argv) {
   try {
     if (argc < 5) throw std::invalid_argument("usage: masq_trace_probe FILE|bundle|bundle-hair|bundle-ground ref|masq|cluster|auto w4|w8|q8|o4 primary|shadow|diffuse "
                                               "[capsule|curve|thick|thick-curve] [masq|embree|embree1m] [width=256] [traces=4] [nearest|starts-last] [repeat=1]");
-    Scene scene = probe::scene(argv[1]);
+    const probe::Prims prims = argc > 5 ? probe::prims(argv[5]) : probe::Prims{};
+    Scene scene = probe::scene(argv[1], prims);
     const Method method = probe::method(argv[2]);
     const NodeFormat nodes = probe::nodes(argv[3]);
     const RaySet set = probe::pick<RaySet>("ray set", argv[4],
                                     {{"primary", RaySet::Primary}, {"shadow", RaySet::Shadow}, {"diffuse", RaySet::Diffuse}});
-    const probe::Prims prims = argc > 5 ? probe::prims(argv[5]) : probe::Prims{};
     const bool curves = prims.curves;
     // embree: rtcIntersect1 / rtcOccluded1 per ray; embree1m: the stream API, with the
     // coherent hint on camera rays (the peers suite times both and keeps the faster).
