@@ -422,13 +422,8 @@ void with_node_arrays(const CollapsedBvh& c, PackedScene& ps, Body body) {
 } // namespace
 
 std::size_t collapsed_nodes(const CollapsedBvh& c) {
-  switch (c.format) {
-    case NodeFormat::W4: return c.nodes.size();
-    case NodeFormat::W8: return c.nodes8.size();
-    case NodeFormat::O4: return c.onodes.size();
-    case NodeFormat::Q8: return c.qnodes.size();
-  }
-  return 0;
+  // collapse_bvh fills its format's array alone.
+  return c.nodes.size() + c.nodes8.size() + c.onodes.size() + c.qnodes.size();
 }
 
 void grow_node_arrays(PackedScene& ps, std::size_t nodes, std::size_t refs) {
