@@ -2,8 +2,11 @@
 #include "bench/results_doc.h"
 #include "masq/error.h"
 #include "masq/masq.h"
+#include <algorithm>
 #include <fmt/format.h>
+#include <optional>
 #include <sstream>
+#include <vector>
 
 namespace masq {
 
@@ -32,6 +35,28 @@ std::string runs_text(const MergedReport& report, const std::vector<std::size_t>
   for (std::size_t r : runs)
     out += (out.empty() ? "" : ", ") + report.runs[r].label + " (`" + report.runs[r].file + "`)";
   return out;
+}
+
+// How the suite was measured: once where every run says the same, else each run's text
+// after its label (its counts, "faster on 4 of 27 rows", are its own).
+std::string methods_text(const MergedReport& report, const MergedSuite& s) {
+  if (s.methods.empty()) return "";
+  const bool alike = std::all_of(s.methods.begin(), s.methods.end(),
+                                 [&](const auto& m) { return m.second == s.methods.front().second; });
+  if (alike) return s.methods.front().second + "\n\n";
+  std::string out;
+  for (const auto& [run, text] : s.methods) out += "- **" + report.runs[run].label + ":** " + text + "\n";
+  return out + "\n";
+}
+
+// "- geometric mean of the first ratio per cell, <column>: 1.06x over 27 rows" (nothing
+// for a column without a ratio).
+std::string geomean_line(const std::string& column, const std::vector<std::optional<double>>& ratios,
+                         const std::optional<double>& geomean) {
+  if (!geomean) return "";
+  int rows = int(std::count_if(ratios.begin(), ratios.end(), [](const auto& v) { return v && *v > 0; }));
+  return "- geometric mean of the first ratio per cell, " + column + ": " + fmt::format("{:.2f}x", *geomean) +
+         " over " + std::to_string(rows) + (rows == 1 ? " row" : " rows") + "\n";
 }
 
 Table devices_table(const MergedReport& report) {
@@ -69,17 +94,14 @@ std::string report_markdown(const MergedReport& report, const std::string& comma
   for (const MergedSuite& s : report.suites) {
     md << "## " << s.title << " (`" << s.name << "`)\n\n";
     if (!s.missing_in.empty()) md << "Not in " << runs_text(report, s.missing_in) << ": that run did not run this suite.\n\n";
-    if (!s.method.empty()) md << s.method << "\n\n";
+    md << methods_text(report, s);
     for (const MergedTable& t : s.tables) {
       md << t.table.markdown() << "\n";
-      if (!t.has_ratios()) continue;
-      for (std::size_t c = 0; c < t.device_columns.size(); ++c) {
-        if (!t.geomeans[c]) continue;
-        int rows = int(std::count_if(t.ratios[c].begin(), t.ratios[c].end(), [](const auto& v) { return v && *v > 0; }));
-        md << "- geometric mean of the first ratio per cell, " << report.devices[t.device_columns[c].second].label
-           << ": " << fmt::format("{:.2f}x", *t.geomeans[c]) << " over " << rows << (rows == 1 ? " row" : " rows")
-           << "\n";
-      }
+      if (!t.has_ratios() && t.run_columns.empty()) continue;
+      for (std::size_t c = 0; c < t.device_columns.size(); ++c)
+        md << geomean_line(report.devices[t.device_columns[c].second].label, t.ratios[c], t.geomeans[c]);
+      for (std::size_t c = 0; c < t.run_columns.size(); ++c)
+        md << geomean_line(t.table.header[t.run_columns[c].first], t.run_ratios[c], t.run_geomeans[c]);
       md << "\n";
     }
     if (const MergedTable* p = plotted_table(s))
@@ -118,6 +140,15 @@ nlohmann::json report_json(const MergedReport& report, const std::string& comman
                                            {"device", report.devices[t.device_columns[c].second].label},
                                            {"ratios", ratios},
                                            {"geomean", t.geomeans[c] ? json(*t.geomeans[c]) : json()}});
+      }
+      table["run_columns"] = json::array();
+      for (std::size_t c = 0; c < t.run_columns.size(); ++c) {
+        json ratios = json::array();
+        for (const auto& v : t.run_ratios[c]) ratios.push_back(v ? json(*v) : json());
+        table["run_columns"].push_back({{"column", t.run_columns[c].first},
+                                        {"run", report.runs[t.run_columns[c].second].label},
+                                        {"ratios", ratios},
+                                        {"geomean", t.run_geomeans[c] ? json(*t.run_geomeans[c]) : json()}});
       }
       if (&t == plotted) suite["plot_table"] = suite["tables"].size();
       suite["tables"].push_back(table);

@@ -84,12 +84,39 @@ TableSource index_table(std::size_t run, const Table& t, const std::vector<std::
   return s;
 }
 
+// How many leading columns name a row in every run's copy of a table: the fewest any run
+// declares. A table whose labels were narrowed later (the peers suite's pilot choice is
+// a run's answer, not the row's name) then matches its rows with older runs' on the
+// columns they still share.
+std::size_t common_label_count(const std::vector<TableSource>& sources) {
+  std::size_t n = std::size_t(sources.front().table->row_label_columns());
+  for (const TableSource& s : sources) n = std::min(n, std::size_t(s.table->row_label_columns()));
+  return n;
+}
+
+// Column i's first ratio per row, and their geometric mean (none: no positive ratio).
+void add_column_ratios(const Table& t, std::size_t i, std::vector<std::vector<std::optional<double>>>& ratios,
+                       std::vector<std::optional<double>>& geomeans) {
+  std::vector<std::optional<double>> column;
+  double log_sum = 0;
+  int count = 0;
+  for (const auto& row : t.rows) {
+    column.push_back(first_ratio(row[i]));
+    if (column.back() && *column.back() > 0) {
+      log_sum += std::log(*column.back());
+      ++count;
+    }
+  }
+  ratios.push_back(std::move(column));
+  geomeans.push_back(count ? std::optional<double>(std::exp(log_sum / count)) : std::nullopt);
+}
+
 using DeviceIndex = std::map<std::pair<std::size_t, std::string>, std::size_t>; // (run, backend) -> device
 
 MergedTable merge_table(const std::vector<TableSource>& sources, const std::vector<ReportRun>& runs,
                         const std::vector<ReportDevice>& devices, const DeviceIndex& device_of) {
   const Table& first = *sources.front().table;
-  const std::size_t label_count = std::size_t(first.row_label_columns());
+  const std::size_t label_count = common_label_count(sources);
   std::vector<std::vector<std::string>> column_orders, row_orders, note_orders;
   for (const TableSource& s : sources) {
     column_orders.push_back(s.column_keys);
@@ -99,7 +126,8 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
   const std::vector<std::string> columns = merged_order(column_orders);
   const std::vector<std::string> rows = merged_order(row_orders);
   const std::vector<std::string>& first_keys = sources.front().column_keys;
-  const std::vector<std::string> label_keys(first_keys.begin(), first_keys.begin() + std::ptrdiff_t(label_count));
+  const std::vector<std::string> label_keys(first_keys.begin(),
+                                            first_keys.begin() + std::ptrdiff_t(std::min(label_count, first_keys.size())));
 
   // Each merged column: its header and how a row's cell is found.
   struct Column {
@@ -107,6 +135,7 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
     const TableSource* only = nullptr; // one run's column ("-" where that run lacks the row); null: any run's
     std::string key;
     std::optional<std::size_t> device;
+    std::optional<std::size_t> run; // a shared column's cells of one run
   };
   std::vector<Column> out;
   std::size_t label_columns = 0; // leading label columns of the merged table
@@ -121,7 +150,7 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
         if (backend.empty()) backend = backend_of(header, runs[s.run]);
       }
     if (label) {
-      out.push_back({header, nullptr, key, std::nullopt});
+      out.push_back({header, nullptr, key, std::nullopt, std::nullopt});
       if (out.size() == label_columns + 1) ++label_columns;
       continue;
     }
@@ -130,11 +159,11 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
         const std::string& own = s->table->header[*s->column(key)];
         std::string b = backend_of(own, runs[s->run]);
         if (b.empty()) { // this run has no such backend: its column is a shared one
-          out.push_back({own + " (" + runs[s->run].label + ")", s, key, std::nullopt});
+          out.push_back({own + " (" + runs[s->run].label + ")", s, key, std::nullopt, s->run});
           continue;
         }
         std::size_t d = device_of.at({s->run, b});
-        out.push_back({devices[d].label + own.substr(b.size()), s, key, d}); // keeps " calls/ray ..."
+        out.push_back({devices[d].label + own.substr(b.size()), s, key, d, std::nullopt}); // keeps " calls/ray ..."
       }
       continue;
     }
@@ -149,9 +178,10 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
         }
     }
     if (agree) {
-      out.push_back({header, nullptr, key, std::nullopt});
+      out.push_back({header, nullptr, key, std::nullopt, std::nullopt});
     } else {
-      for (const TableSource* s : having) out.push_back({header + " (" + runs[s->run].label + ")", s, key, std::nullopt});
+      for (const TableSource* s : having)
+        out.push_back({header + " (" + runs[s->run].label + ")", s, key, std::nullopt, s->run});
     }
   }
 
@@ -179,20 +209,19 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
     m.table.rows.push_back(std::move(row));
   }
   for (std::size_t i = 0; i < out.size(); ++i) {
-    if (!out[i].device) continue;
-    m.device_columns.emplace_back(i, *out[i].device);
-    std::vector<std::optional<double>> ratios;
-    double log_sum = 0;
-    int count = 0;
-    for (const auto& row : m.table.rows) {
-      ratios.push_back(first_ratio(row[i]));
-      if (ratios.back() && *ratios.back() > 0) {
-        log_sum += std::log(*ratios.back());
-        ++count;
+    if (out[i].device) {
+      m.device_columns.emplace_back(i, *out[i].device);
+      add_column_ratios(m.table, i, m.ratios, m.geomeans);
+    } else if (out[i].run) {
+      std::size_t before = m.run_ratios.size();
+      add_column_ratios(m.table, i, m.run_ratios, m.run_geomeans);
+      if (m.run_geomeans.back()) {
+        m.run_columns.emplace_back(i, *out[i].run);
+      } else { // no ratio in it (a run's tracer names, its rays/s): not a ratio column
+        m.run_ratios.resize(before);
+        m.run_geomeans.resize(before);
       }
     }
-    m.ratios.push_back(std::move(ratios));
-    m.geomeans.push_back(count ? std::optional<double>(std::exp(log_sum / count)) : std::nullopt);
   }
   return m;
 }
@@ -267,7 +296,7 @@ MergedReport merge_runs(std::vector<ReportRun> runs) {
       }
       having.emplace_back(r, &*it);
       if (merged.title.empty()) merged.title = it->title;
-      if (merged.method.empty()) merged.method = it->method;
+      if (!it->method.empty()) merged.methods.emplace_back(r, it->method);
     }
     if (having.empty()) continue;
     // Tables matched by title (the n-th of one title with the n-th).
@@ -279,15 +308,17 @@ MergedReport merge_runs(std::vector<ReportRun> runs) {
     }
     for (const std::string& title : merged_order(title_orders)) {
       std::vector<TableSource> sources;
-      std::vector<std::string> label_headers;
+      std::vector<std::pair<std::size_t, const Table*>> tables; // (run, its copy of the table)
+      std::vector<std::string> label_headers;                   // the fewest any copy declares
       for (std::size_t h = 0; h < having.size(); ++h) {
         auto it = std::find(title_orders[h].begin(), title_orders[h].end(), title);
         if (it == title_orders[h].end()) continue;
         const Table& t = having[h].second->tables[std::size_t(it - title_orders[h].begin())];
-        if (sources.empty())
+        if (tables.empty() || std::size_t(t.row_label_columns()) < label_headers.size())
           label_headers.assign(t.header.begin(), t.header.begin() + t.row_label_columns());
-        sources.push_back(index_table(having[h].first, t, label_headers));
+        tables.emplace_back(having[h].first, &t);
       }
+      for (const auto& [run, t] : tables) sources.push_back(index_table(run, *t, label_headers));
       merged.tables.push_back(merge_table(sources, report.runs, report.devices, device_of));
     }
     report.suites.push_back(std::move(merged));

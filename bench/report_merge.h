@@ -26,11 +26,20 @@ struct MergedTable {
   std::vector<std::vector<std::optional<double>>> ratios;
   // Per device column: the geometric mean of its ratios (none: no ratio in the column).
   std::vector<std::optional<double>> geomeans;
+  // The same for each column that holds one run's cells of a column shared by its
+  // backends (the runs disagreed on it): its index and its run (index into the runs).
+  // The peers suite's masq/Embree ratios are such columns.
+  std::vector<std::pair<std::size_t, std::size_t>> run_columns;
+  std::vector<std::vector<std::optional<double>>> run_ratios;
+  std::vector<std::optional<double>> run_geomeans;
   bool has_ratios() const;
 };
 
 struct MergedSuite {
-  std::string name, title, method;
+  std::string name, title;
+  // How each run that has the suite measured it (its run index and text): the counts
+  // in the text ("faster on 4 of 27 rows") are that run's.
+  std::vector<std::pair<std::size_t, std::string>> methods;
   std::vector<std::size_t> missing_in; // runs without this suite
   std::vector<MergedTable> tables;
 };

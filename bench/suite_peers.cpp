@@ -251,6 +251,7 @@ SuiteResult run_peers(SuiteContext& ctx) {
   t.header = {"scene", "rays", "masq (pilot's choice)", "masq Mrays/s", "Embree Mrays/s", "masq/Embree CPU time",
               "masq/Embree wall", "Embree agreement", "oracle: masq / Embree right"};
   t.left_columns = 3;
+  t.label_columns = 2; // scene and rays name a row; the pilot's choice is the run's answer (masq report)
   Table ends;
   ends.title = "curve ends: Embree's round Bezier curves open, and closed by sphere points of the curve's radius at "
                "the strand ends (the shape of masq's curves; the table above) or at every curve end";

@@ -174,6 +174,59 @@ TEST(Report, GeometricMeansAndMissingSuite) {
   EXPECT_TRUE(j["suites"][0]["tables"][0]["device_columns"][1]["ratios"][2].is_null()); // N=100: not on b
 }
 
+// A peers-like table: scene and rays name the row, the tracer the pilot chose and the
+// ratios are the run's. `narrowed`: written since the peers table declares two label
+// columns (label_columns 2); else as before (three left columns, no label_columns).
+json peers_suite(const std::string& method, const std::vector<std::vector<std::string>>& rows, bool narrowed) {
+  json t = {{"title", "masq's tracer against Embree 3"},
+            {"header", {"scene", "rays", "masq (pilot's choice)", "masq/Embree CPU time"}},
+            {"rows", rows},
+            {"notes", json::array()},
+            {"left_columns", 3}};
+  if (narrowed) t["label_columns"] = 2;
+  return {{"title", "Peers"}, {"method", method}, {"seconds", 1.0}, {"data", json::object()}, {"tables", {t}}};
+}
+
+TEST(Report, PeersRowsMatchOnSceneAndRaysWhateverTracerEachRunChose) {
+  TempDir dir;
+  json a = results("AMD EPYC", "llvmpipe", table_json({}, ""), false);
+  a["suites"] = {{"peers", peers_suite("faster on 0 of 2 rows",
+                                       {{"bear", "primary", "cpu ref", "0.50x (0.40-0.60)"},
+                                        {"bear", "shadow (any)", "cpu ref w8", "0.80x (0.70-0.90)"}},
+                                       false)}};
+  json b = a;
+  b["suites"] = {{"peers", peers_suite("faster on 1 of 2 rows",
+                                       {{"bear", "primary", "cpu ref w8", "2.00x (1.50-2.50)"},
+                                        {"bear", "shadow (any)", "cpu ref w8", "0.80x (0.75-0.85)"}},
+                                       true)}};
+  std::string fa = dir.write("before/results.json", a.dump()), fb = dir.write("after/results.json", b.dump());
+  MergedReport r = merge_runs(read_results_files({fa, fb}));
+  ASSERT_EQ(r.suites.at(0).name, "peers");
+  const MergedTable& m = r.suites[0].tables.at(0);
+  // One row per scene and ray set, though the runs chose other tracers for the first.
+  EXPECT_EQ(m.table.header, (std::vector<std::string>{"scene", "rays", "masq (pilot's choice) (before)",
+                                                      "masq (pilot's choice) (after)",
+                                                      "masq/Embree CPU time (before)", "masq/Embree CPU time (after)"}));
+  ASSERT_EQ(m.table.rows.size(), 2u);
+  EXPECT_EQ(m.table.rows[0], (std::vector<std::string>{"bear", "primary", "cpu ref", "cpu ref w8", "0.50x (0.40-0.60)",
+                                                       "2.00x (1.50-2.50)"}));
+  EXPECT_EQ(m.table.label_columns, 2);
+  // Each run's ratio column has its geometric mean; the tracer columns hold none.
+  ASSERT_EQ(m.run_columns.size(), 2u);
+  EXPECT_EQ(m.run_columns[0], (std::pair<std::size_t, std::size_t>{4, 0}));
+  EXPECT_EQ(m.run_columns[1], (std::pair<std::size_t, std::size_t>{5, 1}));
+  EXPECT_NEAR(*m.run_geomeans[0], std::sqrt(0.5 * 0.8), 1e-9);
+  EXPECT_NEAR(*m.run_geomeans[1], std::sqrt(2.0 * 0.8), 1e-9);
+  // Each run's own account of how it measured (its counts), after its label.
+  std::string md = report_markdown(r, "masq report before after");
+  EXPECT_NE(md.find("- **before:** faster on 0 of 2 rows\n- **after:** faster on 1 of 2 rows"), std::string::npos) << md;
+  EXPECT_NE(md.find("geometric mean of the first ratio per cell, masq/Embree CPU time (after): 1.26x over 2 rows"),
+            std::string::npos)
+      << md;
+  json j = report_json(r, "masq report before after");
+  EXPECT_EQ(j["suites"][0]["tables"][0]["run_columns"][1]["run"], "after");
+}
+
 TEST(Report, AlikeDevicesGetTheRunLabel) {
   TempDir dir;
   json t = table_json({{"1", "0.1", "1.05x", "", "2.00x", "1.00x"}}, "0.93x");
@@ -294,7 +347,7 @@ TEST(Report, RoundTripThroughWriteResults) {
   EXPECT_EQ(t.rows[0], (std::vector<std::string>{"10", "2.35x", "-", "2.00x", "-", "0.5 -> 0.1 (5.0x)"})); // b's order
   EXPECT_EQ(t.rows[1], (std::vector<std::string>{"1", "0.93x", "1.10x", "3.00x", "0.43 -> 0.25 (1.8x)",
                                                  "0.43 -> 0.25 (1.8x)"}));
-  EXPECT_EQ(r.suites[0].method, "tiny bundles");
+  EXPECT_EQ(r.suites[0].methods, (std::vector<std::pair<std::size_t, std::string>>{{0, "tiny bundles"}, {1, "tiny bundles"}}));
   std::string out = (dir.path / "report").string();
   write_report(out, r, "masq report");
   EXPECT_TRUE(fs::exists(out + "/RESULTS.md"));
