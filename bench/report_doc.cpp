@@ -59,6 +59,25 @@ std::string geomean_line(const std::string& column, const std::vector<std::optio
          " over " + std::to_string(rows) + (rows == 1 ? " row" : " rows") + "\n";
 }
 
+// A table's ratio columns as JSON: per column its index, its device's or run's name (under
+// `name_key`), each row's first ratio (null: none) and their geometric mean.
+nlohmann::json ratio_columns_json(const char* name_key, const std::vector<std::pair<std::size_t, std::size_t>>& columns,
+                                  const std::vector<std::string>& names,
+                                  const std::vector<std::vector<std::optional<double>>>& ratios,
+                                  const std::vector<std::optional<double>>& geomeans) {
+  using nlohmann::json;
+  json out = json::array();
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    json cells = json::array();
+    for (const auto& v : ratios[c]) cells.push_back(v ? json(*v) : json());
+    out.push_back({{"column", columns[c].first},
+                   {name_key, names[c]},
+                   {"ratios", cells},
+                   {"geomean", geomeans[c] ? json(*geomeans[c]) : json()}});
+  }
+  return out;
+}
+
 Table devices_table(const MergedReport& report) {
   Table t;
   t.header = {"column", "run", "backend", "device and driver", "CPU", "threads", "memory", "OS", "date", "commit",
@@ -132,24 +151,11 @@ nlohmann::json report_json(const MergedReport& report, const std::string& comman
     suite["plot"] = plotted ? json(report_plot_file(s.name)) : json();
     for (const MergedTable& t : s.tables) {
       json table = t.table;
-      table["device_columns"] = json::array();
-      for (std::size_t c = 0; c < t.device_columns.size(); ++c) {
-        json ratios = json::array();
-        for (const auto& v : t.ratios[c]) ratios.push_back(v ? json(*v) : json());
-        table["device_columns"].push_back({{"column", t.device_columns[c].first},
-                                           {"device", report.devices[t.device_columns[c].second].label},
-                                           {"ratios", ratios},
-                                           {"geomean", t.geomeans[c] ? json(*t.geomeans[c]) : json()}});
-      }
-      table["run_columns"] = json::array();
-      for (std::size_t c = 0; c < t.run_columns.size(); ++c) {
-        json ratios = json::array();
-        for (const auto& v : t.run_ratios[c]) ratios.push_back(v ? json(*v) : json());
-        table["run_columns"].push_back({{"column", t.run_columns[c].first},
-                                        {"run", report.runs[t.run_columns[c].second].label},
-                                        {"ratios", ratios},
-                                        {"geomean", t.run_geomeans[c] ? json(*t.run_geomeans[c]) : json()}});
-      }
+      std::vector<std::string> devices, runs;
+      for (const auto& [column, device] : t.device_columns) devices.push_back(report.devices[device].label);
+      for (const auto& [column, run] : t.run_columns) runs.push_back(report.runs[run].label);
+      table["device_columns"] = ratio_columns_json("device", t.device_columns, devices, t.ratios, t.geomeans);
+      table["run_columns"] = ratio_columns_json("run", t.run_columns, runs, t.run_ratios, t.run_geomeans);
       if (&t == plotted) suite["plot_table"] = suite["tables"].size();
       suite["tables"].push_back(table);
     }
