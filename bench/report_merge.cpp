@@ -188,7 +188,13 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
   MergedTable m;
   m.table.title = first.title;
   m.table.label_columns = int(label_columns);
-  m.table.left_columns = std::min(first.left_columns, int(label_columns));
+  // Aligned left: the leading columns the first run aligns left, each run's copy of them
+  // included (the peers table's tracer names, one column per run).
+  const std::size_t left_count = std::min(std::size_t(std::max(first.left_columns, 0)), first_keys.size());
+  const std::vector<std::string> left_keys(first_keys.begin(), first_keys.begin() + std::ptrdiff_t(left_count));
+  std::size_t left = 0;
+  while (left < out.size() && std::find(left_keys.begin(), left_keys.end(), out[left].key) != left_keys.end()) ++left;
+  m.table.left_columns = int(left);
   m.table.notes = merged_order(note_orders);
   for (const Column& c : out) m.table.header.push_back(c.header);
   for (const std::string& r : rows) {

@@ -211,6 +211,7 @@ TEST(Report, PeersRowsMatchOnSceneAndRaysWhateverTracerEachRunChose) {
   EXPECT_EQ(m.table.rows[0], (std::vector<std::string>{"bear", "primary", "cpu ref", "cpu ref w8", "0.50x (0.40-0.60)",
                                                        "2.00x (1.50-2.50)"}));
   EXPECT_EQ(m.table.label_columns, 2);
+  EXPECT_EQ(m.table.left_columns, 4); // the labels and each run's tracer names
   // Each run's ratio column has its geometric mean; the tracer columns hold none.
   ASSERT_EQ(m.run_columns.size(), 2u);
   EXPECT_EQ(m.run_columns[0], (std::pair<std::size_t, std::size_t>{4, 0}));
