@@ -79,7 +79,6 @@ int main(int argc, char** argv) {
     AccelOptions accel;
     accel.builder.kind = Builder::Sah4; // the peers suite's build table
     if (argc > 3) accel.nodes = probe::nodes(argv[3]);
-    probe::shape(scene, prims);
     if (prims.curves) accel.curve_isect = CurveIsect::Roving;
     const int builds = argc > 5 ? std::atoi(argv[5]) : 10;
     if (builds < 1) throw std::invalid_argument("builds must be at least 1");

@@ -53,17 +53,23 @@ double mean_radius(const Scene& scene) {
   return n ? sum / double(n) : 0.0;
 }
 
-Scene load_peer_scene(const SuiteConfig& cfg, const PeerScene& ps) {
-  if (ps.file.empty()) return make_default_scene();
-  std::string path = (std::filesystem::path(cfg.data_dir) / ps.file).string();
+Scene shape_peer_scene(Scene scene, bool curves, bool thick) {
+  if (thick) thicken(scene);
+  return curves ? segments_to_curves(scene) : scene;
+}
+
+Scene load_peer_file(const std::string& path, bool curves, bool thick) {
   // The cubics of table1's phantom x1 (bench/suite_hair.cpp make_case): the strands as
   // round cones, chained into Catmull-Rom curves through their points, one Bezier piece
   // per segment. Embree gets these very fp32 control points (embree_peer.cpp).
   LoadOptions lo;
-  if (ps.curves) lo.strand_type = PrimType::RoundCone;
-  Scene scene = load_scene_file(path, lo);
-  if (ps.thick) thicken(scene);
-  return ps.curves ? segments_to_curves(scene) : scene;
+  if (curves) lo.strand_type = PrimType::RoundCone;
+  return shape_peer_scene(load_scene_file(path, lo), curves, thick);
+}
+
+Scene load_peer_scene(const SuiteConfig& cfg, const PeerScene& ps) {
+  if (ps.file.empty()) return make_default_scene();
+  return load_peer_file((std::filesystem::path(cfg.data_dir) / ps.file).string(), ps.curves, ps.thick);
 }
 
 } // namespace masq

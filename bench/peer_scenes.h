@@ -31,6 +31,15 @@ void thicken(Scene& scene);
 // The mean radius of the scene's round primitives (capsules, round cones, curves).
 double mean_radius(const Scene& scene);
 
+// The scene in a row's form: thickened first (`thick`), then its strands made cubic
+// curves (`curves`).
+Scene shape_peer_scene(Scene scene, bool curves, bool thick);
+
+// A hair file as the rows read it: for curves its strands loaded as round cones (the
+// points the curves are chained through), then shaped (throws masq::Error naming the
+// file). The profiling probes read files through it too.
+Scene load_peer_file(const std::string& path, bool curves, bool thick);
+
 // The scene `ps` names, loaded from cfg.data_dir (throws masq::Error naming the file).
 Scene load_peer_scene(const SuiteConfig& cfg, const PeerScene& ps);
 

@@ -3,9 +3,7 @@
 #pragma once
 #include "bench/peer_scenes.h"
 #include "bvh/options.h"
-#include "scenes/curve_tools.h"
 #include "scenes/generators.h"
-#include "scenes/loaders/load_any.h"
 #include <cstdint>
 #include <initializer_list>
 #include <stdexcept>
@@ -36,20 +34,17 @@ inline Prims prims(const std::string& arg) {
 
 // FILE, or "bundle": the embedded default scene (the peers suite's bundle row);
 // "bundle-hair" and "bundle-ground": that scene with only its strands or only its ground
-// plane, under the same camera (what each part of the bundle row's rays costs). A file
-// whose strands become curves is read as round cones, as load_peer_scene reads it.
+// plane, under the same camera (what each part of the bundle row's rays costs). In the
+// form p names, as the peers suite's rows read it (load_peer_file, shape_peer_scene).
 inline Scene scene(const std::string& arg, Prims p = {}) {
-  if (arg == "bundle") return make_default_scene();
-  if (arg != "bundle-hair" && arg != "bundle-ground") {
-    LoadOptions lo;
-    if (p.curves) lo.strand_type = PrimType::RoundCone;
-    return load_scene_file(arg, lo);
-  }
+  if (arg != "bundle" && arg != "bundle-hair" && arg != "bundle-ground") return load_peer_file(arg, p.curves, p.thick);
   Scene s = make_default_scene();
-  const std::uint32_t kept = arg == "bundle-hair" ? 0 : 1; // make_default_scene: strands, then the ground
-  s.geometries = {s.geometries[kept]};
-  s.instances = {{0, s.instances[kept].object_to_world}};
-  return s;
+  if (arg != "bundle") {
+    const std::uint32_t kept = arg == "bundle-hair" ? 0 : 1; // make_default_scene: strands, then the ground
+    s.geometries = {s.geometries[kept]};
+    s.instances = {{0, s.instances[kept].object_to_world}};
+  }
+  return shape_peer_scene(std::move(s), p.curves, p.thick);
 }
 
 inline Method method(const std::string& arg) {
@@ -59,12 +54,6 @@ inline Method method(const std::string& arg) {
 inline NodeFormat nodes(const std::string& arg) {
   return pick<NodeFormat>("nodes", arg,
                           {{"w4", NodeFormat::W4}, {"w8", NodeFormat::W8}, {"q8", NodeFormat::Q8}, {"o4", NodeFormat::O4}});
-}
-
-// The scene in that form: thickened first, then made curves, as load_peer_scene does.
-inline void shape(Scene& scene, Prims p) {
-  if (p.thick) thicken(scene);
-  if (p.curves) scene = segments_to_curves(scene);
 }
 
 } // namespace masq::probe

@@ -70,7 +70,6 @@ int main(int argc, char** argv) {
     const int traces = argc > 8 ? std::atoi(argv[8]) : 4;
     const int repeat = argc > 10 ? std::atoi(argv[10]) : 1;
     if (width < 1 || traces < 1 || repeat < 1) throw std::invalid_argument("width, traces and repeat must be at least 1");
-    probe::shape(scene, prims);
     BenchOptions opt;
     opt.backends = {"cpu"};
     opt.methods = {method};
