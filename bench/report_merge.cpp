@@ -84,39 +84,33 @@ TableSource index_table(std::size_t run, const Table& t, const std::vector<std::
   return s;
 }
 
-// How many leading columns name a row in every run's copy of a table: the fewest any run
-// declares. A table whose labels were narrowed later (the peers suite's pilot choice is
-// a run's answer, not the row's name) then matches its rows with older runs' on the
-// columns they still share.
-std::size_t common_label_count(const std::vector<TableSource>& sources) {
-  std::size_t n = std::size_t(sources.front().table->row_label_columns());
-  for (const TableSource& s : sources) n = std::min(n, std::size_t(s.table->row_label_columns()));
-  return n;
-}
-
 // Column i's first ratio per row, and their geometric mean (none: no positive ratio).
-void add_column_ratios(const Table& t, std::size_t i, std::vector<std::vector<std::optional<double>>>& ratios,
-                       std::vector<std::optional<double>>& geomeans) {
-  std::vector<std::optional<double>> column;
+struct ColumnRatios {
+  std::vector<std::optional<double>> ratios;
+  std::optional<double> geomean;
+};
+ColumnRatios column_ratios(const Table& t, std::size_t i) {
+  ColumnRatios c;
   double log_sum = 0;
   int count = 0;
   for (const auto& row : t.rows) {
-    column.push_back(first_ratio(row[i]));
-    if (column.back() && *column.back() > 0) {
-      log_sum += std::log(*column.back());
+    c.ratios.push_back(first_ratio(row[i]));
+    if (c.ratios.back() && *c.ratios.back() > 0) {
+      log_sum += std::log(*c.ratios.back());
       ++count;
     }
   }
-  ratios.push_back(std::move(column));
-  geomeans.push_back(count ? std::optional<double>(std::exp(log_sum / count)) : std::nullopt);
+  if (count) c.geomean = std::exp(log_sum / count);
+  return c;
 }
 
 using DeviceIndex = std::map<std::pair<std::size_t, std::string>, std::size_t>; // (run, backend) -> device
 
-MergedTable merge_table(const std::vector<TableSource>& sources, const std::vector<ReportRun>& runs,
-                        const std::vector<ReportDevice>& devices, const DeviceIndex& device_of) {
+// label_count: how many leading columns name a row in every source (merge_runs).
+MergedTable merge_table(const std::vector<TableSource>& sources, std::size_t label_count,
+                        const std::vector<ReportRun>& runs, const std::vector<ReportDevice>& devices,
+                        const DeviceIndex& device_of) {
   const Table& first = *sources.front().table;
-  const std::size_t label_count = common_label_count(sources);
   std::vector<std::vector<std::string>> column_orders, row_orders, note_orders;
   for (const TableSource& s : sources) {
     column_orders.push_back(s.column_keys);
@@ -126,8 +120,7 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
   const std::vector<std::string> columns = merged_order(column_orders);
   const std::vector<std::string> rows = merged_order(row_orders);
   const std::vector<std::string>& first_keys = sources.front().column_keys;
-  const std::vector<std::string> label_keys(first_keys.begin(),
-                                            first_keys.begin() + std::ptrdiff_t(std::min(label_count, first_keys.size())));
+  const std::vector<std::string> label_keys(first_keys.begin(), first_keys.begin() + std::ptrdiff_t(label_count));
 
   // Each merged column: its header and how a row's cell is found.
   struct Column {
@@ -215,18 +208,16 @@ MergedTable merge_table(const std::vector<TableSource>& sources, const std::vect
     m.table.rows.push_back(std::move(row));
   }
   for (std::size_t i = 0; i < out.size(); ++i) {
+    if (!out[i].device && !out[i].run) continue;
+    ColumnRatios c = column_ratios(m.table, i);
     if (out[i].device) {
       m.device_columns.emplace_back(i, *out[i].device);
-      add_column_ratios(m.table, i, m.ratios, m.geomeans);
-    } else if (out[i].run) {
-      std::size_t before = m.run_ratios.size();
-      add_column_ratios(m.table, i, m.run_ratios, m.run_geomeans);
-      if (m.run_geomeans.back()) {
-        m.run_columns.emplace_back(i, *out[i].run);
-      } else { // no ratio in it (a run's tracer names, its rays/s): not a ratio column
-        m.run_ratios.resize(before);
-        m.run_geomeans.resize(before);
-      }
+      m.ratios.push_back(std::move(c.ratios));
+      m.geomeans.push_back(c.geomean);
+    } else if (c.geomean) { // a run's column without a ratio (its tracer names, rays/s) is left out
+      m.run_columns.emplace_back(i, *out[i].run);
+      m.run_ratios.push_back(std::move(c.ratios));
+      m.run_geomeans.push_back(c.geomean);
     }
   }
   return m;
@@ -313,9 +304,11 @@ MergedReport merge_runs(std::vector<ReportRun> runs) {
       title_orders.push_back(numbered(titles));
     }
     for (const std::string& title : merged_order(title_orders)) {
-      std::vector<TableSource> sources;
+      // Rows are named by as many leading columns as every run's copy declares: the fewest.
+      // A table whose labels were narrowed later (the peers suite's pilot choice is a run's
+      // answer, not the row's name) then matches older runs' rows on the columns they share.
       std::vector<std::pair<std::size_t, const Table*>> tables; // (run, its copy of the table)
-      std::vector<std::string> label_headers;                   // the fewest any copy declares
+      std::vector<std::string> label_headers;
       for (std::size_t h = 0; h < having.size(); ++h) {
         auto it = std::find(title_orders[h].begin(), title_orders[h].end(), title);
         if (it == title_orders[h].end()) continue;
@@ -324,8 +317,9 @@ MergedReport merge_runs(std::vector<ReportRun> runs) {
           label_headers.assign(t.header.begin(), t.header.begin() + t.row_label_columns());
         tables.emplace_back(having[h].first, &t);
       }
+      std::vector<TableSource> sources;
       for (const auto& [run, t] : tables) sources.push_back(index_table(run, *t, label_headers));
-      merged.tables.push_back(merge_table(sources, report.runs, report.devices, device_of));
+      merged.tables.push_back(merge_table(sources, label_headers.size(), report.runs, report.devices, device_of));
     }
     report.suites.push_back(std::move(merged));
   }
