@@ -72,12 +72,15 @@ BallHull::Pair world_support_pair(const BallHull& h, const Affine3& xf, const gl
   return {p.plus + shift, p.minus - shift};
 }
 
+double decoded_scale(const kernel::MasqInstance& c, int i) {
+  return bf16_value(i == 0 ? c.s01 << 16 : i == 1 ? c.s01 & 0xFFFF0000u : c.s2_owner & 0xFFFF0000u);
+}
+
 Affine3 decode_with(const QuatMatrix& q, const kernel::MasqInstance& c) {
-  const double sigma[3] = {bf16_value(c.s01 << 16), bf16_value(c.s01 & 0xFFFF0000u),
-                           bf16_value(c.s2_owner & 0xFFFF0000u)};
   Affine3 m;
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) m.linear[j][i] = sigma[i] * q.n[i][j]; // M_ij = sigma_i N_ji
+    const double sigma = decoded_scale(c, i);
+    for (int j = 0; j < 3; ++j) m.linear[j][i] = sigma * q.n[i][j]; // M_ij = sigma_i N_ji
     m.translation[i] = c.t[i];
   }
   return m;

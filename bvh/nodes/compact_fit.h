@@ -29,6 +29,8 @@ struct QuatMatrix {
 };
 QuatMatrix quat_matrix(std::int64_t x, std::int64_t y, std::int64_t z, std::int64_t w);
 
+// Scale sigma_i of an entry, as the kernel decodes it.
+double decoded_scale(const kernel::MasqInstance& c, int i);
 // The decoded map of an entry whose quaternion's matrix is q.
 Affine3 decode_with(const QuatMatrix& q, const kernel::MasqInstance& c);
 

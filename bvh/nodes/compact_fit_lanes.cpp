@@ -26,7 +26,12 @@ typedef double D4 __attribute__((vector_size(32)));
 typedef std::int64_t L4 __attribute__((vector_size(32)));
 
 D4 splat(double x) { return D4{x, x, x, x}; }
-D4 lane_max(D4 a, D4 b) { return a < b ? b : a; } // std::max(a, b)
+// The four lanes get(0..3), built in registers. Writing a vector held in memory lane by
+// lane and then reading it whole stalled each read on the four narrow stores (perf: the
+// first operations on such vectors were the fit's hottest instructions).
+template <class Get> D4 lanes_of(Get get) { return D4{get(0), get(1), get(2), get(3)}; }
+D4 lane_max(D4 a, D4 b) { return a < b ? b : a; } // std::max(a, b), glm::max
+D4 lane_min(D4 a, D4 b) { return b < a ? b : a; } // glm::min(a, b)
 D4 lane_abs(D4 a) { return D4(L4(a) & L4{INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX}); } // std::abs
 // std::sqrt and std::trunc lane by lane: one instruction each with AVX (correctly
 // rounded and exact, as the scalar ones), else the scalar calls.
@@ -104,23 +109,39 @@ void lane_support_pair(const LaneFits& lf, const Affine3& xf, const D4 v[3], D4&
 void fit_extent_lanes(CompactFit* const* f, int n, const Affine3& xf) {
   LaneFits lf;
   for (int l = 0; l < n; ++l) lf.balls = std::max(lf.balls, f[l]->h.count);
-  for (int l = 0; l < 4; ++l) {
-    CompactFit& a = *f[l < n ? l : 0]; // spare lanes repeat lane 0
-    if (l < n) {
-      a.exact = hull_world_box(a.h, xf);
-      a.reach = glm::max(glm::abs(a.exact.lo), glm::abs(a.exact.hi)); // X_j
-    }
-    // A hull of fewer balls repeats its first: the support's max is the same number.
-    for (int b = 0; b < lf.balls; ++b) {
-      const std::size_t from = std::size_t(b < a.h.count ? b : 0);
-      for (int j = 0; j < 3; ++j) lf.centre_of_ball[b][j][l] = a.h.centre[from][j];
-      lf.radius[b][l] = a.h.radius[from];
-    }
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) lf.n[i][j][l] = a.q.n[i][j];
-    lf.norm2[l] = a.q.norm2;
-    for (int j = 0; j < 3; ++j) lf.reach[j][l] = a.reach[j];
+  auto fit = [&](int l) -> const CompactFit& { return *f[l < n ? l : 0]; }; // spare lanes repeat lane 0
+  // A hull of fewer balls repeats its first: the support's max is the same number.
+  for (int b = 0; b < lf.balls; ++b) {
+    auto from = [&](int l) { return std::size_t(b < fit(l).h.count ? b : 0); };
+    for (int j = 0; j < 3; ++j) lf.centre_of_ball[b][j] = lanes_of([&](int l) { return fit(l).h.centre[from(l)][j]; });
+    lf.radius[b] = lanes_of([&](int l) { return fit(l).h.radius[from(l)]; });
   }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) lf.n[i][j] = lanes_of([&](int l) { return fit(l).q.n[i][j]; });
+  lf.norm2 = lanes_of([&](int l) { return fit(l).q.norm2; });
+  // hull_world_box's operations in lanes (the map's row lengths once for the block): each
+  // ball's centre mapped, grown by its radius times the row lengths. A lane's repeated
+  // first ball changes no bit of its box.
+  glm::dvec3 row_len;
+  for (int k = 0; k < 3; ++k) row_len[k] = glm::length(glm::dvec3(xf.linear[0][k], xf.linear[1][k], xf.linear[2][k]));
+  D4 lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) lo[k] = splat(INFINITY), hi[k] = splat(-INFINITY);
+  for (int b = 0; b < lf.balls; ++b) {
+    D4 c[3];
+    lane_times(xf.linear, lf.centre_of_ball[b], c);
+    for (int k = 0; k < 3; ++k) {
+      c[k] = c[k] + splat(xf.translation[k]);
+      const D4 r = lf.radius[b] * splat(row_len[k]);
+      lo[k] = lane_min(lo[k], c[k] - r);
+      hi[k] = lane_max(hi[k], c[k] + r);
+    }
+  }
+  for (int k = 0; k < 3; ++k) lf.reach[k] = lane_max(lane_abs(lo[k]), lane_abs(hi[k])); // X_j
+  for (int l = 0; l < n; ++l)
+    for (int k = 0; k < 3; ++k) {
+      f[l]->exact.lo[k] = lo[k][l], f[l]->exact.hi[k] = hi[k][l];
+      f[l]->reach[k] = lf.reach[k][l];
+    }
   for (int j = 0; j < 3; ++j) lf.centre[j] = splat(0.0);
   for (int i = 0; i < 3; ++i) {
     const D4 e[3] = {lf.n[i][0] / lf.norm2, lf.n[i][1] / lf.norm2, lf.n[i][2] / lf.norm2};
@@ -136,19 +157,13 @@ void fit_extent_lanes(CompactFit* const* f, int n, const Affine3& xf) {
   for (int i = 0; i < 3; ++i) {
     const D4 inv = splat(1.0) / (lf.half[i] * lf.norm2);
     std::uint32_t b[4];
-    D4 s;
-    for (int l = 0; l < 4; ++l) {
-      b[l] = bf16_down(inv[l]);
-      s[l] = bf16_value(b[l]);
-    }
+    for (int l = 0; l < 4; ++l) b[l] = bf16_down(inv[l]);
+    const D4 s = lanes_of([&](int l) { return bf16_value(b[l]); });
     const D4 row[3] = {s * lf.n[i][0], s * lf.n[i][1], s * lf.n[i][2]};
     const D4 dot = lane_dot(row, lf.centre);
     float t[4];
-    D4 td;
-    for (int l = 0; l < 4; ++l) {
-      t[l] = float(-dot[l]);
-      td[l] = double(t[l]);
-    }
+    for (int l = 0; l < 4; ++l) t[l] = float(-dot[l]);
+    const D4 td = lanes_of([&](int l) { return double(t[l]); });
     D4 plus, minus;
     lane_support_pair(lf, xf, row, plus, minus);
     const D4 ext = lane_max(lane_abs(plus + td), lane_abs(-minus + td));
@@ -182,10 +197,11 @@ void fit_axes_lanes(CompactFit* const* f, int n, const Geometry& g, const std::i
     for (int l = 0; l < n; ++l) fit_axes(*f[l], g, xf);
     return;
   }
+  auto hull = [&](int l) -> const BallHull& { return f[l < n ? l : 0]->h; }; // spare lanes repeat lane 0
   D4 c0[3], c1[3];
-  for (int l = 0; l < 4; ++l) {
-    const BallHull& h = f[l < n ? l : 0]->h; // spare lanes repeat lane 0
-    for (int k = 0; k < 3; ++k) c0[k][l] = h.centre[0][k], c1[k][l] = h.centre[1][k];
+  for (int k = 0; k < 3; ++k) {
+    c0[k] = lanes_of([&](int l) { return hull(l).centre[0][k]; });
+    c1[k] = lanes_of([&](int l) { return hull(l).centre[1][k]; });
   }
   // main_axis: the chord over its length where that is positive, else +z.
   const D4 d[3] = {c1[0] - c0[0], c1[1] - c0[1], c1[2] - c0[2]};
@@ -218,10 +234,11 @@ void fit_axes_lanes(CompactFit* const* f, int n, const Geometry& g, const std::i
 // The second world axis (Gram-Schmidt), the third (a cross product), then the rotation's
 // quaternion (Shepperd: the case of each lane picked per lane), rounded to 16 bits.
 void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
+  auto fit = [&](int l) -> const CompactFit& { return *f[l < n ? l : 0]; }; // spare lanes repeat lane 0
   D4 a0[3], v[3];
-  for (int l = 0; l < 4; ++l) {
-    const CompactFit& a = *f[l < n ? l : 0]; // spare lanes repeat lane 0
-    for (int j = 0; j < 3; ++j) a0[j][l] = a.a0[j], v[j][l] = a.axes[1][j];
+  for (int j = 0; j < 3; ++j) {
+    a0[j] = lanes_of([&](int l) { return fit(l).a0[j]; });
+    v[j] = lanes_of([&](int l) { return fit(l).axes[1][j]; });
   }
   D4 a1[3];
   lane_times(xf.linear, v, a1);
@@ -243,21 +260,21 @@ void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
   const D4* num[4][4] = {{&d21, &d02, &d10, &d21}, {&d21, &s01, &s02, &d21}, {&s01, &s01, &s12, &d02},
                          {&s02, &s12, &s12, &d10}};
   int kase[4];
-  D4 pick_arg, nx, ny, nz, nw;
   for (int l = 0; l < 4; ++l) {
     const bool diag0 = r(0, 0)[l] > r(1, 1)[l] && r(0, 0)[l] > r(2, 2)[l];
     kase[l] = tr[l] > 0.0 ? 0 : diag0 ? 1 : r(1, 1)[l] > r(2, 2)[l] ? 2 : 3;
-    pick_arg[l] = arg[kase[l]][l];
-    nx[l] = (*num[kase[l]][0])[l], ny[l] = (*num[kase[l]][1])[l], nz[l] = (*num[kase[l]][2])[l];
-    nw[l] = (*num[kase[l]][3])[l];
   }
+  const D4 pick_arg = lanes_of([&](int l) { return arg[kase[l]][l]; });
+  auto numerator = [&](int k) { return lanes_of([&](int l) { return (*num[kase[l]][k])[l]; }); };
   const D4 s = splat(2.0) * lane_sqrt(pick_arg);
   const D4 quarter = splat(0.25) * s;
-  D4 x = nx / s, y = ny / s, z = nz / s, w = nw / s;
-  for (int l = 0; l < 4; ++l) {
-    D4* slot[4] = {&w, &x, &y, &z}; // case k's 0.25 s
-    (*slot[kase[l]])[l] = quarter[l];
-  }
+  // Component k of (w, x, y, z) is 0.25 s in the lanes of case k, its numerator over s
+  // in the others.
+  auto component = [&](int k, const D4& over_s) {
+    return lanes_of([&](int l) { return kase[l] == k ? quarter[l] : over_s[l]; });
+  };
+  const D4 w = component(0, numerator(3) / s), x = component(1, numerator(0) / s), y = component(2, numerator(1) / s),
+           z = component(3, numerator(2) / s);
   const D4 len = lane_sqrt(x * x + y * y + z * z + w * w);
   const D4 scale = splat(double(kQuatScale));
   const D4 qi[4] = {lane_round_half_away(x / len * scale), lane_round_half_away(y / len * scale),
@@ -279,15 +296,13 @@ void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
 // intersection with the exact box, the crosses of the OBB's area). The boxes are written
 // in place: copies of them were a few percent of a build.
 void complete_lanes(CompactFit* const* f, int n, MasqueradeBox* const* out, bool* ok) {
-  Affine3 w2u[4];
+  // decode_with in lanes: M_ij = sigma_i N_ji (m[j][i], glm's column j), t as stored.
+  auto fit = [&](int l) -> const CompactFit& { return *f[l < n ? l : 0]; }; // spare lanes repeat lane 0
   D4 m[3][3], t[3];
-  for (int l = 0; l < 4; ++l) {
-    const CompactFit& a = *f[l < n ? l : 0]; // spare lanes repeat lane 0
-    w2u[l] = decode_with(a.q, a.c);
-    for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 3; ++r) m[c][r][l] = w2u[l].linear[c][r];
-      t[c][l] = w2u[l].translation[c];
-    }
+  for (int i = 0; i < 3; ++i) {
+    const D4 sigma = lanes_of([&](int l) { return decoded_scale(fit(l).c, i); });
+    for (int j = 0; j < 3; ++j) m[j][i] = sigma * lanes_of([&](int l) { return fit(l).q.n[i][j]; });
+    t[i] = lanes_of([&](int l) { return double(fit(l).c.t[i]); });
   }
   // glm::inverse of a 3x3 matrix, then inverse()'s translation -(L^-1 t).
   const D4 one_over_det = splat(1.0) / (m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) -
@@ -331,7 +346,12 @@ void complete_lanes(CompactFit* const* f, int n, MasqueradeBox* const* out, bool
       for (int r = 0; r < 3; ++r) u2w.linear[c][r] = u[c][r][l];
       u2w.translation[c] = ut[c][l];
     }
-    box.world_to_unit = to_mat3x4f(w2u[l]);
+    Affine3 w2u;
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) w2u.linear[c][r] = m[c][r][l];
+      w2u.translation[c] = t[c][l];
+    }
+    box.world_to_unit = to_mat3x4f(w2u);
     box.unit_to_world = to_mat3x4f(u2w);
     Aabb corners;
     for (int k = 0; k < 3; ++k) corners.lo[k] = lo[k][l], corners.hi[k] = hi[k][l];
