@@ -279,6 +279,17 @@ void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
   const D4 scale = splat(double(kQuatScale));
   const D4 qi[4] = {lane_round_half_away(x / len * scale), lane_round_half_away(y / len * scale),
                     lane_round_half_away(z / len * scale), lane_round_half_away(w / len * scale)};
+  // quat_matrix in lanes: the components are integers of at most 2^15 in magnitude, so
+  // every product and sum below is an integer under 2^53, exact in double: the values of
+  // its int64 arithmetic, in its order.
+  const D4 &x_i = qi[0], &y_i = qi[1], &z_i = qi[2], &w_i = qi[3];
+  const D4 xx = x_i * x_i, yy = y_i * y_i, zz = z_i * z_i, ww = w_i * w_i;
+  const D4 xy = x_i * y_i, xz = x_i * z_i, yz = y_i * z_i, wx = w_i * x_i, wy = w_i * y_i, wz = w_i * z_i;
+  const D4 two = splat(2.0);
+  const D4 rows[3][3] = {{ww + xx - yy - zz, two * (xy - wz), two * (xz + wy)},
+                         {two * (xy + wz), ww - xx + yy - zz, two * (yz - wx)},
+                         {two * (xz - wy), two * (yz + wx), ww - xx - yy + zz}};
+  const D4 norm2 = xx + yy + zz + ww;
   for (int l = 0; l < n; ++l) {
     CompactFit& a = *f[l];
     if (!std::isfinite(a2[0][l]) || !std::isfinite(a2[1][l]) || !std::isfinite(a2[2][l])) {
@@ -286,7 +297,9 @@ void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
       continue;
     }
     for (int k = 0; k < 4; ++k) a.qi[std::size_t(k)] = std::int64_t(qi[k][l]);
-    a.q = quat_matrix(a.qi[0], a.qi[1], a.qi[2], a.qi[3]);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) a.q.n[c][r] = rows[r][c][l];
+    a.q.norm2 = norm2[l];
     // The kernel's int32 arithmetic needs |N_ij| <= |q|^2 < 2^31 (|q|^2 ~ 32767^2 here).
     if (!(a.q.norm2 > 0.0) || a.q.norm2 >= 2147483647.0) a.live = false;
   }
