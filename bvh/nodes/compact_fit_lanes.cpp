@@ -24,6 +24,7 @@ namespace {
 // tests/test_compact_instance.cpp's random maps still fit conservatively.
 typedef double D4 __attribute__((vector_size(32)));
 typedef std::int64_t L4 __attribute__((vector_size(32)));
+typedef float F4 __attribute__((vector_size(16)));
 
 D4 splat(double x) { return D4{x, x, x, x}; }
 // The four lanes get(0..3), built in registers. Writing a vector held in memory lane by
@@ -351,21 +352,24 @@ void complete_lanes(CompactFit* const* f, int n, MasqueradeBox* const* out, bool
     return lane_sqrt(lane_dot(c, c));
   };
   const D4 obb_area = splat(8.0) * (cross_length(0, 1) + cross_length(1, 2) + cross_length(2, 0));
+  // to_mat3x4f of both maps in lanes (row r: column c's entries, then the translation's):
+  // a vector conversion rounds each lane to nearest, as float(x) does.
+  F4 w2u[12], u2w[12];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      w2u[4 * r + c] = __builtin_convertvector(m[c][r], F4);
+      u2w[4 * r + c] = __builtin_convertvector(u[c][r], F4);
+    }
+    w2u[4 * r + 3] = __builtin_convertvector(t[r], F4);
+    u2w[4 * r + 3] = __builtin_convertvector(ut[r], F4);
+  }
   for (int l = 0; l < n; ++l) {
     const Aabb& exact = f[l]->exact;
     MasqueradeBox& box = *out[l];
-    Affine3 u2w;
-    for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 3; ++r) u2w.linear[c][r] = u[c][r][l];
-      u2w.translation[c] = ut[c][l];
+    for (int k = 0; k < 12; ++k) {
+      box.world_to_unit[std::size_t(k)] = w2u[k][l];
+      box.unit_to_world[std::size_t(k)] = u2w[k][l];
     }
-    Affine3 w2u;
-    for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 3; ++r) w2u.linear[c][r] = m[c][r][l];
-      w2u.translation[c] = t[c][l];
-    }
-    box.world_to_unit = to_mat3x4f(w2u);
-    box.unit_to_world = to_mat3x4f(u2w);
     Aabb corners;
     for (int k = 0; k < 3; ++k) corners.lo[k] = lo[k][l], corners.hi[k] = hi[k][l];
     box.world_box = Aabb::intersect(exact, corners);
