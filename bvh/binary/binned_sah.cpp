@@ -75,9 +75,10 @@ struct Box4 {
     hi = vmax(hi, p);
   }
   Aabb aabb() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
-  // Aabb::area, the same operations.
-  double area() const {
-    if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return 0.0;
+  // Aabb::area of a box that is not empty, the same operations (references_of takes
+  // only boxes with lo <= hi, so a union of references is one: Aabb::area's emptiness
+  // test would always pass).
+  double area_of_nonempty() const {
     D4 e = hi - lo;
     return 2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
   }
@@ -251,7 +252,7 @@ Split find_split(const Input& in, Bins& bins, const Box4& cbox) {
     for (int j = m - 1; j > 0; --j) {
       acc.grow(bin_box[used[j]]);
       n += bin_count[used[j]];
-      right_area[j] = acc.area();
+      right_area[j] = acc.area_of_nonempty();
       right_count[j] = n;
     }
     acc = Box4{};
@@ -259,7 +260,7 @@ Split find_split(const Input& in, Bins& bins, const Box4& cbox) {
     for (int j = 0; j + 1 < m; ++j) {
       acc.grow(bin_box[used[j]]);
       n += bin_count[used[j]];
-      double cost = acc.area() * blocks(n, in) + right_area[j + 1] * blocks(right_count[j + 1], in);
+      double cost = acc.area_of_nonempty() * blocks(n, in) + right_area[j + 1] * blocks(right_count[j + 1], in);
       if (cost < best.cost) best = {axis, used[j], cost};
     }
     for (int j = 0; j < m; ++j) {
