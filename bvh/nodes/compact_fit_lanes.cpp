@@ -31,6 +31,9 @@ D4 splat(double x) { return D4{x, x, x, x}; }
 // lane and then reading it whole stalled each read on the four narrow stores (perf: the
 // first operations on such vectors were the fit's hottest instructions).
 template <class Get> D4 lanes_of(Get get) { return D4{get(0), get(1), get(2), get(3)}; }
+// Lane l's fit of a block of n: the spare lanes of a block of fewer than four repeat
+// lane 0.
+const CompactFit& lane_fit(CompactFit* const* f, int n, int l) { return *f[l < n ? l : 0]; }
 D4 lane_max(D4 a, D4 b) { return a < b ? b : a; } // std::max(a, b), glm::max
 D4 lane_min(D4 a, D4 b) { return b < a ? b : a; } // glm::min(a, b)
 D4 lane_abs(D4 a) { return D4(L4(a) & L4{INT64_MAX, INT64_MAX, INT64_MAX, INT64_MAX}); } // std::abs
@@ -110,37 +113,37 @@ void lane_support_pair(const LaneFits& lf, const Affine3& xf, const D4 v[3], D4&
 void fit_extent_lanes(CompactFit* const* f, int n, const Affine3& xf) {
   LaneFits lf;
   for (int l = 0; l < n; ++l) lf.balls = std::max(lf.balls, f[l]->h.count);
-  auto fit = [&](int l) -> const CompactFit& { return *f[l < n ? l : 0]; }; // spare lanes repeat lane 0
   // A hull of fewer balls repeats its first: the support's max is the same number.
   for (int b = 0; b < lf.balls; ++b) {
-    auto from = [&](int l) { return std::size_t(b < fit(l).h.count ? b : 0); };
-    for (int j = 0; j < 3; ++j) lf.centre_of_ball[b][j] = lanes_of([&](int l) { return fit(l).h.centre[from(l)][j]; });
-    lf.radius[b] = lanes_of([&](int l) { return fit(l).h.radius[from(l)]; });
+    auto from = [&](int l) { return std::size_t(b < lane_fit(f, n, l).h.count ? b : 0); };
+    for (int j = 0; j < 3; ++j)
+      lf.centre_of_ball[b][j] = lanes_of([&](int l) { return lane_fit(f, n, l).h.centre[from(l)][j]; });
+    lf.radius[b] = lanes_of([&](int l) { return lane_fit(f, n, l).h.radius[from(l)]; });
   }
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) lf.n[i][j] = lanes_of([&](int l) { return fit(l).q.n[i][j]; });
-  lf.norm2 = lanes_of([&](int l) { return fit(l).q.norm2; });
+    for (int j = 0; j < 3; ++j) lf.n[i][j] = lanes_of([&](int l) { return lane_fit(f, n, l).q.n[i][j]; });
+  lf.norm2 = lanes_of([&](int l) { return lane_fit(f, n, l).q.norm2; });
   // hull_world_box's operations in lanes (the map's row lengths once for the block): each
   // ball's centre mapped, grown by its radius times the row lengths. A lane's repeated
   // first ball changes no bit of its box.
   glm::dvec3 row_len;
   for (int k = 0; k < 3; ++k) row_len[k] = glm::length(glm::dvec3(xf.linear[0][k], xf.linear[1][k], xf.linear[2][k]));
-  D4 lo[3], hi[3];
-  for (int k = 0; k < 3; ++k) lo[k] = splat(INFINITY), hi[k] = splat(-INFINITY);
+  D4 box_lo[3], box_hi[3]; // the hulls' world boxes
+  for (int k = 0; k < 3; ++k) box_lo[k] = splat(INFINITY), box_hi[k] = splat(-INFINITY);
   for (int b = 0; b < lf.balls; ++b) {
     D4 c[3];
     lane_times(xf.linear, lf.centre_of_ball[b], c);
     for (int k = 0; k < 3; ++k) {
       c[k] = c[k] + splat(xf.translation[k]);
       const D4 r = lf.radius[b] * splat(row_len[k]);
-      lo[k] = lane_min(lo[k], c[k] - r);
-      hi[k] = lane_max(hi[k], c[k] + r);
+      box_lo[k] = lane_min(box_lo[k], c[k] - r);
+      box_hi[k] = lane_max(box_hi[k], c[k] + r);
     }
   }
-  for (int k = 0; k < 3; ++k) lf.reach[k] = lane_max(lane_abs(lo[k]), lane_abs(hi[k])); // X_j
+  for (int k = 0; k < 3; ++k) lf.reach[k] = lane_max(lane_abs(box_lo[k]), lane_abs(box_hi[k])); // X_j
   for (int l = 0; l < n; ++l)
     for (int k = 0; k < 3; ++k) {
-      f[l]->exact.lo[k] = lo[k][l], f[l]->exact.hi[k] = hi[k][l];
+      f[l]->exact.lo[k] = box_lo[k][l], f[l]->exact.hi[k] = box_hi[k][l];
       f[l]->reach[k] = lf.reach[k][l];
     }
   for (int j = 0; j < 3; ++j) lf.centre[j] = splat(0.0);
@@ -198,11 +201,10 @@ void fit_axes_lanes(CompactFit* const* f, int n, const Geometry& g, const std::i
     for (int l = 0; l < n; ++l) fit_axes(*f[l], g, xf);
     return;
   }
-  auto hull = [&](int l) -> const BallHull& { return f[l < n ? l : 0]->h; }; // spare lanes repeat lane 0
   D4 c0[3], c1[3];
   for (int k = 0; k < 3; ++k) {
-    c0[k] = lanes_of([&](int l) { return hull(l).centre[0][k]; });
-    c1[k] = lanes_of([&](int l) { return hull(l).centre[1][k]; });
+    c0[k] = lanes_of([&](int l) { return lane_fit(f, n, l).h.centre[0][k]; });
+    c1[k] = lanes_of([&](int l) { return lane_fit(f, n, l).h.centre[1][k]; });
   }
   // main_axis: the chord over its length where that is positive, else +z.
   const D4 d[3] = {c1[0] - c0[0], c1[1] - c0[1], c1[2] - c0[2]};
@@ -235,11 +237,10 @@ void fit_axes_lanes(CompactFit* const* f, int n, const Geometry& g, const std::i
 // The second world axis (Gram-Schmidt), the third (a cross product), then the rotation's
 // quaternion (Shepperd: the case of each lane picked per lane), rounded to 16 bits.
 void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
-  auto fit = [&](int l) -> const CompactFit& { return *f[l < n ? l : 0]; }; // spare lanes repeat lane 0
   D4 a0[3], v[3];
   for (int j = 0; j < 3; ++j) {
-    a0[j] = lanes_of([&](int l) { return fit(l).a0[j]; });
-    v[j] = lanes_of([&](int l) { return fit(l).axes[1][j]; });
+    a0[j] = lanes_of([&](int l) { return lane_fit(f, n, l).a0[j]; });
+    v[j] = lanes_of([&](int l) { return lane_fit(f, n, l).axes[1][j]; });
   }
   D4 a1[3];
   lane_times(xf.linear, v, a1);
@@ -298,8 +299,8 @@ void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
       continue;
     }
     for (int k = 0; k < 4; ++k) a.qi[std::size_t(k)] = std::int64_t(qi[k][l]);
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) a.q.n[c][r] = rows[r][c][l];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) a.q.n[j][i] = rows[i][j][l]; // QuatMatrix::n[column][row]
     a.q.norm2 = norm2[l];
     // The kernel's int32 arithmetic needs |N_ij| <= |q|^2 < 2^31 (|q|^2 ~ 32767^2 here).
     if (!(a.q.norm2 > 0.0) || a.q.norm2 >= 2147483647.0) a.live = false;
@@ -311,12 +312,11 @@ void fit_rotation_lanes(CompactFit* const* f, int n, const Affine3& xf) {
 // in place: copies of them were a few percent of a build.
 void complete_lanes(CompactFit* const* f, int n, MasqueradeBox* const* out, bool* ok) {
   // decode_with in lanes: M_ij = sigma_i N_ji (m[j][i], glm's column j), t as stored.
-  auto fit = [&](int l) -> const CompactFit& { return *f[l < n ? l : 0]; }; // spare lanes repeat lane 0
   D4 m[3][3], t[3];
   for (int i = 0; i < 3; ++i) {
-    const D4 sigma = lanes_of([&](int l) { return decoded_scale(fit(l).c, i); });
-    for (int j = 0; j < 3; ++j) m[j][i] = sigma * lanes_of([&](int l) { return fit(l).q.n[i][j]; });
-    t[i] = lanes_of([&](int l) { return double(fit(l).c.t[i]); });
+    const D4 sigma = lanes_of([&](int l) { return decoded_scale(lane_fit(f, n, l).c, i); });
+    for (int j = 0; j < 3; ++j) m[j][i] = sigma * lanes_of([&](int l) { return lane_fit(f, n, l).q.n[i][j]; });
+    t[i] = lanes_of([&](int l) { return double(lane_fit(f, n, l).c.t[i]); });
   }
   // glm::inverse of a 3x3 matrix, then inverse()'s translation -(L^-1 t).
   const D4 one_over_det = splat(1.0) / (m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) -
