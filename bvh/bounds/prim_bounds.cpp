@@ -71,9 +71,15 @@ Aabb hull_box(const BallHull& h) {
   return b;
 }
 
-Aabb hull_world_box(const BallHull& h, const Affine3& xf) {
+glm::dvec3 row_lengths(const Affine3& xf) {
   glm::dvec3 row_len;
   for (int k = 0; k < 3; ++k) row_len[k] = glm::length(glm::dvec3(xf.linear[0][k], xf.linear[1][k], xf.linear[2][k]));
+  return row_len;
+}
+
+Aabb hull_world_box(const BallHull& h, const Affine3& xf) { return hull_world_box(h, xf, row_lengths(xf)); }
+
+Aabb hull_world_box(const BallHull& h, const Affine3& xf, const glm::dvec3& row_len) {
   Aabb b;
   for (int i = 0; i < h.count; ++i) {
     glm::dvec3 c = xf.apply_point(h.centre[i]);

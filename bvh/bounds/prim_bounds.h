@@ -39,6 +39,10 @@ BallHull prim_hull(const PackedScene& s, int geom, int prim);
 // image of a ball is an ellipsoid with support r * |row_k(L)| on axis k).
 Aabb hull_box(const BallHull& h);
 Aabb hull_world_box(const BallHull& h, const Affine3& object_to_world);
+// The same, given row_lengths(object_to_world): the lengths of its linear part's rows,
+// found once for many hulls under one map.
+Aabb hull_world_box(const BallHull& h, const Affine3& object_to_world, const glm::dvec3& row_len);
+glm::dvec3 row_lengths(const Affine3& object_to_world);
 
 // The largest radius in the hull (the primitive's thickness scale).
 double hull_max_radius(const BallHull& h);

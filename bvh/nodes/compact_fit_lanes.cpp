@@ -126,8 +126,7 @@ void fit_extent_lanes(CompactFit* const* f, int n, const Affine3& xf) {
   // hull_world_box's operations in lanes (the map's row lengths once for the block): each
   // ball's centre mapped, grown by its radius times the row lengths. A lane's repeated
   // first ball changes no bit of its box.
-  glm::dvec3 row_len;
-  for (int k = 0; k < 3; ++k) row_len[k] = glm::length(glm::dvec3(xf.linear[0][k], xf.linear[1][k], xf.linear[2][k]));
+  const glm::dvec3 row_len = row_lengths(xf);
   D4 box_lo[3], box_hi[3]; // the hulls' world boxes
   for (int k = 0; k < 3; ++k) box_lo[k] = splat(INFINITY), box_hi[k] = splat(-INFINITY);
   for (int b = 0; b < lf.balls; ++b) {

@@ -48,7 +48,8 @@ ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& 
     Mat3x4f frame = frame_matrix(ps, si);
     Mat3x4f w2l = to_mat3x4f(compose(object_to_local, from_mat3x4f(frame)));
     Affine3 realised = realised_object_to_local(w2l, frame);
-    for (std::size_t m = 0; m < hulls.size(); ++m) local[m].grow(hull_world_box(hulls[m], realised));
+    const glm::dvec3 row_len = row_lengths(realised);
+    for (std::size_t m = 0; m < hulls.size(); ++m) local[m].grow(hull_world_box(hulls[m], realised, row_len));
     out.stored.push_back(w2l);
   }
   for (const Aabb& b : local)
@@ -69,9 +70,10 @@ ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& 
     const Affine3& o2w = scene.instances[std::size_t(scene_insts[k])].object_to_world;
     const Affine3 l2w = inverse(from_mat3x4f(out.stored[k]));
     out.local_to_world.push_back(l2w);
+    const glm::dvec3 row_len = row_lengths(o2w);
     Aabb exact;
     for (std::size_t m = 0; m < members; ++m) {
-      Aabb wb = hull_world_box(hulls[m], o2w);
+      Aabb wb = hull_world_box(hulls[m], o2w, row_len);
       exact.grow(wb);
       out.member_areas[k * members + m] = {wb.area(), parallelepiped_area(local[m], l2w)};
     }
