@@ -172,8 +172,9 @@ AccelInput DriverScene::cluster_input(const PackedScene& s, int root) const {
     const float* f = s.frames.at(static_cast<std::size_t>(inst.scene_inst)).world_to_object;
     std::copy(f, f + 12, frame.begin());
     Affine3 realised = realised_object_to_local(w2l, frame);
+    const glm::dvec3 row_len = row_lengths(realised);
     for (std::size_t m = 0; m < members.size(); ++m)
-      local[m].grow(hull_world_box(ball_hull(s, inst.geom, members[m]), realised));
+      local[m].grow(hull_world_box(ball_hull(s, inst.geom, members[m]), realised, row_len));
     for (int k = 0; k < 3; ++k) {
       const float* row = inst.world_to_object + 4 * k;
       double a = std::fabs(row[0]) + std::fabs(row[1]) + std::fabs(row[2]);
