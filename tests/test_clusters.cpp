@@ -133,6 +133,45 @@ TEST_P(ClusterTypes, SharedClassAssignmentGivesEachSizesClusters) {
   EXPECT_THROW(make_clusters(g, fewer, opt, &assigned), Error);
 }
 
+// The member hulls make_clusters hands out (for the cluster BLAS and the mix's plan) are
+// each cluster's ball_hull of every member, in member order, bit for bit; a plan given
+// them plans as one that reads them itself, and hulls of other clusters are refused.
+TEST_P(ClusterTypes, HandedOutHullsAreTheMembersHulls) {
+  Geometry g = make_random_geometry(GetParam(), 500, 0.004f, 0.05f, 1.0, 9);
+  const std::vector<std::int32_t> all = every_primitive(g);
+  ClusterOptions opt;
+  opt.max_size = 16;
+  ClusterHulls hulls;
+  const std::vector<Cluster> cs = make_clusters(g, all, opt, nullptr, &hulls);
+  const std::vector<Cluster> plain = make_clusters(g, all, opt);
+  ASSERT_EQ(cs.size(), plain.size());
+  ASSERT_EQ(hulls.size(), cs.size());
+  for (std::size_t i = 0; i < cs.size(); ++i) {
+    EXPECT_EQ(cs[i].members, plain[i].members);
+    ASSERT_EQ(hulls[i].size(), cs[i].members.size());
+    for (std::size_t m = 0; m < hulls[i].size(); ++m) {
+      const BallHull h = ball_hull(g, std::size_t(cs[i].members[m]));
+      EXPECT_EQ(hulls[i][m].count, h.count);
+      EXPECT_EQ(std::memcmp(hulls[i][m].centre.data(), h.centre.data(), sizeof h.centre), 0);
+      EXPECT_EQ(std::memcmp(hulls[i][m].radius.data(), h.radius.data(), sizeof h.radius), 0);
+    }
+  }
+  PlanOptions popt;
+  popt.cluster = opt;
+  const GeometryPlan read = plan_geometry(g, Method::Auto, popt, &cs);
+  const GeometryPlan given = plan_geometry(g, Method::Auto, popt, &cs, &hulls);
+  EXPECT_EQ(read.blas_prims, given.blas_prims);
+  EXPECT_EQ(read.masq_prims, given.masq_prims);
+  ASSERT_EQ(read.clusters.size(), given.clusters.size());
+  EXPECT_TRUE(read.cluster_hulls.empty()); // nothing handed in, nothing handed on
+  EXPECT_EQ(given.cluster_hulls.size(), given.clusters.size());
+  ClusterHulls short_one = hulls;
+  short_one.back().pop_back();
+  EXPECT_THROW(plan_geometry(g, Method::Auto, popt, &cs, &short_one), Error);
+  ClusterHulls fewer(hulls.begin(), hulls.end() - 1);
+  EXPECT_THROW(plan_geometry(g, Method::Auto, popt, &cs, &fewer), Error);
+}
+
 TEST_P(ClusterTypes, AutoPlacesEveryPrimitiveOnce) {
   Geometry g = make_random_geometry(GetParam(), 400, 0.004f, 0.05f, 1.0, 6);
   PlanOptions opt;

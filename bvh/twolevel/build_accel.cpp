@@ -87,11 +87,15 @@ void build_geometry_blas(const Geometry& g, const std::vector<std::int32_t>& ids
 // of that size at once (`leaf_prices`, in the order the shapes build), and the later
 // shapes take theirs (`blas`); the last one frees them.
 // Every size's clustering starts from the same orientation classes (assign_classes: one
-// look at every hull), made once per geometry before the candidates build.
+// look at every hull), made once per geometry before the candidates build. The hulls
+// make_clusters read (`hulls`) serve the first shape's BLAS and the mix's plan, and go
+// when those are done.
 struct SharedClusterings {
   using Shape = std::pair<int, int>; // (cluster size, orientation classes)
   std::vector<std::optional<ClassAssignment>> classes; // per geometry, of the shapes' class count
   std::map<Shape, std::vector<std::optional<std::vector<Cluster>>>> by_shape;
+  std::map<Shape, std::vector<std::optional<ClusterHulls>>> hulls; // per geometry
+  Shape mix_shape; // the clustering the mix plans with (the given options')
   std::map<Shape, std::vector<double>> leaf_prices;
   std::map<Shape, std::vector<std::optional<std::vector<ClusterBlas>>>> blas; // per geometry
 };
@@ -100,11 +104,13 @@ struct SharedClusterings {
 // clusters are its size's whole clustering, and whose size auto_candidates gave its leaf
 // prices and BLAS slots) its BLAS from the ones that size's first shape built for every
 // leaf price.
+// Without `shared`, `hulls`: the clusters' member hulls, when the plan has them.
 void append_clusters(const Scene& scene, int gi, const std::vector<Cluster>& clusters, const std::vector<int>& insts,
-                     const AccelOptions& opt, SharedClusterings* shared, PackedScene& ps,
+                     const AccelOptions& opt, SharedClusterings* shared, const ClusterHulls* hulls, PackedScene& ps,
                      HugePageVector<Aabb>& inst_boxes) {
   if (!shared) {
-    append_cluster_instances(scene, gi, clusters, insts, opt.sah, opt.cluster.leaf_price, opt.builder, ps, inst_boxes);
+    append_cluster_instances(scene, gi, clusters, insts, opt.sah, opt.cluster.leaf_price, opt.builder, ps, inst_boxes,
+                             hulls);
     return;
   }
   const SharedClusterings::Shape shape{opt.cluster.max_size, opt.cluster.classes};
@@ -112,7 +118,11 @@ void append_clusters(const Scene& scene, int gi, const std::vector<Cluster>& clu
   const std::size_t index = std::size_t(std::find(prices.begin(), prices.end(), opt.cluster.leaf_price) - prices.begin());
   if (index == prices.size()) throw Error("accel: a cluster shape auto did not plan");
   std::optional<std::vector<ClusterBlas>>& built = shared->blas.at(shape).at(std::size_t(gi));
-  if (!built) built = build_cluster_blases(scene, gi, clusters, insts, opt.sah, prices, opt.builder, ps);
+  if (!built) {
+    std::optional<ClusterHulls>& read = shared->hulls.at(shape).at(std::size_t(gi));
+    built = build_cluster_blases(scene, gi, clusters, insts, opt.sah, prices, opt.builder, ps, read ? &*read : nullptr);
+    if (shape != shared->mix_shape) read.reset(); // (the mix reads its shape's later)
+  }
   append_cluster_instances(gi, clusters, insts, *built, index, ps, inst_boxes);
   if (index + 1 == prices.size()) built.reset();
 }
@@ -153,21 +163,30 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
   std::vector<GeometryPlan> plans(scene.geometries.size());
   // (Sized before the parallel loop, which then touches only its own geometry's entry.)
   std::vector<std::optional<std::vector<Cluster>>>* clusterings = nullptr;
+  std::vector<std::optional<ClusterHulls>>* clustering_hulls = nullptr; // beside clusterings
   if (shared && (method == Method::Cluster || method == Method::Auto)) {
     // (auto_candidates made the slots of every shape it builds: only looked up here.)
-    auto it = shared->by_shape.find({opt.cluster.max_size, opt.cluster.classes});
-    if (it != shared->by_shape.end() && it->second.size() == scene.geometries.size()) clusterings = &it->second;
+    const SharedClusterings::Shape shape{opt.cluster.max_size, opt.cluster.classes};
+    auto it = shared->by_shape.find(shape);
+    if (it != shared->by_shape.end() && it->second.size() == scene.geometries.size()) {
+      clusterings = &it->second;
+      clustering_hulls = &shared->hulls.at(shape);
+    }
   }
   parallel_chunks(scene.geometries.size(), 1, [&](std::size_t g0, std::size_t g1) {
     for (std::size_t gi = g0; gi < g1; ++gi) {
       if (insts_of[gi].empty() || scene.geometries[gi].primitive_count() == 0) continue;
       std::optional<std::vector<Cluster>>* known = clusterings ? &(*clusterings)[gi] : nullptr;
+      std::optional<ClusterHulls>* known_hulls = clustering_hulls ? &(*clustering_hulls)[gi] : nullptr;
       // The first cluster shape of a size clusters every clusterable geometry (those
       // auto_candidates assigned classes to), and the later ones take its clusters.
       if (known && !*known && method == Method::Cluster && shared->classes[gi])
         *known = make_clusters(scene.geometries[gi], every_primitive(scene.geometries[gi]), opt.cluster,
-                               &*shared->classes[gi]);
-      plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt, known && *known ? &**known : nullptr);
+                               &*shared->classes[gi], &known_hulls->emplace());
+      plans[gi] = plan_geometry(scene.geometries[gi], method, plan_opt, known && *known ? &**known : nullptr,
+                                known_hulls && *known_hulls ? &**known_hulls : nullptr);
+      // The mix, the last to read this size's hulls, has copied those of the clusters it keeps.
+      if (method == Method::Auto && known_hulls) known_hulls->reset();
     }
   });
   if (method == Method::Auto && same_as_ref && plans_are_ref(scene, plans)) {
@@ -322,9 +341,11 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
     }
   }
   for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi)
-    if (!plans[gi].clusters.empty())
+    if (!plans[gi].clusters.empty()) {
+      const ClusterHulls* hulls = plans[gi].cluster_hulls.empty() ? nullptr : &plans[gi].cluster_hulls;
       append_clusters(scene, int(gi), plans[gi].clusters, insts_of[gi], opt, method == Method::Cluster ? shared : nullptr,
-                      ps, inst_boxes);
+                      hulls, ps, inst_boxes);
+    }
   if (ps.masq_instances.size() > std::size_t(INT32_MAX) - ps.instances.size())
     throw Error("accel: more than 2^31-1 TLAS entries");
   inst_boxes.insert(inst_boxes.end(), compact_boxes.begin(), compact_boxes.end());
@@ -442,6 +463,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     // the serial order.
     SharedClusterings shared;
     shared.classes.resize(scene.geometries.size());
+    shared.mix_shape = {opt.cluster.max_size, opt.cluster.classes};
     std::vector<bool> instanced(scene.geometries.size(), false);
     for (const Instance& inst : scene.instances) instanced[std::size_t(inst.geometry)] = true;
     for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
@@ -452,6 +474,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     }
     for (const ClusterOptions& c : shapes) {
       shared.by_shape[{c.max_size, c.classes}].resize(scene.geometries.size());
+      shared.hulls[{c.max_size, c.classes}].resize(scene.geometries.size());
       shared.leaf_prices[{c.max_size, c.classes}].push_back(c.leaf_price);
       shared.blas[{c.max_size, c.classes}].resize(scene.geometries.size());
     }

@@ -34,13 +34,14 @@ double parallelepiped_area(const Aabb& local, const Affine3& local_to_world) {
                 glm::length(glm::cross(e[2], e[0])));
 }
 
+// given: the members' hulls, when the caller has them (else read into `read`).
 ClusterBlas build_cluster(const Scene& scene, const Geometry& g, const Cluster& c, const std::vector<int>& scene_insts,
                           const SahOptions& sah, std::span<const double> leaf_prices, const BuilderOptions& builder,
-                          const PackedScene& ps) {
+                          const PackedScene& ps, const std::vector<BallHull>* given, std::vector<BallHull>& read) {
   ClusterBlas out;
   Affine3 object_to_local = cluster_object_to_local(c);
-  std::vector<BallHull> hulls;
-  member_hulls(g, c.members, hulls);
+  if (!given) member_hulls(g, c.members, read);
+  const std::vector<BallHull>& hulls = given ? *given : read;
   // The stored world-to-local matrix of every scene instance, then each member's
   // local box as the union of its hull's exact boxes under the realised maps.
   std::vector<Aabb> local(c.members.size());
@@ -119,26 +120,34 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
 std::vector<ClusterBlas> build_cluster_blases(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
                                               const std::vector<int>& scene_insts, const SahOptions& sah,
                                               std::span<const double> leaf_prices, const BuilderOptions& builder,
-                                              const PackedScene& ps) {
+                                              const PackedScene& ps, const ClusterHulls* hulls) {
   const Geometry& g = scene.geometries.at(std::size_t(geom));
   for (const Cluster& c : clusters)
     if (c.members.empty()) throw Error("cluster: an empty cluster in geometry " + std::to_string(geom));
+  if (hulls) {
+    bool match = hulls->size() == clusters.size();
+    for (std::size_t ci = 0; match && ci < clusters.size(); ++ci) match = (*hulls)[ci].size() == clusters[ci].members.size();
+    if (!match) throw Error("cluster: member hulls that are not the clusters' in geometry " + std::to_string(geom));
+  }
   // Every cluster's local boxes and binary BLAS at once, each in its own slot.
   std::vector<ClusterBlas> built(clusters.size());
   parallel_chunks(clusters.size(), 1, [&](std::size_t c0, std::size_t c1) {
+    std::vector<BallHull> read;
     for (std::size_t ci = c0; ci < c1; ++ci)
-      built[ci] = build_cluster(scene, g, clusters[ci], scene_insts, sah, leaf_prices, builder, ps);
+      built[ci] = build_cluster(scene, g, clusters[ci], scene_insts, sah, leaf_prices, builder, ps,
+                                hulls ? &(*hulls)[ci] : nullptr, read);
   });
   return built;
 }
 
 void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
                               const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
-                              const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes) {
+                              const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes,
+                              const ClusterHulls* hulls) {
   const double prices[] = {leaf_price};
   append_cluster_instances(geom, clusters, scene_insts,
-                           build_cluster_blases(scene, geom, clusters, scene_insts, sah, prices, builder, ps), 0, ps,
-                           inst_boxes);
+                           build_cluster_blases(scene, geom, clusters, scene_insts, sah, prices, builder, ps, hulls), 0,
+                           ps, inst_boxes);
 }
 
 void append_cluster_instances(int geom, const std::vector<Cluster>& clusters,

@@ -28,10 +28,12 @@ Affine3 realised_object_to_local(const Mat3x4f& world_to_local, const Mat3x4f& f
 // The cluster BLAS get no spatial splits (their members are parallel and side by side,
 // so their local boxes barely overlap; and a piece would have to be clipped under every
 // instance's realised map): reinsertion only, where the builder has it.
-// `leaf_price`: ClusterOptions::leaf_price.
+// `leaf_price`: ClusterOptions::leaf_price. `hulls`: the clusters' member hulls
+// (make_clusters), when the caller has them; nullptr: read here.
 void append_cluster_instances(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
                               const std::vector<int>& scene_insts, const SahOptions& sah, double leaf_price,
-                              const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes);
+                              const BuilderOptions& builder, PackedScene& ps, HugePageVector<Aabb>& inst_boxes,
+                              const ClusterHulls* hulls = nullptr);
 
 // One cluster's BLAS before its nodes are appended: per scene instance its
 // world-to-local matrix as stored, that matrix's inverse and its members' exact world
@@ -58,11 +60,11 @@ struct ClusterBlas {
 // Every cluster's BLAS of geometry `geom` for each of `leaf_prices` (their trees from
 // one binning: build_binned_sah_costs), on all threads, collapsed into ps's node format
 // there too: auto's cluster shapes of one size differ in the leaf price alone, and
-// build theirs once.
+// build theirs once. `hulls`: as append_cluster_instances takes them.
 std::vector<ClusterBlas> build_cluster_blases(const Scene& scene, int geom, const std::vector<Cluster>& clusters,
                                               const std::vector<int>& scene_insts, const SahOptions& sah,
                                               std::span<const double> leaf_prices, const BuilderOptions& builder,
-                                              const PackedScene& ps);
+                                              const PackedScene& ps, const ClusterHulls* hulls = nullptr);
 
 // append_cluster_instances with the clusters' BLAS built (`built[i]` the BLAS of
 // clusters[i], from build_cluster_blases with the same clusters, instances and frames):

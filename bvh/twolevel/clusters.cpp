@@ -112,7 +112,7 @@ ClassAssignment assign_classes(const Geometry& g, const std::vector<std::int32_t
 }
 
 std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int32_t>& prims,
-                                   const ClusterOptions& opt, const ClassAssignment* assigned) {
+                                   const ClusterOptions& opt, const ClassAssignment* assigned, ClusterHulls* hulls_out) {
   if (opt.max_size < 2 || opt.max_size > 256)
     throw Error("cluster: max_size " + std::to_string(opt.max_size) + " outside 2..256");
   check_cluster_input(g, opt.classes);
@@ -131,8 +131,9 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
 
   // The classes are split on all threads, each into its own list, joined in class order.
   std::vector<std::vector<Cluster>> of_class(dirs.size());
+  std::vector<ClusterHulls> hulls_of_class(hulls_out ? dirs.size() : 0);
   parallel_chunks(dirs.size(), 1, [&](std::size_t c0, std::size_t c1) {
-    std::vector<BallHull> hulls; // a cluster's members', reused from cluster to cluster
+    std::vector<BallHull> hulls; // a cluster's members' (reused from cluster to cluster unless moved to hulls_out)
     for (std::size_t c = c0; c < c1; ++c) {
       std::vector<ClassItem>& items = by_class[c];
       if (items.empty()) continue;
@@ -185,12 +186,19 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
         cl.local_box.lo = about_origin.lo - mid_pt;
         cl.local_box.hi = about_origin.hi - mid_pt;
         out.push_back(std::move(cl));
+        if (hulls_out) hulls_of_class[c].push_back(std::move(hulls)); // (then a fresh one)
       }
     }
   });
   std::vector<Cluster> out;
   for (std::vector<Cluster>& part : of_class)
     for (Cluster& cl : part) out.push_back(std::move(cl));
+  if (hulls_out) {
+    hulls_out->clear();
+    hulls_out->reserve(out.size());
+    for (ClusterHulls& part : hulls_of_class)
+      for (std::vector<BallHull>& h : part) hulls_out->push_back(std::move(h));
+  }
   return out;
 }
 

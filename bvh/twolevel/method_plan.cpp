@@ -10,7 +10,10 @@ namespace masq {
 
 namespace {
 
-bool has_surface(const Geometry& g, std::size_t p) { return hull_max_radius(ball_hull(g, p)) > 0.0; }
+// Whether a primitive has a surface to box: a ball of positive radius. Its balls are read
+// directly: the whole BallHull that ball_hull makes and zeroes was most of a masquerade
+// plan's time.
+bool has_surface(const Geometry& g, std::size_t p) { return prim_max_radius(g, p) > 0.0f; }
 
 // Surface-area cost model (SAH-style: the chance that a ray reaching the geometry
 // reaches a box is proportional to its area; all terms share that unknown factor).
@@ -62,7 +65,8 @@ std::vector<std::int32_t> every_primitive(const Geometry& g) {
   return ids;
 }
 
-GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& opt, const std::vector<Cluster>* given) {
+GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& opt, const std::vector<Cluster>* given,
+                           const ClusterHulls* given_hulls) {
   GeometryPlan plan;
   if (scene_prim_row(g.type).mesh || method == Method::Ref) {
     plan.blas_prims = every_primitive(g);
@@ -85,11 +89,23 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
     return plan;
   }
   std::vector<Cluster> made;
-  if (!given) made = make_clusters(g, every_primitive(g), opt.cluster);
+  ClusterHulls made_hulls;
+  if (!given) made = make_clusters(g, every_primitive(g), opt.cluster, nullptr, &made_hulls);
   const std::vector<Cluster>& clusters = given ? *given : made;
+  const ClusterHulls* known_hulls = given ? given_hulls : &made_hulls;
+  if (known_hulls) {
+    bool match = known_hulls->size() == clusters.size();
+    for (std::size_t ci = 0; match && ci < clusters.size(); ++ci)
+      match = (*known_hulls)[ci].size() == clusters[ci].members.size();
+    if (!match) throw Error("plan: member hulls that are not the clusters'");
+  }
   if (method == Method::Cluster) {
-    if (given) plan.clusters = *given;
-    else plan.clusters = std::move(made);
+    if (given) {
+      plan.clusters = *given; // (the caller has their hulls)
+      return plan;
+    }
+    plan.clusters = std::move(made);
+    plan.cluster_hulls = std::move(made_hulls);
     return plan;
   }
   // Each cluster's verdict on all threads (each member's two prices found once), then
@@ -99,10 +115,11 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
   std::vector<std::vector<char>> member(clusters.size()); // else per member: kBlas or kMasq
   parallel_chunks(clusters.size(), 16, [&](std::size_t c0, std::size_t c1) {
     std::vector<PrimPrices> pp;
-    std::vector<BallHull> hulls; // read first, in one loop (member_hulls)
+    std::vector<BallHull> read; // read first, in one loop (member_hulls), where not known
     for (std::size_t ci = c0; ci < c1; ++ci) {
       const Cluster& c = clusters[ci];
-      member_hulls(g, c.members, hulls);
+      if (!known_hulls) member_hulls(g, c.members, read);
+      const std::vector<BallHull>& hulls = known_hulls ? (*known_hulls)[ci] : read;
       pp.resize(c.members.size());
       double alone = 0;
       for (std::size_t j = 0; j < c.members.size(); ++j) {
@@ -124,6 +141,7 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
   for (std::size_t ci = 0; ci < clusters.size(); ++ci) {
     if (whole[ci]) {
       plan.clusters.push_back(given ? clusters[ci] : std::move(made[ci])); // a given clustering is shared
+      if (known_hulls) plan.cluster_hulls.push_back(given ? (*known_hulls)[ci] : std::move(made_hulls[ci]));
       continue;
     }
     for (std::size_t j = 0; j < clusters[ci].members.size(); ++j) {
@@ -141,9 +159,11 @@ PlanCosts plan_costs(const Geometry& g, const PlanOptions& opt) {
   PlanCosts pc;
   if (!clusterable(g.type)) return pc;
   Model model{g, opt};
-  std::vector<BallHull> hulls;
-  for (const Cluster& c : make_clusters(g, every_primitive(g), opt.cluster)) {
-    member_hulls(g, c.members, hulls);
+  ClusterHulls hulls_of;
+  const std::vector<Cluster> clusters = make_clusters(g, every_primitive(g), opt.cluster, nullptr, &hulls_of);
+  for (std::size_t ci = 0; ci < clusters.size(); ++ci) {
+    const Cluster& c = clusters[ci];
+    const std::vector<BallHull>& hulls = hulls_of[ci];
     double alone = 0;
     for (const BallHull& h : hulls) {
       const PrimPrices pp = model.prices(h);

@@ -37,6 +37,8 @@ struct GeometryPlan {
   std::vector<std::int32_t> blas_prims; // in the geometry's ordinary BLAS
   std::vector<std::int32_t> masq_prims; // masquerade instances
   std::vector<Cluster> clusters;        // cluster instances
+  // clusters' member hulls, where the plan read them (else empty: the BLAS build reads them)
+  ClusterHulls cluster_hulls;
 };
 
 struct PlanOptions {
@@ -50,9 +52,10 @@ std::vector<std::int32_t> every_primitive(const Geometry& g);
 
 // clusters: what make_clusters gives for this geometry and opt.cluster's size and
 // classes, when the caller has it already (auto's candidates that cluster alike share
-// one clustering, bvh/twolevel/build_accel.cpp); nullptr: made here.
+// one clustering, bvh/twolevel/build_accel.cpp); nullptr: made here. hulls: the given
+// clusters' member hulls, when the caller has them too.
 GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& opt,
-                           const std::vector<Cluster>* clusters = nullptr);
+                           const std::vector<Cluster>* clusters = nullptr, const ClusterHulls* hulls = nullptr);
 
 // The cost model's expected work per ray reaching the geometry, in units of area
 // times price (exposed for tests and the docs' tables).
