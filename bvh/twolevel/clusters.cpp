@@ -163,9 +163,15 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
           int split_axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
           std::size_t k = std::size_t(opt.max_size);
           std::size_t mid = std::max<std::size_t>(1, (size / 2 + k / 2) / k) * k;
-          std::nth_element(begin, begin + std::ptrdiff_t(mid), end, [&](const ClassItem& a, const ClassItem& b) {
-            return a.centroid[split_axis] < b.centroid[split_axis];
-          });
+          // One comparison per axis, the axis fixed at compile time (glm's run-time
+          // component index is a switch in every comparison).
+          auto split_by = [&](auto key) {
+            std::nth_element(begin, begin + std::ptrdiff_t(mid), end,
+                             [&](const ClassItem& a, const ClassItem& b) { return key(a) < key(b); });
+          };
+          if (split_axis == 0) split_by([](const ClassItem& c) { return c.centroid.x; });
+          else if (split_axis == 1) split_by([](const ClassItem& c) { return c.centroid.y; });
+          else split_by([](const ClassItem& c) { return c.centroid.z; });
           parts.emplace_back(first, first + mid);
           parts.emplace_back(first + mid, last);
           continue;
