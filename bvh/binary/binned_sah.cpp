@@ -119,8 +119,9 @@ struct Bins {
 };
 
 // This thread's bins of nb per axis, kept from call to call (empty between nodes, as
-// every build leaves them): auto builds thousands of small cluster BLAS, and five fresh
-// vectors each were a tenth of their allocations.
+// every build leaves them): auto builds thousands of small cluster BLAS, and fresh bins
+// are five vectors a call (callgrind: 26,000 of the 345,000 allocations of three cluster
+// builds of Ratboy).
 Bins& thread_bins(int nb) {
   thread_local std::unique_ptr<Bins> bins;
   if (!bins || bins->count_per_axis() != nb) bins = std::make_unique<Bins>(nb);

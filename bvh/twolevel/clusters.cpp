@@ -169,9 +169,9 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
             std::nth_element(begin, begin + std::ptrdiff_t(mid), end,
                              [&](const ClassItem& a, const ClassItem& b) { return key(a) < key(b); });
           };
-          if (split_axis == 0) split_by([](const ClassItem& c) { return c.centroid.x; });
-          else if (split_axis == 1) split_by([](const ClassItem& c) { return c.centroid.y; });
-          else split_by([](const ClassItem& c) { return c.centroid.z; });
+          if (split_axis == 0) split_by([](const ClassItem& item) { return item.centroid.x; });
+          else if (split_axis == 1) split_by([](const ClassItem& item) { return item.centroid.y; });
+          else split_by([](const ClassItem& item) { return item.centroid.z; });
           parts.emplace_back(first, first + mid);
           parts.emplace_back(first + mid, last);
           continue;

@@ -59,7 +59,7 @@ using ClusterHulls = std::vector<std::vector<BallHull>>;
 // hulls: when given, set to the clusters' member hulls as make_clusters read them, for
 // the cluster BLAS and auto's mix plan, which would read them again otherwise (a
 // cluster's members lie anywhere in the geometry's arrays, and those reads missed the
-// cache: perf, a tenth of auto's build of the bear).
+// cache: perf, the hull reads were a tenth of auto's build of the bear).
 std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int32_t>& prims,
                                    const ClusterOptions& opt, const ClassAssignment* assigned = nullptr,
                                    ClusterHulls* hulls = nullptr);

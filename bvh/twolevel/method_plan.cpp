@@ -11,8 +11,8 @@ namespace masq {
 namespace {
 
 // Whether a primitive has a surface to box: a ball of positive radius. Its balls are read
-// directly: the whole BallHull that ball_hull makes and zeroes was most of a masquerade
-// plan's time.
+// directly: the whole BallHull that ball_hull makes and zeroes was half of a masquerade
+// plan's instructions.
 bool has_surface(const Geometry& g, std::size_t p) { return prim_max_radius(g, p) > 0.0f; }
 
 // Surface-area cost model (SAH-style: the chance that a ray reaching the geometry
