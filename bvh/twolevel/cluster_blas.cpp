@@ -124,11 +124,8 @@ std::vector<ClusterBlas> build_cluster_blases(const Scene& scene, int geom, cons
   const Geometry& g = scene.geometries.at(std::size_t(geom));
   for (const Cluster& c : clusters)
     if (c.members.empty()) throw Error("cluster: an empty cluster in geometry " + std::to_string(geom));
-  if (hulls) {
-    bool match = hulls->size() == clusters.size();
-    for (std::size_t ci = 0; match && ci < clusters.size(); ++ci) match = (*hulls)[ci].size() == clusters[ci].members.size();
-    if (!match) throw Error("cluster: member hulls that are not the clusters' in geometry " + std::to_string(geom));
-  }
+  if (hulls && !hulls_match(*hulls, clusters))
+    throw Error("cluster: member hulls that are not the clusters' in geometry " + std::to_string(geom));
   // Every cluster's local boxes and binary BLAS at once, each in its own slot.
   std::vector<ClusterBlas> built(clusters.size());
   parallel_chunks(clusters.size(), 1, [&](std::size_t c0, std::size_t c1) {

@@ -215,6 +215,13 @@ std::vector<Cluster> make_clusters(const Geometry& g, const std::vector<std::int
   return out;
 }
 
+bool hulls_match(const ClusterHulls& hulls, const std::vector<Cluster>& clusters) {
+  if (hulls.size() != clusters.size()) return false;
+  for (std::size_t ci = 0; ci < clusters.size(); ++ci)
+    if (hulls[ci].size() != clusters[ci].members.size()) return false;
+  return true;
+}
+
 void member_hulls(const Geometry& g, std::span<const std::int32_t> members, std::vector<BallHull>& out) {
   out.clear();
   out.reserve(members.size());

@@ -52,6 +52,10 @@ ClassAssignment assign_classes(const Geometry& g, const std::vector<std::int32_t
 // Each cluster's members' hulls (ball_hull, in member order), per cluster in cluster order.
 using ClusterHulls = std::vector<std::vector<BallHull>>;
 
+// Whether hulls has one list per cluster of clusters, each as long as its members (what
+// the cluster BLAS and the mix's plan check before they read a handed-out list).
+bool hulls_match(const ClusterHulls& hulls, const std::vector<Cluster>& clusters);
+
 // Clusters of the primitives `prims` of a capsule, round-cone or curve geometry: each
 // orientation class split top-down (k-d, at multiples of max_size) until every part
 // has at most opt.max_size members. Primitives without an axis join class 0.

@@ -93,12 +93,8 @@ GeometryPlan plan_geometry(const Geometry& g, Method method, const PlanOptions& 
   if (!given) made = make_clusters(g, every_primitive(g), opt.cluster, nullptr, &made_hulls);
   const std::vector<Cluster>& clusters = given ? *given : made;
   const ClusterHulls* known_hulls = given ? given_hulls : &made_hulls;
-  if (known_hulls) {
-    bool match = known_hulls->size() == clusters.size();
-    for (std::size_t ci = 0; match && ci < clusters.size(); ++ci)
-      match = (*known_hulls)[ci].size() == clusters[ci].members.size();
-    if (!match) throw Error("plan: member hulls that are not the clusters'");
-  }
+  if (known_hulls && !hulls_match(*known_hulls, clusters))
+    throw Error("plan: member hulls that are not the clusters'");
   if (method == Method::Cluster) {
     if (given) {
       plan.clusters = *given; // (the caller has their hulls)
