@@ -55,32 +55,19 @@ PilotResult run_pilot(std::span<Backend* const> slots, const AutoCandidates& can
     double s = be.timing().trace_seconds;
     res.seconds[i] = res.seconds[i] > 0 ? std::min(res.seconds[i], s) : s;
   };
-  // A mix that is a copy of ref's structure is not traced: it is given ref's time, and
-  // ref (the earlier candidate, and the one ref_margin favours) is kept over it.
-  const std::size_t ref = std::size_t(std::find_if(candidates.built.begin(), candidates.built.end(),
-                                                   [](const PackedScene& p) { return p.method == Method::Ref; }) -
-                                      candidates.built.begin());
-  auto traced = [&](std::size_t i) {
-    return !(candidates.mix_is_ref && ref < n && candidates.built[i].method == Method::Auto);
-  };
   if (slots.size() == 1) {
     for (std::size_t i = 0; i < n; ++i) {
-      if (!traced(i)) continue;
       slots[0]->set_scene(candidates.built[i]);
       for (int r = 0; r <= opt.rounds; ++r) trace(*slots[0], i, r > 0);
     }
   } else {
     for (std::size_t i = 0; i < n; ++i) {
-      if (!traced(i)) continue;
       if (!opt.slots_hold_candidates) slots[i]->set_scene(candidates.built[i]);
       trace(*slots[i], i, false);
     }
     for (int r = 0; r < opt.rounds; ++r)
-      for (std::size_t i = 0; i < n; ++i)
-        if (traced(i)) trace(*slots[i], i, true);
+      for (std::size_t i = 0; i < n; ++i) trace(*slots[i], i, true);
   }
-  for (std::size_t i = 0; i < n; ++i)
-    if (!traced(i)) res.seconds[i] = res.seconds[ref];
   std::size_t fastest = std::size_t(std::min_element(res.seconds.begin(), res.seconds.end()) - res.seconds.begin());
   res.kept = fastest;
   for (std::size_t i = 0; i < n; ++i)

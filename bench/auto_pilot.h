@@ -39,7 +39,7 @@ struct PilotResult {
 std::vector<kernel::Ray> pilot_sample(std::span<const kernel::Ray> rays, std::size_t max_rays);
 
 // Times the pilot sample through every candidate with `query` (a mix that is ref's
-// structure, AutoCandidates::mix_is_ref, gets ref's time without being traced). With one backend per
+// structure, AutoCandidates::mix_is_ref, is not among them). With one backend per
 // candidate (slots[i] gets candidates.built[i] and keeps it), the candidates' timed
 // traces take turns round by round, so a load that comes and goes on a shared machine
 // falls on all of them alike; with a single backend each candidate is uploaded in turn

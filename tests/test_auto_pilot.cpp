@@ -79,24 +79,6 @@ TEST(PilotSample, RunsOfConsecutiveRaysSpanningTheSet) {
   EXPECT_EQ(breaks, 4096u / 256u - 1u) << "runs of 256 consecutive rays";
 }
 
-// A mix that is ref's structure (AutoCandidates::mix_is_ref) is not uploaded or traced:
-// it gets ref's time, and ref is kept over it, whatever its own trace would have read.
-TEST(AutoPilot, AMixThatIsRefIsNotTraced) {
-  TimedFake be;
-  be.seconds = {{Method::Ref, 0.010}, {Method::Masq, 0.012}, {Method::Cluster, 0.011}, {Method::Auto, 0.001}};
-  AutoCandidates c = fake_candidates();
-  c.mix_is_ref = true;
-  std::vector<kernel::Ray> rays = numbered_rays(10000);
-  PilotOptions opt;
-  opt.rounds = 2;
-  PilotResult r = run_pilot(be, c, rays, Query::Closest, opt);
-  EXPECT_EQ(be.uploads, (std::vector<Method>{Method::Ref, Method::Masq, Method::Cluster}));
-  EXPECT_EQ(be.queries.size(), 3u * 3u);
-  ASSERT_EQ(r.seconds.size(), 4u);
-  EXPECT_DOUBLE_EQ(r.seconds[3], r.seconds[0]);
-  EXPECT_EQ(c.built[r.kept].method, Method::Ref);
-}
-
 TEST(AutoPilot, KeepsTheFastestAndTimesEveryCandidate) {
   TimedFake be;
   be.seconds = {{Method::Ref, 0.010}, {Method::Masq, 0.004}, {Method::Cluster, 0.002}, {Method::Auto, 0.003}};

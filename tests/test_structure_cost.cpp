@@ -7,6 +7,7 @@
 #include "scenes/generators.h"
 #include "scenes/strand_generators.h"
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <cstring>
 
 using namespace masq;
@@ -185,12 +186,29 @@ TEST(AutoSelect, SharedClusteringsGiveEachCandidateItsOwnBuild) {
   hp.strands = 600;
   hp.points = 8;
   hp.type = PrimType::Capsule;
-  int mixes_as_ref = 0; // mixes that chose ref everywhere: auto reuses ref's structure for them
+  int mixes_as_ref = 0; // mixes that chose ref everywhere: ref's structure, not a candidate of their own
   for (const Scene& s : {bundle(400, 0.002f, 45.0), make_hair_scene(hp)}) {
     AutoCandidates c = build_auto_candidates(s, {});
-    ASSERT_EQ(c.built.size(), 4u);
+    ASSERT_EQ(c.built.size(), c.mix_is_ref ? 3u : 4u);
+    if (c.mix_is_ref) {
+      // The mix built alone is ref's structure, and its cost ref's, to the bit.
+      ++mixes_as_ref;
+      AccelOptions o;
+      o.auto_select = AutoSelect::MixOnly;
+      PackedScene alone = build_accel(s, Method::Auto, o);
+      const PackedScene& ref = c.built[0];
+      ASSERT_EQ(ref.method, Method::Ref);
+      SCOPED_TRACE(s.name + " mix that is ref");
+      EXPECT_EQ(alone.stats.masq_prims + alone.stats.clusters, 0u);
+      EXPECT_EQ(std::memcmp(&alone.stats.model_cost, &c.costs[std::size_t(Method::Auto)], sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(&ref.stats.model_cost, &c.costs[std::size_t(Method::Auto)], sizeof(double)), 0);
+      ASSERT_EQ(alone.nodes.size(), ref.nodes.size());
+      EXPECT_EQ(std::memcmp(alone.nodes.data(), ref.nodes.data(), alone.nodes.size() * sizeof(alone.nodes[0])), 0);
+      EXPECT_EQ(alone.refs, ref.refs);
+      EXPECT_FALSE(std::any_of(c.built.begin(), c.built.end(),
+                               [](const PackedScene& p) { return p.method == Method::Auto; }));
+    }
     for (const PackedScene& cand : c.built) {
-      if (cand.method == Method::Auto && cand.stats.masq_prims == 0 && cand.stats.clusters == 0) ++mixes_as_ref;
       AccelOptions o;
       o.cluster.max_size = cand.stats.cluster_size;
       o.cluster.leaf_price = cand.stats.cluster_leaf_price;
@@ -209,7 +227,7 @@ TEST(AutoSelect, SharedClusteringsGiveEachCandidateItsOwnBuild) {
       EXPECT_EQ(alone.tlas_leaf_order, cand.tlas_leaf_order);
     }
   }
-  EXPECT_GE(mixes_as_ref, 1); // the hair's mix: the reused structure is checked above too
+  EXPECT_GE(mixes_as_ref, 1); // the hair's mix: checked against ref's structure above
 }
 
 // The cluster shapes of one size take their BLAS from one build for every leaf price

@@ -142,12 +142,10 @@ bool plans_are_ref(const Scene& scene, const std::vector<GeometryPlan>& plans) {
 // shared (auto's candidates): clusterings to reuse, and to add this build's to.
 // price: fill stats.model_cost and model_triangles (auto's candidates, which are chosen by
 // them); a plain build skips the walk (a tenth of the bear's masquerade build).
-// same_as_ref (auto's mix): Method::Ref's structure of the same options, returned (as
-// Method::Auto) when the mix's plan turns out to be ref's, instead of building it again;
-// then *copied_ref is set.
+// plan_is_ref (auto's mix, which has ref's structure already): set when the mix's plan
+// turns out to be ref's, and then nothing is built (an empty structure is returned).
 PackedScene build_planned(const Scene& scene, Method method, const AccelOptions& opt, bool price,
-                          SharedClusterings* shared = nullptr, const PackedScene* same_as_ref = nullptr,
-                          bool* copied_ref = nullptr) {
+                          SharedClusterings* shared = nullptr, bool* plan_is_ref = nullptr) {
   auto start = std::chrono::steady_clock::now();
   auto seconds_since_start = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -189,12 +187,9 @@ PackedScene build_planned(const Scene& scene, Method method, const AccelOptions&
       if (method == Method::Auto && known_hulls) known_hulls->reset();
     }
   });
-  if (method == Method::Auto && same_as_ref && plans_are_ref(scene, plans)) {
-    PackedScene ps = *same_as_ref;
-    ps.method = Method::Auto;
-    if (copied_ref) *copied_ref = true;
-    ps.stats.build_seconds = seconds_since_start();
-    return ps;
+  if (method == Method::Auto && plan_is_ref && plans_are_ref(scene, plans)) {
+    *plan_is_ref = true;
+    return {};
   }
 
   PackedScene ps;
@@ -432,11 +427,10 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
   check_accel_input(scene, opt);
   auto start = std::chrono::steady_clock::now();
   AutoCandidates out;
-  auto build = [&](Method m, const ClusterOptions& shape, SharedClusterings* shared,
-                   const PackedScene* same_as_ref = nullptr, bool* copied_ref = nullptr) {
+  auto build = [&](Method m, const ClusterOptions& shape, SharedClusterings* shared, bool* plan_is_ref = nullptr) {
     AccelOptions one = opt;
     one.cluster = shape;
-    return build_planned(scene, m, one, true, shared, same_as_ref, copied_ref);
+    return build_planned(scene, m, one, true, shared, plan_is_ref);
   };
   // Triangles stay in a BLAS under every method: a mesh has one candidate, ref's.
   bool thin = std::any_of(scene.geometries.begin(), scene.geometries.end(),
@@ -457,7 +451,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     // keeps about 1.3 of two threads busy: its serial stretches). A clustering is made by
     // the first shape of its size and reused by the rest, so each size's shapes stay in
     // one group, in order: the given size's, then ref, then the mix, which reuses that
-    // clustering (and ref's structure, where its plan is ref's); the others with masq.
+    // clustering (and stops where its plan is ref's); the others with masq.
     // Every size's slots exist before the groups start, so the groups only look them up.
     // Each candidate is the one a serial build makes, and the choice below reads them in
     // the serial order.
@@ -486,7 +480,7 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
           for (std::size_t k = 0; k < shapes.size(); ++k)
             if (given_size(shapes[k])) shaped[k] = build(Method::Cluster, shapes[k], &shared);
           ref = build(Method::Ref, opt.cluster, &shared);
-          mix = build(Method::Auto, opt.cluster, &shared, &ref, &out.mix_is_ref);
+          mix = build(Method::Auto, opt.cluster, &shared, &out.mix_is_ref);
         },
         [&] {
           masq = build(Method::Masq, opt.cluster, &shared);
@@ -497,7 +491,12 @@ AutoCandidates auto_candidates(const Scene& scene, const AccelOptions& opt) {
     for (std::size_t k = 1; k < shaped.size(); ++k)
       if (shaped[k].stats.model_cost < shaped[cheapest].stats.model_cost) cheapest = k;
     for (const PackedScene& c : shaped) out.cluster_shape_costs.push_back(c.stats.model_cost);
+    // A mix whose plan is ref's is ref's structure: priced as ref, and not a candidate of
+    // its own (it could never be kept: model_choice and the pilot keep the earlier ref
+    // over an equal later one), nor built or copied.
+    if (out.mix_is_ref) out.costs[std::size_t(Method::Auto)] = ref.stats.model_cost;
     for (PackedScene* c : {&ref, &masq, &shaped[cheapest], &mix}) {
+      if (c == &mix && out.mix_is_ref) continue;
       out.costs[std::size_t(c->method)] = c->stats.model_cost;
       out.built.push_back(std::move(*c));
     }

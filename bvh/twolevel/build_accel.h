@@ -56,13 +56,15 @@ PackedScene build_accel(const Scene& scene, Method method, const AccelOptions& o
 
 // auto's candidates, each built whole: ref, then, when the scene has other primitives
 // than triangles, masq, cluster (of auto_cluster_shapes the shape the model prices
-// lowest) and the per-cluster mix (PackedScene::method Auto). A mesh has ref alone.
+// lowest) and the per-cluster mix (PackedScene::method Auto), unless the mix's plan is
+// ref's (mix_is_ref). A mesh has ref alone.
 struct AutoCandidates {
   std::vector<PackedScene> built;
   std::array<double, 4> costs{}; // each one's model cost, indexed by Method (a mesh: ref's in all)
   std::vector<double> cluster_shape_costs; // each cluster shape's model cost (auto_cluster_shapes' order)
-  // The mix is a copy of ref's structure (its plan kept every primitive in the BLAS):
-  // a pilot need not trace it (bench/auto_pilot.h).
+  // The mix's plan kept every primitive in the BLAS, so the mix is ref's structure: it
+  // is not in `built` (it could not be kept over the earlier ref), and costs has ref's
+  // cost for it.
   bool mix_is_ref = false;
   double seconds = 0;            // host time to build them all
 };
