@@ -243,7 +243,9 @@ TEST(Sbvh, LowersTheSahCostOfLongDiagonalPrimitives) {
   std::printf("  SAH cost: binned %.2f, sbvh %.2f (%zu references for %zu capsules, %zu spatial splits), no budget %.2f\n",
               sah, sbvh, st.references, boxes.size(), st.spatial_splits, sbvh1);
   EXPECT_LT(sbvh, 0.9 * sah);
-  EXPECT_NEAR(sbvh1, sah, 1e-9 * sah) << "without a budget SBVH is the binned SAH";
+  // The binned SAH keeps its boxes in fp32, rounded outward; SBVH in double: the same
+  // tree, its cost within fp32's rounding of the boxes.
+  EXPECT_NEAR(sbvh1, sah, 1e-6 * sah) << "without a budget SBVH is the binned SAH";
 }
 
 TEST(Sbvh, RejectsBadOptions) {

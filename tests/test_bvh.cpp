@@ -147,4 +147,11 @@ TEST(FloatRounding, OutwardAsNextafter) {
     expect_down(x);
     expect_up(x);
   }
+  // round_down_lanes: round_down's bits in every lane, four values at a time.
+  for (std::size_t i = 0; i + 4 <= xs.size(); i += 4) {
+    const RoundFloat4 f = round_down_lanes(RoundDouble4{xs[i], xs[i + 1], xs[i + 2], xs[i + 3]});
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(f[k]), std::bit_cast<std::uint32_t>(round_down(xs[i + std::size_t(k)])))
+          << xs[i + std::size_t(k)];
+  }
 }

@@ -3,7 +3,9 @@
 #include "bvh/binary/partition_in_chunks.h"
 #include "masq/error.h"
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -23,17 +25,23 @@ Bins& thread_bins(int nb) {
 
 namespace {
 
-// The centroid bounds' origin and extent, for a primitive's bin on an axis:
-// min(nb - 1, int(nb * (centre - lo) / ext)). The extent is 1 on an axis that is not
-// binned (no 0 / 0 in its spare lane).
+// The centroid bounds' origin and bins per unit, for a primitive's bin on an axis:
+// min(nb - 1, int((centre2 - lo) * nb / ext)). An axis that is not binned gets scale 0
+// (its bins are never read); a scale beyond fp32 is its largest value (the products it
+// gives are clamped to the bins after).
 struct BinFrame {
-  D4 lo;
-  D4 ext;
+  F4 lo;
+  F4 scale;
 };
-BinFrame bin_frame(const Box4& cbox) {
-  BinFrame f{cbox.lo, cbox.hi - cbox.lo};
-  for (int k = 0; k < 4; ++k)
-    if (!(k < 3 && f.ext[k] > 0.0)) f.lo[k] = 0.0, f.ext[k] = 1.0;
+BinFrame bin_frame(const CentroidBox& cbox, int nb) {
+  BinFrame f{cbox.lo, F4{}};
+  for (int k = 0; k < 3; ++k)
+    if (cbox.binned(k))
+      f.scale[k] = float(std::min(double(nb) / (double(cbox.hi[k]) - double(cbox.lo[k])),
+                                  double(std::numeric_limits<float>::max())));
+    else
+      f.lo[k] = 0.0f;
+  f.lo[3] = 0.0f;
   return f;
 }
 
@@ -50,16 +58,17 @@ void for_chunks(int first, int count, Body body) {
   });
 }
 
-void bounds_of(const HugePageVector<Ref>& order, int first, int count, Box4& box, Box4& cbox) {
-  auto pass = [&](int lo, int hi, Box4& b, Box4& c) {
+void bounds_of(const HugePageVector<Ref>& order, int first, int count, Box& box, CentroidBox& cbox) {
+  auto pass = [&](int lo, int hi, Box& b, CentroidBox& c) {
     for (int i = lo; i < hi; ++i) {
       const Ref& r = order[std::size_t(i)];
       b.grow(r.box);
-      c.grow(r.center());
+      c.grow(r.centre2());
     }
   };
   if (count < 2 * kChunk) return pass(first, first + count, box, cbox);
-  std::vector<Box4> b((count + kChunk - 1) / kChunk), c(b.size());
+  std::vector<Box> b((count + kChunk - 1) / kChunk);
+  std::vector<CentroidBox> c(b.size());
   for_chunks(first, count, [&](int lo, int hi, int k) { pass(lo, hi, b[k], c[k]); });
   for (std::size_t k = 0; k < b.size(); ++k) {
     box.grow(b[k]);
@@ -69,35 +78,33 @@ void bounds_of(const HugePageVector<Ref>& order, int first, int count, Box4& box
 
 // Fills bins with the range's primitives, every axis whose centroid extent is positive
 // in one pass over them (each bin grows in primitive order, as three passes would). The
-// three axes' bin indices are one vector division; they are kept in the reference for
-// the partition.
-void bin_range(const Input& in, HugePageVector<Ref>& order, int first, int count, const Box4& cbox, Bins& bins) {
+// three axes' bin indices are one vector multiply and conversion; they are kept in the
+// reference for the partition.
+void bin_range(const Input& in, HugePageVector<Ref>& order, int first, int count, const CentroidBox& cbox,
+               Bins& bins) {
   const int nb = in.opt.bins;
   int axes[3], n_axes = 0;
   for (int axis = 0; axis < 3; ++axis)
-    if (cbox.hi[axis] - cbox.lo[axis] > 0.0) axes[n_axes++] = axis;
-  const BinFrame f = bin_frame(cbox);
-  const D4 nbv = {double(nb), double(nb), double(nb), double(nb)};
+    if (cbox.binned(axis)) axes[n_axes++] = axis;
+  const BinFrame f = bin_frame(cbox, nb);
+  const F4 nbv = {float(nb), float(nb), float(nb), float(nb)};
   const I4 last_bin = {nb - 1, nb - 1, nb - 1, nb - 1};
-  // In runs of kBinRun references: first every reference's bins (independent divisions,
-  // which overlap), then the bins' boxes grown. One reference at a time, each bin's
-  // address waited on the division's latency chain (perf: a fifth of the binning on the
-  // first box update).
+  // In runs of kBinRun references: first every reference's bins, then the bins' boxes
+  // grown, so that a bin's address does not wait on its own reference's arithmetic.
   constexpr int kBinRun = 16;
   auto pass = [&](int lo_i, int hi_i, Bins& out) {
     I4 k[kBinRun];
     for (int i0 = lo_i; i0 < hi_i; i0 += kBinRun) {
       const int n = std::min(kBinRun, hi_i - i0);
-      // Clamped to [0, nb] first, which changes no binned axis's value (its centroids lie
-      // in the frame), so that every lane converts within range, all four in one
-      // instruction (AVX has none from double to 64-bit integers).
-      for (int j = 0; j < n; ++j)
-        k[j] = __builtin_convertvector(
-            vmin(vmax(nbv * (order[std::size_t(i0 + j)].center() - f.lo) / f.ext, D4{}), nbv), I4);
-      // Each lane's bin at most nb - 1 (std::min(nb - 1, k)), all three in one vector
-      // min; a node whose three axes are all binned (nearly every one) has its three
-      // updates unrolled.
-      for (int j = 0; j < n; ++j) k[j] = k[j] < last_bin ? k[j] : last_bin;
+      // Clamped to [0, nb] first, so that every lane converts within range; then each
+      // lane's bin at most nb - 1.
+      for (int j = 0; j < n; ++j) {
+        F4 at = (order[std::size_t(i0 + j)].centre2() - f.lo) * f.scale;
+        at = at > 0.0f ? at : F4{}; // (a NaN lane too)
+        at = at < nbv ? at : nbv;
+        k[j] = __builtin_convertvector(at, I4);
+        k[j] = k[j] < last_bin ? k[j] : last_bin;
+      }
       if (n_axes == 3) {
         for (int j = 0; j < n; ++j) {
           Ref& r = order[std::size_t(i0 + j)];
@@ -108,22 +115,22 @@ void bin_range(const Input& in, HugePageVector<Ref>& order, int first, int count
           ++out.count[std::size_t(b[0])];
           ++out.count[std::size_t(nb + b[1])];
           ++out.count[std::size_t(2 * nb + b[2])];
-          r.box.hi[3] = double(std::int64_t(b[0]) | std::int64_t(b[1]) << 8 | std::int64_t(b[2]) << 16);
+          r.set_bins(std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16);
         }
         continue;
       }
       for (int j = 0; j < n; ++j) {
         Ref& r = order[std::size_t(i0 + j)];
-        std::int64_t packed = 0;
+        std::uint32_t packed = 0;
         for (int a = 0; a < n_axes; ++a) {
           int axis = axes[a];
           int bin = k[j][axis];
-          packed |= std::int64_t(bin) << (8 * axis);
+          packed |= std::uint32_t(bin) << (8 * axis);
           std::size_t at = std::size_t(axis * nb + bin);
           out.box[at].grow(r.box);
           ++out.count[at];
         }
-        r.box.hi[3] = double(packed);
+        r.set_bins(packed);
       }
     }
   };
@@ -137,15 +144,15 @@ void bin_range(const Input& in, HugePageVector<Ref>& order, int first, int count
 // are visited: a plane after an empty bin has the cost of the plane before it (the same
 // two sides) and never wins the strict comparison, so the split is the one a sweep over
 // every bin finds, bit for bit (growing by an empty box changes no bit).
-Split find_split(const Input& in, Bins& bins, const Box4& cbox) {
+Split find_split(const Input& in, Bins& bins, const CentroidBox& cbox) {
   Split best;
   const int nb = in.opt.bins;
   double* right_area = bins.right_area.data();
   int* right_count = bins.right_count.data();
   int* used = bins.used.data();
   for (int axis = 0; axis < 3; ++axis) {
-    if (!(cbox.hi[axis] - cbox.lo[axis] > 0.0)) continue;
-    Box4* bin_box = &bins.box[std::size_t(axis * nb)];
+    if (!cbox.binned(axis)) continue;
+    Box* bin_box = &bins.box[std::size_t(axis * nb)];
     int* bin_count = &bins.count[std::size_t(axis * nb)];
     int m = 0;
     for (int k = 0; k < nb; ++k) {
@@ -153,7 +160,7 @@ Split find_split(const Input& in, Bins& bins, const Box4& cbox) {
       m += bin_count[k] != 0 ? 1 : 0;
     }
     // right_area[j], right_count[j]: the bins used[j..m-1].
-    Box4 acc;
+    Box acc;
     int n = 0;
     for (int j = m - 1; j > 0; --j) {
       acc.grow(bin_box[used[j]]);
@@ -161,7 +168,7 @@ Split find_split(const Input& in, Bins& bins, const Box4& cbox) {
       right_area[j] = acc.area_of_nonempty();
       right_count[j] = n;
     }
-    acc = Box4{};
+    acc = Box{};
     n = 0;
     for (int j = 0; j + 1 < m; ++j) {
       acc.grow(bin_box[used[j]]);
@@ -170,7 +177,7 @@ Split find_split(const Input& in, Bins& bins, const Box4& cbox) {
       if (cost < best.cost) best = {axis, used[j], cost};
     }
     for (int j = 0; j < m; ++j) {
-      bin_box[used[j]] = Box4{};
+      bin_box[used[j]] = Box{};
       bin_count[used[j]] = 0;
     }
   }
@@ -186,12 +193,13 @@ NodeChoice choose_split(const Input& in, HugePageVector<Ref>& order, int first, 
   NodeChoice c;
   c.count = count;
   if (!plane) {
-    Box4 box;
+    Box box;
     for (int i = first; i < first + count; ++i) box.grow(order[std::size_t(i)].box);
     c.box = box.aabb();
     return c;
   }
-  Box4 box, cbox;
+  Box box;
+  CentroidBox cbox;
   bounds_of(order, first, count, box, cbox);
   c.box = box.aabb();
   if (count <= 1) return c;
@@ -224,17 +232,25 @@ HugePageVector<Ref> references_of(std::span<const Aabb> boxes, const SahOptions&
   // A reference keeps its bin on each axis in a byte (Ref::bin).
   if (opt.bins < 1 || opt.bins > 256) throw Error("bvh: SAH bins " + std::to_string(opt.bins) + " (must be 1-256)");
   const int n = int(boxes.size());
-  // A NaN or empty box would give a NaN centroid and an out-of-range bin below.
+  // A NaN or empty box would give a NaN centroid and an out-of-range bin below. The
+  // corners stay within a quarter of fp32's range, so that a doubled centroid
+  // (Ref::centre2) and the centroids' extent are finite.
+  constexpr double kMax = double(std::numeric_limits<float>::max()) / 4;
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k)
-      if (!(boxes[i].lo[k] <= boxes[i].hi[k]) || !std::isfinite(boxes[i].lo[k]) || !std::isfinite(boxes[i].hi[k]))
-        throw Error("bvh: box " + std::to_string(i) + " of " + std::to_string(n) + " is empty or not finite");
+      if (!(boxes[i].lo[k] <= boxes[i].hi[k]) || !(std::abs(boxes[i].lo[k]) <= kMax) ||
+          !(std::abs(boxes[i].hi[k]) <= kMax))
+        throw Error("bvh: box " + std::to_string(i) + " of " + std::to_string(n) +
+                    " is empty, or not finite within a quarter of fp32's range");
+  // Each corner rounded outward to fp32 (bvh/bounds/aabb.h), so that the box holds the
+  // primitive's.
   HugePageVector<Ref> refs(boxes.size());
   parallel_chunks(boxes.size(), 8192, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
       const Aabb& b = boxes[i];
-      refs[i].box.lo = D4{b.lo.x, b.lo.y, b.lo.z, double(i)};
-      refs[i].box.hi = D4{b.hi.x, b.hi.y, b.hi.z, 0.0};
+      const F4 down = round_down_lanes(D4{b.lo.x, b.lo.y, b.lo.z, 0.0});
+      const F4 up = -round_down_lanes(D4{-b.hi.x, -b.hi.y, -b.hi.z, 0.0}); // round_up, lane by lane
+      refs[i].box.v = F8{-down[0], -down[1], -down[2], std::bit_cast<float>(std::int32_t(i)), up[0], up[1], up[2], 0.0f};
     }
   });
   return refs;

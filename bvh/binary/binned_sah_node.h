@@ -3,6 +3,7 @@
 // traversal cost, and its partition. Internal to bvh/binary.
 #pragma once
 #include "bvh/binary/binned_sah.h"
+#include <bit>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -41,48 +42,77 @@ inline double blocks(int n, const Input& in) {
   return double(in.block_shift >= 0 ? (n + b - 1) >> in.block_shift : (n + b - 1) / b);
 }
 
-// Four doubles with the GCC/Clang vector extensions (one AVX register where the build
-// machine has AVX, else two SSE ones): a box corner's x, y, z and a spare lane, so that
-// a box grows by two vector min/max instead of six scalar ones.
-typedef double D4 __attribute__((vector_size(32)));
+// GCC/Clang vector extensions: one AVX register of eight floats (a box), a half of it
+// (a centroid), four 32-bit integers (a centroid's bins) and four doubles (a box's
+// extents, for its area).
+typedef float F8 __attribute__((vector_size(32)));
+typedef float F4 __attribute__((vector_size(16)));
 typedef std::int32_t I4 __attribute__((vector_size(16)));
-// glm::min and glm::max lane by lane, the same bits: min(a, b) = b < a ? b : a.
-inline D4 vmin(D4 a, D4 b) { return b < a ? b : a; }
-inline D4 vmax(D4 a, D4 b) { return a < b ? b : a; }
-constexpr double kInf = std::numeric_limits<double>::infinity();
+typedef std::int32_t I8 __attribute__((vector_size(32)));
+typedef double D4 __attribute__((vector_size(32)));
+// max lane by lane, keeping the first of equal values (+0 and -0 alike), whatever the
+// instruction's own rule: max(a, b) = a < b ? b : a.
+inline F8 vmax(F8 a, F8 b) { return a < b ? b : a; }
+inline F4 vmax(F4 a, F4 b) { return a < b ? b : a; }
+inline F4 vmin(F4 a, F4 b) { return b < a ? b : a; }
+constexpr float kInf = std::numeric_limits<float>::infinity();
+// Lanes 3 and 7 of a reference's box carry its id and bins as bits (Ref): zeroed before
+// any arithmetic, which their bit patterns (denormal floats) would slow.
+inline F8 coordinates_of(F8 v) {
+  const I8 keep = {-1, -1, -1, 0, -1, -1, -1, 0};
+  return std::bit_cast<F8>(std::bit_cast<I8>(v) & keep);
+}
+inline F4 lower_half(F8 v) { return __builtin_shufflevector(v, v, 0, 1, 2, 3); }
+inline F4 upper_half(F8 v) { return __builtin_shufflevector(v, v, 4, 5, 6, 7); }
 
-// A box as two corners in lanes 0-2 (lane 3 is spare and never read as a coordinate).
-struct Box4 {
-  D4 lo = {kInf, kInf, kInf, kInf};
-  D4 hi = {-kInf, -kInf, -kInf, -kInf};
-  void grow(const Box4& b) {
-    lo = vmin(lo, b.lo);
-    hi = vmax(hi, b.hi);
-  }
-  void grow(D4 p) {
-    lo = vmin(lo, p);
-    hi = vmax(hi, p);
-  }
-  Aabb aabb() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
-  // Aabb::area of a box that is not empty, the same operations (references_of takes
-  // only boxes with lo <= hi, so a union of references is one: Aabb::area's emptiness
-  // test would always pass).
+// A box in fp32 as one register: lanes 0-2 its lower corner negated, lanes 4-6 its upper
+// corner (lanes 3 and 7 spare), so that two boxes unite in one max. Embree's builders
+// bin fp32 boxes the same way; a reference is then 32 bytes (the partitions move it),
+// not 64 as with double corners, and a bin grows by one max instead of two min and two
+// max (the double references of the thirty-second round and before). Every reference's
+// box is its primitive's rounded outward to fp32 (references_of), so every node's box
+// still holds its primitives.
+struct Box {
+  F8 v = {-kInf, -kInf, -kInf, -kInf, -kInf, -kInf, -kInf, -kInf};
+  void grow(const Box& b) { v = vmax(v, b.v); }
+  Aabb aabb() const { return {{-double(v[0]), -double(v[1]), -double(v[2])}, {double(v[4]), double(v[5]), double(v[6])}}; }
+  // Aabb::area of the box in double (references_of takes only boxes with lo <= hi, so a
+  // union of references is one).
   double area_of_nonempty() const {
-    D4 e = hi - lo;
+    const F8 c = coordinates_of(v);
+    const D4 e = __builtin_convertvector(upper_half(c), D4) + __builtin_convertvector(lower_half(c), D4);
     return 2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]);
   }
 };
 
-// A primitive: its box, with its id in lo's spare lane (exact: ids are below 2^31) and
-// in hi's its bin on each axis at the node being split (one byte an axis, written by
-// bin_range, read by the partition that follows instead of dividing again). The
-// centroid is computed where it is needed, as Aabb::center computes it (the same bits),
-// which keeps a reference at 64 bytes for the partitions that move it.
+// The centroids' bounds, in the doubled units of Ref::centre2.
+struct CentroidBox {
+  F4 lo = {kInf, kInf, kInf, kInf};
+  F4 hi = {-kInf, -kInf, -kInf, -kInf};
+  void grow(F4 c) {
+    lo = vmin(lo, c);
+    hi = vmax(hi, c);
+  }
+  void grow(const CentroidBox& b) {
+    lo = vmin(lo, b.lo);
+    hi = vmax(hi, b.hi);
+  }
+  bool binned(int axis) const { return hi[axis] - lo[axis] > 0.0f; } // a positive extent
+};
+
+// A primitive: its box, with its id's bits in lane 3 and in lane 7 its bin on each axis
+// at the node being split (one byte an axis, written by bin_range, read by the partition
+// that follows instead of binning again). The centroid is computed where it is needed.
 struct Ref {
-  Box4 box;
-  D4 center() const { return 0.5 * (box.lo + box.hi); }
-  int id() const { return int(box.lo[3]); }
-  int bin(int axis) const { return int(std::int64_t(box.hi[3]) >> (8 * axis)) & 0xFF; }
+  Box box;
+  // Twice the centroid (lo + hi; lane 3 zero): the binning's units, one subtraction.
+  F4 centre2() const {
+    const F8 c = coordinates_of(box.v);
+    return upper_half(c) - lower_half(c);
+  }
+  int id() const { return std::bit_cast<std::int32_t>(box.v[3]); }
+  int bin(int axis) const { return int(std::bit_cast<std::uint32_t>(box.v[7]) >> (8 * axis)) & 0xFF; }
+  void set_bins(std::uint32_t packed) { box.v[7] = std::bit_cast<float>(packed); }
 };
 
 // Per axis nb bins: box and primitive count of the centroids that fall in each; and the
@@ -91,7 +121,7 @@ struct Ref {
 // since clearing all 3 nb of them at each of a build's ~2n nodes cost more than the
 // small nodes' binning itself.
 struct Bins {
-  std::vector<Box4> box;
+  std::vector<Box> box;
   std::vector<int> count;
   std::vector<int> used;
   std::vector<double> right_area;

@@ -54,4 +54,21 @@ inline float round_up(double x) {
   return std::bit_cast<float>(f > 0.0f ? bits + 1u : bits - 1u); // -inf steps to -FLT_MAX
 }
 
+// round_down of four doubles at once, lane by lane the same bits, without a branch (the
+// binned SAH rounds the corners of every reference, whose directions are a coin toss
+// from one to the next: a branch a corner was a tenth of a cluster BLAS build, in
+// mispredictions). GCC/Clang vector extensions.
+typedef double RoundDouble4 __attribute__((vector_size(32)));
+typedef float RoundFloat4 __attribute__((vector_size(16)));
+inline RoundFloat4 round_down_lanes(RoundDouble4 x) {
+  typedef std::int32_t Int4 __attribute__((vector_size(16)));
+  const RoundFloat4 f = __builtin_convertvector(x, RoundFloat4);
+  const Int4 above = __builtin_convertvector(__builtin_convertvector(f, RoundDouble4) > x, Int4);
+  const Int4 bits = std::bit_cast<Int4>(f);
+  const std::int32_t minus_zero = std::bit_cast<std::int32_t>(-0.0f);
+  Int4 below = f == 0.0f ? Int4{minus_zero, minus_zero, minus_zero, minus_zero} : bits; // -0: then -denorm_min
+  below += f > 0.0f ? Int4{-1, -1, -1, -1} : Int4{1, 1, 1, 1};
+  return std::bit_cast<RoundFloat4>(above ? below : bits);
+}
+
 } // namespace masq
