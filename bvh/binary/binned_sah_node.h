@@ -12,9 +12,9 @@
 namespace masq::sah_node {
 
 // A range this long is bounded and binned in chunks of this many primitives, the
-// chunks possibly at once. The chunks' results are merged in chunk order: glm::min/max
-// keep the earlier of equal values (+0 and -0 alike), so that merge gives the same bits
-// as one pass over the range, whatever the chunking.
+// chunks possibly at once. The chunks' results are merged in chunk order: vmin/vmax
+// below keep the earlier of equal values (+0 and -0 alike), so that merge gives the same
+// bits as one pass over the range, whatever the chunking.
 constexpr int kChunk = 16384;
 
 struct Split {
@@ -67,15 +67,17 @@ inline F4 upper_half(F8 v) { return __builtin_shufflevector(v, v, 4, 5, 6, 7); }
 
 // A box in fp32 as one register: lanes 0-2 its lower corner negated, lanes 4-6 its upper
 // corner (lanes 3 and 7 spare), so that two boxes unite in one max. Embree's builders
-// bin fp32 boxes the same way; a reference is then 32 bytes (the partitions move it),
-// not 64 as with double corners, and a bin grows by one max instead of two min and two
-// max (the double references of the thirty-second round and before). Every reference's
+// bin fp32 boxes too. A reference is then 32 bytes (the partitions move it) and a bin
+// grows by one max; until the thirty-second round the corners were doubles: 64 bytes,
+// two min and two max (docs/builders.md, "The binned SAH in fp32"). Every reference's
 // box is its primitive's rounded outward to fp32 (references_of), so every node's box
 // still holds its primitives.
 struct Box {
   F8 v = {-kInf, -kInf, -kInf, -kInf, -kInf, -kInf, -kInf, -kInf};
   void grow(const Box& b) { v = vmax(v, b.v); }
-  Aabb aabb() const { return {{-double(v[0]), -double(v[1]), -double(v[2])}, {double(v[4]), double(v[5]), double(v[6])}}; }
+  Aabb aabb() const {
+    return {{-double(v[0]), -double(v[1]), -double(v[2])}, {double(v[4]), double(v[5]), double(v[6])}};
+  }
   // Aabb::area of the box in double (references_of takes only boxes with lo <= hi, so a
   // union of references is one).
   double area_of_nonempty() const {
